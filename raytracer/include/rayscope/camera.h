@@ -1,0 +1,42 @@
+// Central projection (lecture: "Central projection", "Primary rays"): a pinhole
+// camera whose rays start at the eye and pass through the pixels of an image
+// plane at distance 1. A parallel projection is available for VTK cameras.
+#pragma once
+
+#include "rayscope/math.h"
+#include "rayscope/ray.h"
+
+namespace rayscope {
+
+struct Camera {
+  Vec3 eye{0.0f, 0.0f, 5.0f};
+  Vec3 look_at{0.0f};
+  Vec3 up{0.0f, 1.0f, 0.0f};
+  float vfov_degrees = 40.0f;  ///< Vertical field of view of the central projection.
+  bool parallel = false;       ///< Parallel (orthographic) projection instead.
+  float parallel_scale = 1.0f;  ///< Half the image height in world units when parallel.
+
+  /// Precomputes the image-plane basis for an image of width x height pixels.
+  /// Throws std::invalid_argument for a degenerate camera.
+  void prepare(int width, int height);
+
+  /// The primary ray through the image-plane point (px, py), in pixel units with
+  /// (0, 0) at the top-left corner of the image and (w, h) at the bottom-right.
+  Ray generate_ray(float px, float py) const {
+    float sx = (2.0f * px * inv_width_ - 1.0f) * half_width_;
+    float sy = (1.0f - 2.0f * py * inv_height_) * half_height_;
+    if (parallel) return Ray{eye + sx * right_ + sy * up_ortho_, forward_, kInfinity};
+    return Ray{eye, forward_ + sx * right_ + sy * up_ortho_, kInfinity};
+  }
+
+  const Vec3& forward() const { return forward_; }
+  const Vec3& right() const { return right_; }
+  const Vec3& up_vector() const { return up_ortho_; }
+
+ private:
+  Vec3 forward_{0.0f, 0.0f, -1.0f}, right_{1.0f, 0.0f, 0.0f}, up_ortho_{0.0f, 1.0f, 0.0f};
+  float half_width_ = 1.0f, half_height_ = 1.0f;
+  float inv_width_ = 1.0f, inv_height_ = 1.0f;
+};
+
+}  // namespace rayscope

@@ -1,0 +1,39 @@
+// The framebuffer (color plus AOVs) and image files through OpenImageIO.
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include "rayscope/math.h"
+
+namespace rayscope {
+
+/// Linear RGB color plus arbitrary output variables (AOVs) of the first sample
+/// of each pixel: distance along the primary ray to the first hit (inf on a
+/// miss), unit shading normal (0 on a miss), object id (-1 on a miss).
+struct Framebuffer {
+  int width = 0, height = 0;
+  std::vector<Color> color;
+  std::vector<float> depth;
+  std::vector<Vec3> normal;
+  std::vector<float> object_id;
+
+  void resize(int w, int h);
+  size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
+};
+
+/// Linear to sRGB transfer function on [0, 1].
+float linear_to_srgb(float v);
+
+/// Writes the framebuffer. The format follows the extension: .png (8-bit sRGB,
+/// color only), .exr (32-bit float, linear color plus Z, N.x/N.y/N.z and
+/// objectId channels); other formats OpenImageIO knows get 8-bit sRGB color. The
+/// file is written under a temporary name in the same folder and renamed, so an
+/// interrupted run never leaves a half-written file. Throws std::runtime_error.
+void write_image(const std::filesystem::path& path, const Framebuffer& fb);
+
+/// Reads an image's first three channels as floats (as stored: sRGB values for
+/// 8-bit formats). Throws std::runtime_error.
+std::vector<float> read_image_rgb(const std::filesystem::path& path, int& width, int& height);
+
+}  // namespace rayscope

@@ -1,0 +1,198 @@
+// The Whitted integrator (lecture: "Recursive ray tracing"): at each hit, Phong
+// local illumination from every light whose shadow ray is unobstructed, plus
+// mirror reflection and Fresnel-weighted refraction traced recursively up to a
+// maximum depth, skipping secondary rays whose weight in the pixel is below a
+// cutoff.
+//
+// The integrator is a template on a Recorder policy. NullRecorder (kActive ==
+// false) compiles every recording hook away; a recording policy receives the
+// whole ray tree of a pixel (see recorder.h once it exists).
+#pragma once
+
+#include "rayscope/material.h"
+#include "rayscope/ray.h"
+#include "rayscope/scene.h"
+#include "rayscope/stats.h"
+
+namespace rayscope {
+
+/// Settings of a render; every field has a sensible default.
+struct RenderSettings {
+  int width = 640;
+  int height = 480;
+  int samples = 1;  ///< N: each pixel takes N x N stratified samples.
+  int max_depth = 5;  ///< Maximum recursion depth r (primary rays have depth 0).
+  float min_contribution = 1e-3f;  ///< Secondary rays with a smaller pixel weight are not traced.
+  int threads = 0;  ///< 0: all hardware threads.
+  uint32_t seed = 0;  ///< Seed of the stratified jitter.
+  int tile_size = 16;
+
+  /// Throws std::invalid_argument naming the first bad field.
+  void validate() const;
+};
+
+/// Details of a refraction event, for recorders.
+struct RefractionEvent {
+  float n1, n2;
+  float cos_incidence, cos_transmission;
+  bool total_internal_reflection;
+  float fresnel_reflect, fresnel_transmit;
+};
+
+/// The recorder interface, with every hook empty.
+struct NullRecorder {
+  static constexpr bool kActive = false;
+  /// A new ray; returns its node id. parent < 0 for the primary ray.
+  int begin_ray(RayKind, const Ray&, int /*depth*/, const Color& /*weight*/, int /*parent*/) {
+    return -1;
+  }
+  NullTraversalObserver traversal(int /*node*/) { return {}; }
+  void on_hit(int /*node*/, const SurfaceHit&) {}
+  void on_shadow(int /*node*/, uint32_t /*light*/, bool /*occluded*/, uint32_t /*occluder*/) {}
+  void on_refraction(int /*node*/, const RefractionEvent&) {}
+  void end_ray(int /*node*/, const Color& /*returned*/) {}
+};
+
+template <class Recorder = NullRecorder>
+class WhittedIntegrator {
+ public:
+  WhittedIntegrator(const Scene& scene, const RenderSettings& settings, RayCounters& counters,
+                    Recorder& recorder)
+      : scene_(scene), settings_(settings), counters_(counters), rec_(recorder) {}
+
+  /// Radiance arriving along `ray`. `weight` is the ray's weight in the pixel.
+  /// `first_hit`, when not null, receives the hit of this ray (for AOVs).
+  Color trace(const Ray& ray, RayKind kind, int depth, const Color& weight, int parent,
+              SurfaceHit* first_hit = nullptr) {
+    counters_.rays[int(kind)]++;
+    int node = -1;
+    if constexpr (Recorder::kActive) node = rec_.begin_ray(kind, ray, depth, weight, parent);
+    SurfaceHit hit;
+    bool found;
+    if constexpr (Recorder::kActive) {
+      auto obs = rec_.traversal(node);
+      found = scene_.intersect(ray, hit, obs);
+    } else {
+      found = scene_.intersect(ray, hit);
+    }
+    if (!found) {
+      if constexpr (Recorder::kActive) rec_.end_ray(node, scene_.background);
+      return scene_.background;
+    }
+    if constexpr (Recorder::kActive) rec_.on_hit(node, hit);
+    if (first_hit) *first_hit = hit;
+    if (kind == RayKind::Primary) counters_.primary_hits++;
+    Color c = shade(ray, hit, depth, weight, node);
+    if constexpr (Recorder::kActive) rec_.end_ray(node, c);
+    return c;
+  }
+
+ private:
+  Color shade(const Ray& ray, const SurfaceHit& hit, int depth, const Color& weight, int node) {
+    const Material& m = scene_.materials[hit.material];
+    const Vec3 d = glm::normalize(ray.dir);
+    const Vec3 v = -d;
+    const bool front = glm::dot(d, hit.ng) < 0.0f;
+    const Vec3 ng = front ? hit.ng : -hit.ng;  // both normals face the incoming ray
+    Vec3 ns = front ? hit.ns : -hit.ns;
+    if (glm::dot(ns, v) <= 0.0f) ns = ng;
+    const Color albedo = hit.has_vertex_color ? hit.vertex_color : material_color(m, hit.p);
+    const float opaque = std::max(0.0f, 1.0f - m.reflectivity - m.transparency);
+
+    // Local illumination: ambient + (diffuse + specular) per visible light.
+    Color c = opaque * m.ambient * albedo * scene_.ambient_light;
+    for (uint32_t li = 0; li < scene_.lights.size(); ++li) {
+      const Light& light = scene_.lights[li];
+      Vec3 l;
+      float dist;
+      Ray shadow;
+      if (light.type == Light::Type::Point) {
+        Vec3 to = light.position - hit.p;
+        dist = glm::length(to);
+        if (!(dist > 0.0f)) continue;
+        l = to / dist;
+        if (glm::dot(ng, l) <= 0.0f || glm::dot(ns, l) <= 0.0f) continue;  // light behind
+        shadow = spawn_ray_to(hit.p, hit.p_error, ng, light.position);
+      } else {
+        l = -glm::normalize(light.direction);
+        dist = kInfinity;
+        if (glm::dot(ng, l) <= 0.0f || glm::dot(ns, l) <= 0.0f) continue;
+        shadow = spawn_ray(hit.p, hit.p_error, ng, l);
+      }
+      if (light.casts_shadows) {
+        counters_.rays[int(RayKind::Shadow)]++;
+        bool blocked;
+        uint32_t occluder = ~0u;
+        if constexpr (Recorder::kActive) {
+          int sn = rec_.begin_ray(RayKind::Shadow, shadow, depth + 1, weight, node);
+          auto obs = rec_.traversal(sn);
+          blocked = scene_.occluded(shadow, obs, &occluder);
+          rec_.on_shadow(sn, li, blocked, occluder);
+          rec_.end_ray(sn, blocked ? Color(0.0f) : light.radiance_at(dist));
+        } else {
+          blocked = scene_.occluded(shadow);
+        }
+        if (blocked) {
+          counters_.shadow_occluded++;
+          continue;
+        }
+      }
+      PhongTerms t = phong_terms(m, ns, l, v);
+      c += light.radiance_at(dist) *
+           (opaque * m.diffuse * t.diffuse * albedo + m.specular * t.specular * m.specular_color);
+    }
+
+    // Secondary rays: mirror reflection and Fresnel-split refraction.
+    if (!m.reflective() && !m.refractive()) return c;
+    float w_reflect = m.reflectivity;
+    float w_refract = 0.0f;
+    Vec3 t_dir(0.0f);
+    RefractionEvent ev{};
+    if (m.refractive()) {
+      // Entering when the ray meets the outside (front) of the surface.
+      ev.n1 = front ? 1.0f : m.ior;
+      ev.n2 = front ? m.ior : 1.0f;
+      ev.cos_incidence = std::clamp(glm::dot(v, ns), 0.0f, 1.0f);
+      ev.total_internal_reflection = !refract(d, ns, ev.n1, ev.n2, t_dir);
+      if (!ev.total_internal_reflection && glm::dot(t_dir, ng) >= 0.0f)
+        ev.total_internal_reflection = !refract(d, ng, ev.n1, ev.n2, t_dir);
+      ev.fresnel_reflect =
+          ev.total_internal_reflection ? 1.0f : fresnel_dielectric(ev.cos_incidence, ev.n1, ev.n2);
+      ev.fresnel_transmit = 1.0f - ev.fresnel_reflect;
+      ev.cos_transmission =
+          ev.total_internal_reflection ? 0.0f : std::clamp(-glm::dot(glm::normalize(t_dir), ng), 0.0f, 1.0f);
+      if (ev.total_internal_reflection) counters_.total_internal_reflections++;
+      w_reflect += m.transparency * ev.fresnel_reflect;
+      w_refract = m.transparency * ev.fresnel_transmit;
+      if constexpr (Recorder::kActive) rec_.on_refraction(node, ev);
+    }
+    auto spawn_child = [&](float w, RayKind kind, const Vec3& dir) {
+      if (w <= 0.0f) return;
+      if (depth >= settings_.max_depth) {
+        counters_.depth_cutoffs++;
+        return;
+      }
+      Color cw = weight * w;
+      if (max_component(cw) < settings_.min_contribution) {
+        counters_.weight_cutoffs++;
+        return;
+      }
+      Ray child = spawn_ray(hit.p, hit.p_error, ng, dir);
+      c += w * trace(child, kind, depth + 1, cw, node);
+    };
+    if (w_reflect > 0.0f) {
+      Vec3 r = reflect(d, ns);
+      if (glm::dot(r, ng) <= 0.0f) r = reflect(d, ng);  // never into the surface
+      spawn_child(w_reflect, RayKind::Reflection, r);
+    }
+    if (w_refract > 0.0f) spawn_child(w_refract, RayKind::Refraction, t_dir);
+    return c;
+  }
+
+  const Scene& scene_;
+  const RenderSettings& settings_;
+  RayCounters& counters_;
+  Recorder& rec_;
+};
+
+}  // namespace rayscope

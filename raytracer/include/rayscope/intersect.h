@@ -1,0 +1,198 @@
+// Ray-primitive intersection tests from the lecture (plane, triangle, sphere),
+// written to be robust in floating point:
+//  - the triangle test is watertight (Woop, Benthin and Wald 2013): the ray is
+//    translated to the origin, the axes permuted so that the ray runs along +z,
+//    and the triangle sheared; the edge functions are then evaluated in 2D and
+//    recomputed in double precision when one of them is exactly zero, so a ray
+//    through an edge or vertex shared by two triangles hits at least one of them;
+//  - the sphere test avoids the catastrophic cancellation of the textbook
+//    discriminant b^2 - 4ac (Haines et al., Ray Tracing Gems ch. 7);
+//  - every hit carries a conservative bound on the error of its position, which
+//    spawn_ray() uses to offset secondary rays (no hand-tuned epsilon).
+#pragma once
+
+#include <cmath>
+
+#include "rayscope/math.h"
+#include "rayscope/ray.h"
+
+namespace rayscope {
+
+/// Per-ray data for the watertight triangle test, computed once per ray.
+struct TrianglePrecomp {
+  int kx, ky, kz;
+  float sx, sy, sz;
+  Vec3 origin;
+  float tmax_unused = 0.0f;
+
+  explicit TrianglePrecomp(const Ray& ray) : origin(ray.origin) {
+    kz = max_dimension(glm::abs(ray.dir));
+    kx = kz + 1 == 3 ? 0 : kz + 1;
+    ky = kx + 1 == 3 ? 0 : kx + 1;
+    Vec3 d(ray.dir[kx], ray.dir[ky], ray.dir[kz]);
+    sx = -d.x / d.z;
+    sy = -d.y / d.z;
+    sz = 1.0f / d.z;
+  }
+};
+
+struct TriangleHit {
+  float t;
+  float b0, b1, b2;  // barycentric weights of p0, p1, p2
+};
+
+/// Watertight ray-triangle test. Returns true and fills `hit` when the ray hits
+/// the triangle at 0 < t < tmax. Degenerate (zero-area) triangles never hit.
+inline bool intersect_triangle(const TrianglePrecomp& pre, float tmax, const Vec3& p0,
+                               const Vec3& p1, const Vec3& p2, TriangleHit& hit) {
+  // Translate to the ray origin, permute so that the ray runs along z, shear.
+  Vec3 a = p0 - pre.origin, b = p1 - pre.origin, c = p2 - pre.origin;
+  Vec3 p0t(a[pre.kx], a[pre.ky], a[pre.kz]);
+  Vec3 p1t(b[pre.kx], b[pre.ky], b[pre.kz]);
+  Vec3 p2t(c[pre.kx], c[pre.ky], c[pre.kz]);
+  p0t.x += pre.sx * p0t.z;
+  p0t.y += pre.sy * p0t.z;
+  p1t.x += pre.sx * p1t.z;
+  p1t.y += pre.sy * p1t.z;
+  p2t.x += pre.sx * p2t.z;
+  p2t.y += pre.sy * p2t.z;
+
+  // Edge functions: signed areas of the sheared triangle seen from the ray.
+  float e0 = p1t.x * p2t.y - p1t.y * p2t.x;
+  float e1 = p2t.x * p0t.y - p2t.y * p0t.x;
+  float e2 = p0t.x * p1t.y - p0t.y * p1t.x;
+  if (e0 == 0.0f || e1 == 0.0f || e2 == 0.0f) [[unlikely]] {
+    e0 = float(double(p1t.x) * double(p2t.y) - double(p1t.y) * double(p2t.x));
+    e1 = float(double(p2t.x) * double(p0t.y) - double(p2t.y) * double(p0t.x));
+    e2 = float(double(p0t.x) * double(p1t.y) - double(p0t.y) * double(p1t.x));
+  }
+  if ((e0 < 0.0f || e1 < 0.0f || e2 < 0.0f) && (e0 > 0.0f || e1 > 0.0f || e2 > 0.0f)) return false;
+  float det = e0 + e1 + e2;
+  if (det == 0.0f) return false;
+
+  // Scaled hit distance, compared against the range without dividing.
+  p0t.z *= pre.sz;
+  p1t.z *= pre.sz;
+  p2t.z *= pre.sz;
+  float t_scaled = e0 * p0t.z + e1 * p1t.z + e2 * p2t.z;
+  if (det < 0.0f && (t_scaled >= 0.0f || t_scaled < tmax * det)) return false;
+  if (det > 0.0f && (t_scaled <= 0.0f || t_scaled > tmax * det)) return false;
+
+  float inv_det = 1.0f / det;
+  float t = t_scaled * inv_det;
+
+  // Reject hits whose t could be <= 0 within the rounding error of the test.
+  float max_zt = max_component(glm::abs(Vec3(p0t.z, p1t.z, p2t.z)));
+  float delta_z = gamma(3) * max_zt;
+  float max_xt = max_component(glm::abs(Vec3(p0t.x, p1t.x, p2t.x)));
+  float max_yt = max_component(glm::abs(Vec3(p0t.y, p1t.y, p2t.y)));
+  float delta_x = gamma(5) * (max_xt + max_zt);
+  float delta_y = gamma(5) * (max_yt + max_zt);
+  float delta_e = 2.0f * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+  float max_e = max_component(glm::abs(Vec3(e0, e1, e2)));
+  float delta_t =
+      3.0f * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * std::abs(inv_det);
+  if (t <= delta_t) return false;
+
+  hit.t = t;
+  hit.b0 = e0 * inv_det;
+  hit.b1 = e1 * inv_det;
+  hit.b2 = e2 * inv_det;
+  return true;
+}
+
+/// Convenience overload for a single test.
+inline bool intersect_triangle(const Ray& ray, const Vec3& p0, const Vec3& p1, const Vec3& p2,
+                               TriangleHit& hit) {
+  return intersect_triangle(TrianglePrecomp(ray), ray.tmax, p0, p1, p2, hit);
+}
+
+/// Hit point on a triangle from barycentrics, with its error bound.
+inline Vec3 triangle_point(const TriangleHit& h, const Vec3& p0, const Vec3& p1, const Vec3& p2,
+                           Vec3& p_error) {
+  Vec3 q0 = h.b0 * p0, q1 = h.b1 * p1, q2 = h.b2 * p2;
+  p_error = gamma(7) * (glm::abs(q0) + glm::abs(q1) + glm::abs(q2));
+  return q0 + q1 + q2;
+}
+
+/// Ray-sphere test. Returns the nearest root in (0, tmax), or false. The
+/// discriminant is computed as r^2 - |f - (f.d/d.d) d|^2 (f = origin - center),
+/// which stays accurate for small or distant spheres, and the roots are taken as
+/// c/q and q/a to avoid subtracting nearly equal numbers.
+inline bool intersect_sphere(const Ray& ray, const Vec3& center, float radius, float tmax,
+                             float& t_hit) {
+  Vec3 f = ray.origin - center;
+  float a = glm::dot(ray.dir, ray.dir);
+  float b = glm::dot(f, ray.dir);  // half of the textbook b
+  Vec3 l = f - (b / a) * ray.dir;
+  float r2 = radius * radius;
+  float disc = r2 - glm::dot(l, l);  // discriminant / (4a)... times 1/a
+  if (disc < 0.0f) return false;
+  float c = glm::dot(f, f) - r2;
+  float q = -(b + std::copysign(std::sqrt(a * disc), b));
+  float t0, t1;
+  if (q == 0.0f) {
+    t0 = t1 = -b / a;
+  } else {
+    t0 = c / q;
+    t1 = q / a;
+  }
+  if (t0 > t1) std::swap(t0, t1);
+  if (t0 > 0.0f && t0 < tmax) {
+    t_hit = t0;
+    return true;
+  }
+  if (t1 > 0.0f && t1 < tmax) {
+    t_hit = t1;
+    return true;
+  }
+  return false;
+}
+
+/// Hit point on a sphere, re-projected onto the surface, with its error bound.
+inline Vec3 sphere_point(const Ray& ray, float t, const Vec3& center, float radius,
+                         Vec3& p_error) {
+  Vec3 v = (ray.origin + t * ray.dir) - center;
+  float len = glm::length(v);
+  if (len > 0.0f) v *= radius / len;
+  p_error = gamma(6) * (glm::abs(center) + glm::abs(v));
+  return center + v;
+}
+
+/// Ray-plane test (lecture: lambda = (P0 - Pr).n / (tr.n), tr.n != 0). Returns a
+/// hit in (0, tmax). A ray parallel to the plane never hits.
+inline bool intersect_plane(const Ray& ray, const Vec3& point, const Vec3& normal, float tmax,
+                            float& t_hit) {
+  float denom = glm::dot(ray.dir, normal);
+  if (denom == 0.0f) return false;
+  float t = glm::dot(point - ray.origin, normal) / denom;
+  if (!(t > 0.0f && t < tmax)) return false;
+  t_hit = t;
+  return true;
+}
+
+/// Hit point on a plane, re-projected onto it, with its error bound.
+inline Vec3 plane_point(const Ray& ray, float t, const Vec3& point, const Vec3& normal,
+                        Vec3& p_error) {
+  Vec3 p = ray.origin + t * ray.dir;
+  p -= glm::dot(p - point, normal) * normal;
+  p_error = gamma(8) * (glm::abs(point) + glm::abs(p));
+  return p;
+}
+
+/// Slab test of a ray against a box, with precomputed reciprocal direction.
+/// Returns the entry distance or +inf when the box is missed within [0, tmax].
+/// The exit distance is rounded up by 2 gamma(3) so that rays touching a box
+/// face never miss the primitives inside (robust traversal).
+inline float intersect_box(const Vec3& lo, const Vec3& hi, const Vec3& origin,
+                           const Vec3& inv_dir, float tmax) {
+  Vec3 t0 = (lo - origin) * inv_dir;
+  Vec3 t1 = (hi - origin) * inv_dir;
+  Vec3 tn = glm::min(t0, t1), tf = glm::max(t0, t1);
+  float tnear = std::max(std::max(tn.x, tn.y), std::max(tn.z, 0.0f));
+  float tfar = std::min(std::min(tf.x, tf.y), std::min(tf.z, tmax));
+  tfar *= 1.0f + 2.0f * gamma(3);
+  return tnear <= tfar ? tnear : kInfinity;
+}
+
+}  // namespace rayscope

@@ -1,0 +1,32 @@
+// Point and directional lights. Point lights are attenuated as in VTK and
+// OpenGL: 1 / (constant + linear d + quadratic d^2), by default not at all.
+#pragma once
+
+#include <string>
+
+#include "rayscope/math.h"
+
+namespace rayscope {
+
+struct Light {
+  enum class Type { Point, Directional };
+  Type type = Type::Point;
+  std::string name;
+  Vec3 position{0.0f, 10.0f, 0.0f};  ///< Point lights.
+  Vec3 direction{0.0f, -1.0f, 0.0f};  ///< Directional lights: direction light travels.
+  Color color{1.0f};
+  float intensity = 1.0f;
+  Vec3 attenuation{1.0f, 0.0f, 0.0f};  ///< constant, linear, quadratic (point lights)
+  bool casts_shadows = true;
+
+  Color radiance_at(float distance) const {
+    Color c = color * intensity;
+    if (type == Type::Point) {
+      float a = attenuation.x + attenuation.y * distance + attenuation.z * distance * distance;
+      if (a > 0.0f) c /= a;
+    }
+    return c;
+  }
+};
+
+}  // namespace rayscope

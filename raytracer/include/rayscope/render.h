@@ -1,0 +1,49 @@
+// Parallel tile rendering with TBB. Each pixel depends only on its coordinates,
+// the settings and the seed, so the image is bit-identical for any thread count.
+#pragma once
+
+#include <functional>
+
+#include "rayscope/image.h"
+#include "rayscope/integrator.h"
+#include "rayscope/scene.h"
+#include "rayscope/stats.h"
+
+namespace rayscope {
+
+/// Called after each finished tile with (tiles done, tiles in all); calls are
+/// serialised.
+using ProgressFn = std::function<void(size_t done, size_t total)>;
+
+/// Image-plane position of sample k (0 <= k < N*N) of pixel (x, y): the center of
+/// the pixel for N == 1, else a jittered point in stratum k of an N x N grid.
+Vec2 sample_position(int x, int y, int k, int n, uint32_t seed);
+
+/// Renders the committed scene. Prepares scene.camera for the image size.
+Framebuffer render(Scene& scene, const RenderSettings& settings, RayCounters* counters = nullptr,
+                   const ProgressFn& progress = {});
+
+/// Renders one pixel exactly as render() does (same samples, same color).
+template <class Recorder = NullRecorder>
+Color render_pixel(const Scene& scene, const RenderSettings& settings, int x, int y,
+                   RayCounters& counters, Recorder& recorder, SurfaceHit* first_hit = nullptr,
+                   bool* hit_anything = nullptr) {
+  WhittedIntegrator<Recorder> integrator(scene, settings, counters, recorder);
+  const int n = settings.samples;
+  const Color w(1.0f / float(n * n));
+  Color sum(0.0f);
+  for (int k = 0; k < n * n; ++k) {
+    Vec2 s = sample_position(x, y, k, n, settings.seed);
+    Ray ray = scene.camera.generate_ray(s.x, s.y);
+    SurfaceHit hit;
+    hit.t = kInfinity;
+    sum += integrator.trace(ray, RayKind::Primary, 0, w, -1, k == 0 ? &hit : nullptr);
+    if (k == 0) {
+      if (first_hit) *first_hit = hit;
+      if (hit_anything) *hit_anything = hit.t != kInfinity;
+    }
+  }
+  return sum * w;
+}
+
+}  // namespace rayscope

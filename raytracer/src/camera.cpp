@@ -1,0 +1,32 @@
+#include "rayscope/camera.h"
+
+#include <stdexcept>
+
+namespace rayscope {
+
+void Camera::prepare(int width, int height) {
+  if (width <= 0 || height <= 0) throw std::invalid_argument("image size must be positive");
+  if (!all_finite(eye) || !all_finite(look_at) || !all_finite(up))
+    throw std::invalid_argument("camera vectors must be finite");
+  Vec3 f = look_at - eye;
+  if (glm::dot(f, f) == 0.0f) throw std::invalid_argument("camera eye and look_at coincide");
+  forward_ = glm::normalize(f);
+  Vec3 r = glm::cross(forward_, up);
+  if (glm::dot(r, r) == 0.0f) throw std::invalid_argument("camera up is parallel to the view");
+  right_ = glm::normalize(r);
+  up_ortho_ = glm::cross(right_, forward_);
+  float aspect = float(width) / float(height);
+  if (parallel) {
+    if (!(parallel_scale > 0.0f)) throw std::invalid_argument("parallel_scale must be positive");
+    half_height_ = parallel_scale;
+  } else {
+    if (!(vfov_degrees > 0.0f && vfov_degrees < 180.0f))
+      throw std::invalid_argument("field of view must be in (0, 180) degrees");
+    half_height_ = std::tan(0.5f * glm::radians(vfov_degrees));
+  }
+  half_width_ = half_height_ * aspect;
+  inv_width_ = 1.0f / float(width);
+  inv_height_ = 1.0f / float(height);
+}
+
+}  // namespace rayscope

@@ -1,0 +1,190 @@
+#include "rayscope/scene.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace rayscope {
+
+void Scene::commit(const BvhBuildConfig& config) {
+  if (materials.empty()) throw std::invalid_argument("scene has no materials");
+  auto check_material = [&](uint32_t m, const std::string& what) {
+    if (m >= materials.size())
+      throw std::invalid_argument(what + ": material index " + std::to_string(m) + " out of range");
+  };
+  summary_ = SceneSummary{};
+  tri_offsets_.clear();
+  uint32_t ntri = 0;
+  for (const TriangleMesh& m : meshes) {
+    check_material(m.material, "mesh '" + m.name + "'");
+    if (!m.normals.empty() && m.normals.size() != m.positions.size())
+      throw std::invalid_argument("mesh '" + m.name + "': normals must match positions");
+    if (!m.colors.empty() && m.colors.size() != m.positions.size())
+      throw std::invalid_argument("mesh '" + m.name + "': colors must match positions");
+    for (const glm::uvec3& t : m.triangles)
+      if (t.x >= m.positions.size() || t.y >= m.positions.size() || t.z >= m.positions.size())
+        throw std::invalid_argument("mesh '" + m.name + "': vertex index out of range");
+    tri_offsets_.push_back(ntri);
+    ntri += uint32_t(m.triangles.size());
+  }
+  tri_offsets_.push_back(ntri);
+  num_triangles_ = ntri;
+  for (const Sphere& s : spheres) {
+    check_material(s.material, "sphere '" + s.name + "'");
+    if (!all_finite(s.center) || !std::isfinite(s.radius) || !(s.radius > 0.0f))
+      throw std::invalid_argument("sphere '" + s.name + "': center and radius must be finite, radius > 0");
+  }
+  for (Plane& p : planes) {
+    check_material(p.material, "plane '" + p.name + "'");
+    if (!all_finite(p.point) || !all_finite(p.normal) || glm::dot(p.normal, p.normal) == 0.0f)
+      throw std::invalid_argument("plane '" + p.name + "': point and normal must be finite, normal non-zero");
+    p.normal = glm::normalize(p.normal);
+  }
+  for (const Light& l : lights)
+    if (!all_finite(l.position) || !all_finite(l.direction) || !all_finite(l.color) ||
+        !std::isfinite(l.intensity))
+      throw std::invalid_argument("light '" + l.name + "': values must be finite");
+
+  // Bounds and centroids of every valid primitive; the builder sees nothing else.
+  std::vector<Bounds3> bounds;
+  std::vector<Vec3> centroids;
+  std::vector<uint32_t> ids;
+  bounds.reserve(ntri + spheres.size());
+  centroids.reserve(ntri + spheres.size());
+  ids.reserve(ntri + spheres.size());
+  for (size_t mi = 0; mi < meshes.size(); ++mi) {
+    const TriangleMesh& m = meshes[mi];
+    for (size_t ti = 0; ti < m.triangles.size(); ++ti) {
+      const glm::uvec3& t = m.triangles[ti];
+      const Vec3 &a = m.positions[t.x], &b = m.positions[t.y], &c = m.positions[t.z];
+      if (!all_finite(a) || !all_finite(b) || !all_finite(c)) {
+        summary_.skipped_triangles++;
+        continue;
+      }
+      Bounds3 box(a);
+      box.extend(b);
+      box.extend(c);
+      bounds.push_back(box);
+      centroids.push_back(box.center());
+      ids.push_back(tri_offsets_[mi] + uint32_t(ti));
+    }
+  }
+  for (size_t si = 0; si < spheres.size(); ++si) {
+    const Sphere& s = spheres[si];
+    bounds.emplace_back(s.center - Vec3(s.radius), s.center + Vec3(s.radius));
+    centroids.push_back(s.center);
+    ids.push_back(ntri + uint32_t(si));
+  }
+  bvh_.build(bounds, centroids, config);
+
+  prims_.resize(ids.size());
+  for (size_t i = 0; i < bvh_.prim_indices.size(); ++i) {
+    uint32_t id = ids[bvh_.prim_indices[i]];
+    PrimRecord& r = prims_[i];
+    r.id = id;
+    r.pad = 0;
+    if (id < ntri) {
+      size_t mi = size_t(std::upper_bound(tri_offsets_.begin(), tri_offsets_.end(), id) -
+                         tri_offsets_.begin()) - 1;
+      const TriangleMesh& m = meshes[mi];
+      const glm::uvec3& t = m.triangles[id - tri_offsets_[mi]];
+      r.a = m.positions[t.x];
+      r.b = m.positions[t.y];
+      r.c = m.positions[t.z];
+    } else {
+      const Sphere& s = spheres[id - ntri];
+      r.a = s.center;
+      r.b = Vec3(s.radius, 0.0f, 0.0f);
+      r.c = Vec3(0.0f);
+    }
+  }
+
+  summary_.triangles = ntri - summary_.skipped_triangles;
+  summary_.spheres = spheres.size();
+  summary_.planes = planes.size();
+  summary_.lights = lights.size();
+  auto note = [&](uint32_t m) {
+    summary_.reflective |= materials[m].reflective();
+    summary_.refractive |= materials[m].refractive();
+  };
+  for (const TriangleMesh& m : meshes) note(m.material);
+  for (const Sphere& s : spheres) note(s.material);
+  for (const Plane& p : planes) note(p.material);
+}
+
+ObjectType Scene::object_type(uint32_t object) const {
+  if (object < meshes.size()) return ObjectType::Mesh;
+  if (object < meshes.size() + spheres.size()) return ObjectType::Sphere;
+  return ObjectType::Plane;
+}
+
+const std::string& Scene::object_name(uint32_t object) const {
+  static const std::string none = "(none)";
+  if (object < meshes.size()) return meshes[object].name;
+  object -= uint32_t(meshes.size());
+  if (object < spheres.size()) return spheres[object].name;
+  object -= uint32_t(spheres.size());
+  if (object < planes.size()) return planes[object].name;
+  return none;
+}
+
+uint32_t Scene::prim_object(uint32_t prim) const {
+  if (prim < num_triangles_)
+    return uint32_t(std::upper_bound(tri_offsets_.begin(), tri_offsets_.end(), prim) -
+                    tri_offsets_.begin()) - 1;
+  return uint32_t(meshes.size()) + (prim - num_triangles_);
+}
+
+void Scene::fill_hit(const Ray& ray, uint32_t best, const TriangleHit& th, float t, int plane,
+                     SurfaceHit& hit) const {
+  hit = SurfaceHit{};
+  hit.t = t;
+  if (plane >= 0) {
+    const Plane& pl = planes[size_t(plane)];
+    hit.p = plane_point(ray, t, pl.point, pl.normal, hit.p_error);
+    hit.ng = hit.ns = pl.normal;
+    hit.object = uint32_t(meshes.size() + spheres.size() + size_t(plane));
+    hit.prim = 0;
+    hit.material = pl.material;
+    return;
+  }
+  const PrimRecord& r = prims_[best];
+  if (r.id < num_triangles_) {
+    uint32_t mi = prim_object(r.id);
+    const TriangleMesh& m = meshes[mi];
+    uint32_t ti = r.id - tri_offsets_[mi];
+    const glm::uvec3& tri = m.triangles[ti];
+    hit.p = triangle_point(th, r.a, r.b, r.c, hit.p_error);
+    hit.bary = Vec3(th.b0, th.b1, th.b2);
+    Vec3 n = glm::cross(r.b - r.a, r.c - r.a);
+    float len = glm::length(n);
+    hit.ng = len > 0.0f && std::isfinite(len) ? n / len : -glm::normalize(ray.dir);
+    hit.ns = hit.ng;
+    if (!m.normals.empty()) {
+      Vec3 ns = th.b0 * m.normals[tri.x] + th.b1 * m.normals[tri.y] + th.b2 * m.normals[tri.z];
+      float l2 = glm::dot(ns, ns);
+      if (l2 > 0.0f && std::isfinite(l2)) {
+        hit.ns = ns / std::sqrt(l2);
+        // Trust the data's normals for the side of the surface.
+        if (glm::dot(hit.ns, hit.ng) < 0.0f) hit.ng = -hit.ng;
+      }
+    }
+    if (!m.colors.empty()) {
+      hit.has_vertex_color = true;
+      hit.vertex_color = th.b0 * m.colors[tri.x] + th.b1 * m.colors[tri.y] + th.b2 * m.colors[tri.z];
+    }
+    hit.object = mi;
+    hit.prim = ti;
+    hit.material = m.material;
+  } else {
+    uint32_t si = r.id - num_triangles_;
+    const Sphere& s = spheres[si];
+    hit.p = sphere_point(ray, t, s.center, s.radius, hit.p_error);
+    hit.ng = hit.ns = (hit.p - s.center) / s.radius;
+    hit.object = uint32_t(meshes.size()) + si;
+    hit.prim = 0;
+    hit.material = s.material;
+  }
+}
+
+}  // namespace rayscope

@@ -1,0 +1,329 @@
+#include "rayscope/scene_io.h"
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
+
+namespace rayscope {
+namespace {
+
+using json = nlohmann::json;
+
+// Walks the JSON with a path for error messages ("objects[2].radius").
+struct Reader {
+  std::string file;
+
+  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+    throw SceneError(file + ": " + (where.empty() ? what : where + ": " + what));
+  }
+
+  void keys(const json& j, const std::string& where, std::initializer_list<const char*> allowed) {
+    if (!j.is_object()) fail(where, "expected an object");
+    std::set<std::string> ok(allowed.begin(), allowed.end());
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (!ok.count(it.key())) fail(where, "unknown key '" + it.key() + "'");
+  }
+
+  float number(const json& j, const std::string& where) {
+    if (!j.is_number()) fail(where, "expected a number");
+    double v = j.get<double>();
+    if (!std::isfinite(v) || std::abs(v) > 3.0e38) fail(where, "number is not finite");
+    return float(v);
+  }
+  float number(const json& j, const std::string& where, float lo, float hi) {
+    float v = number(j, where);
+    if (v < lo || v > hi) {
+      std::ostringstream s;
+      s << "value " << v << " is outside [" << lo << ", " << hi << "]";
+      fail(where, s.str());
+    }
+    return v;
+  }
+  int integer(const json& j, const std::string& where, int lo, int hi) {
+    if (!j.is_number_integer()) fail(where, "expected an integer");
+    long long v = j.get<long long>();
+    if (v < lo || v > hi)
+      fail(where, "value " + std::to_string(v) + " is outside [" + std::to_string(lo) + ", " +
+                      std::to_string(hi) + "]");
+    return int(v);
+  }
+  bool boolean(const json& j, const std::string& where) {
+    if (!j.is_boolean()) fail(where, "expected true or false");
+    return j.get<bool>();
+  }
+  std::string string(const json& j, const std::string& where) {
+    if (!j.is_string()) fail(where, "expected a string");
+    return j.get<std::string>();
+  }
+  Vec3 vec3(const json& j, const std::string& where) {
+    if (!j.is_array() || j.size() != 3) fail(where, "expected an array of 3 numbers");
+    return Vec3(number(j[0], where + "[0]"), number(j[1], where + "[1]"),
+                number(j[2], where + "[2]"));
+  }
+  Color color(const json& j, const std::string& where) {
+    Vec3 c = vec3(j, where);
+    if (c.r < 0 || c.g < 0 || c.b < 0) fail(where, "color components must be >= 0");
+    return c;
+  }
+};
+
+glm::mat4 parse_transform(Reader& r, const json& j, const std::string& where) {
+  r.keys(j, where, {"translate", "rotate", "scale", "matrix"});
+  if (j.contains("matrix")) {
+    if (j.size() != 1) r.fail(where, "'matrix' cannot be combined with translate/rotate/scale");
+    const json& m = j["matrix"];
+    if (!m.is_array() || m.size() != 16) r.fail(where + ".matrix", "expected 16 numbers (row-major)");
+    glm::mat4 out(1.0f);
+    for (int row = 0; row < 4; ++row)
+      for (int col = 0; col < 4; ++col)
+        out[col][row] = r.number(m[row * 4 + col], where + ".matrix[" + std::to_string(row * 4 + col) + "]");
+    return out;
+  }
+  glm::mat4 t(1.0f);
+  if (j.contains("translate")) t = glm::translate(t, r.vec3(j["translate"], where + ".translate"));
+  if (j.contains("rotate")) {
+    Vec3 a = r.vec3(j["rotate"], where + ".rotate");  // degrees about x, then y, then z
+    t = glm::rotate(t, glm::radians(a.z), Vec3(0, 0, 1));
+    t = glm::rotate(t, glm::radians(a.y), Vec3(0, 1, 0));
+    t = glm::rotate(t, glm::radians(a.x), Vec3(1, 0, 0));
+  }
+  if (j.contains("scale")) {
+    Vec3 s;
+    if (j["scale"].is_number())
+      s = Vec3(r.number(j["scale"], where + ".scale"));
+    else
+      s = r.vec3(j["scale"], where + ".scale");
+    if (s.x == 0 || s.y == 0 || s.z == 0) r.fail(where + ".scale", "scale must be non-zero");
+    t = glm::scale(t, s);
+  }
+  return t;
+}
+
+}  // namespace
+
+LoadedScene parse_scene(const std::string& text, const std::string& name,
+                        const std::filesystem::path& base_dir, const MeshLoader& mesh_loader) {
+  Reader r{name};
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::parse_error& e) {
+    std::string msg = e.what();
+    auto pos = msg.find("parse error");
+    r.fail("", "malformed JSON: " + (pos == std::string::npos ? msg : msg.substr(pos)));
+  }
+  r.keys(root, "", {"camera", "render", "materials", "lights", "objects", "background", "ambient_light"});
+  LoadedScene out;
+  Scene& s = out.scene;
+  RenderSettings& rs = out.settings;
+  s.lights.clear();
+  if (root.contains("background")) s.background = r.color(root["background"], "background");
+  if (root.contains("ambient_light")) s.ambient_light = r.color(root["ambient_light"], "ambient_light");
+
+  if (root.contains("camera")) {
+    const json& c = root["camera"];
+    r.keys(c, "camera", {"eye", "look_at", "up", "fov", "parallel", "parallel_scale"});
+    if (c.contains("eye")) s.camera.eye = r.vec3(c["eye"], "camera.eye");
+    if (c.contains("look_at")) s.camera.look_at = r.vec3(c["look_at"], "camera.look_at");
+    if (c.contains("up")) s.camera.up = r.vec3(c["up"], "camera.up");
+    if (c.contains("fov")) s.camera.vfov_degrees = r.number(c["fov"], "camera.fov", 1e-3f, 179.0f);
+    if (c.contains("parallel")) s.camera.parallel = r.boolean(c["parallel"], "camera.parallel");
+    if (c.contains("parallel_scale"))
+      s.camera.parallel_scale = r.number(c["parallel_scale"], "camera.parallel_scale", 1e-30f, 1e30f);
+    if (s.camera.eye == s.camera.look_at) r.fail("camera", "eye and look_at coincide");
+    if (glm::length(glm::cross(s.camera.look_at - s.camera.eye, s.camera.up)) == 0.0f)
+      r.fail("camera", "up is zero or parallel to the view direction");
+  }
+
+  if (root.contains("render")) {
+    const json& j = root["render"];
+    r.keys(j, "render", {"width", "height", "samples", "max_depth", "min_contribution", "seed"});
+    if (j.contains("width")) rs.width = r.integer(j["width"], "render.width", 1, 32768);
+    if (j.contains("height")) rs.height = r.integer(j["height"], "render.height", 1, 32768);
+    if (j.contains("samples")) rs.samples = r.integer(j["samples"], "render.samples", 1, 64);
+    if (j.contains("max_depth")) rs.max_depth = r.integer(j["max_depth"], "render.max_depth", 0, 64);
+    if (j.contains("min_contribution"))
+      rs.min_contribution = r.number(j["min_contribution"], "render.min_contribution", 0.0f, 1.0f);
+    if (j.contains("seed")) rs.seed = uint32_t(r.integer(j["seed"], "render.seed", 0, 2147483647));
+    if (double(rs.width) * rs.height > 268435456.0) r.fail("render", "image is too large");
+  }
+
+  std::map<std::string, uint32_t> material_ids;
+  s.materials = {Material{}};  // index 0: the default material
+  material_ids["default"] = 0;
+  if (root.contains("materials")) {
+    const json& ms = root["materials"];
+    if (!ms.is_object()) r.fail("materials", "expected an object of named materials");
+    for (auto it = ms.begin(); it != ms.end(); ++it) {
+      std::string w = "materials." + it.key();
+      const json& j = it.value();
+      r.keys(j, w, {"color", "ambient", "diffuse", "specular", "specular_color", "shininess",
+                    "reflectivity", "transparency", "ior", "model", "checker"});
+      Material m;
+      m.name = it.key();
+      if (j.contains("color")) m.color = r.color(j["color"], w + ".color");
+      if (j.contains("ambient")) m.ambient = r.number(j["ambient"], w + ".ambient", 0.0f, 1e3f);
+      if (j.contains("diffuse")) m.diffuse = r.number(j["diffuse"], w + ".diffuse", 0.0f, 1e3f);
+      if (j.contains("specular")) m.specular = r.number(j["specular"], w + ".specular", 0.0f, 1e3f);
+      if (j.contains("specular_color"))
+        m.specular_color = r.color(j["specular_color"], w + ".specular_color");
+      if (j.contains("shininess"))
+        m.shininess = r.number(j["shininess"], w + ".shininess", 0.0f, 1e5f);
+      if (j.contains("reflectivity"))
+        m.reflectivity = r.number(j["reflectivity"], w + ".reflectivity", 0.0f, 1.0f);
+      if (j.contains("transparency"))
+        m.transparency = r.number(j["transparency"], w + ".transparency", 0.0f, 1.0f);
+      if (m.reflectivity + m.transparency > 1.0f)
+        r.fail(w, "reflectivity + transparency must not exceed 1");
+      if (j.contains("ior")) m.ior = r.number(j["ior"], w + ".ior", 1e-3f, 100.0f);
+      if (j.contains("model")) {
+        std::string model = r.string(j["model"], w + ".model");
+        if (model == "phong")
+          m.model = ShadingModel::Phong;
+        else if (model == "blinn-phong")
+          m.model = ShadingModel::BlinnPhong;
+        else
+          r.fail(w + ".model", "expected \"phong\" or \"blinn-phong\", got \"" + model + "\"");
+      }
+      if (j.contains("checker")) {
+        const json& c = j["checker"];
+        r.keys(c, w + ".checker", {"color", "size"});
+        m.checker = true;
+        if (c.contains("color")) m.checker_color = r.color(c["color"], w + ".checker.color");
+        if (c.contains("size")) m.checker_size = r.number(c["size"], w + ".checker.size", 1e-30f, 1e30f);
+      }
+      if (it.key() == "default") {
+        s.materials[0] = m;
+      } else {
+        material_ids[it.key()] = uint32_t(s.materials.size());
+        s.materials.push_back(m);
+      }
+    }
+  }
+  auto material_ref = [&](const json& j, const std::string& where) -> uint32_t {
+    if (!j.contains("material")) return 0;
+    std::string mname = r.string(j["material"], where + ".material");
+    auto it = material_ids.find(mname);
+    if (it == material_ids.end()) r.fail(where + ".material", "unknown material '" + mname + "'");
+    return it->second;
+  };
+
+  if (root.contains("lights")) {
+    const json& ls = root["lights"];
+    if (!ls.is_array()) r.fail("lights", "expected an array");
+    for (size_t i = 0; i < ls.size(); ++i) {
+      std::string w = "lights[" + std::to_string(i) + "]";
+      const json& j = ls[i];
+      r.keys(j, w, {"type", "name", "position", "direction", "color", "intensity", "attenuation",
+                    "shadows"});
+      Light l;
+      std::string type = j.contains("type") ? r.string(j["type"], w + ".type") : "point";
+      l.name = j.contains("name") ? r.string(j["name"], w + ".name") : "light" + std::to_string(i);
+      if (type == "point") {
+        l.type = Light::Type::Point;
+        if (!j.contains("position")) r.fail(w, "a point light needs a position");
+        l.position = r.vec3(j["position"], w + ".position");
+        if (j.contains("direction")) r.fail(w, "a point light has no direction");
+      } else if (type == "directional") {
+        l.type = Light::Type::Directional;
+        if (!j.contains("direction")) r.fail(w, "a directional light needs a direction");
+        l.direction = r.vec3(j["direction"], w + ".direction");
+        if (glm::dot(l.direction, l.direction) == 0.0f) r.fail(w + ".direction", "must be non-zero");
+        if (j.contains("position")) r.fail(w, "a directional light has no position");
+      } else {
+        r.fail(w + ".type", "expected \"point\" or \"directional\", got \"" + type + "\"");
+      }
+      if (j.contains("color")) l.color = r.color(j["color"], w + ".color");
+      if (j.contains("intensity")) l.intensity = r.number(j["intensity"], w + ".intensity", 0.0f, 1e30f);
+      if (j.contains("attenuation")) {
+        l.attenuation = r.vec3(j["attenuation"], w + ".attenuation");
+        if (l.attenuation.x < 0 || l.attenuation.y < 0 || l.attenuation.z < 0 ||
+            l.attenuation == Vec3(0.0f))
+          r.fail(w + ".attenuation", "coefficients must be >= 0 and not all zero");
+      }
+      if (j.contains("shadows")) l.casts_shadows = r.boolean(j["shadows"], w + ".shadows");
+      s.lights.push_back(l);
+    }
+  }
+
+  if (root.contains("objects")) {
+    const json& os = root["objects"];
+    if (!os.is_array()) r.fail("objects", "expected an array");
+    for (size_t i = 0; i < os.size(); ++i) {
+      std::string w = "objects[" + std::to_string(i) + "]";
+      const json& j = os[i];
+      if (!j.is_object()) r.fail(w, "expected an object");
+      if (!j.contains("type")) r.fail(w, "missing 'type' (sphere, plane or mesh)");
+      std::string type = r.string(j["type"], w + ".type");
+      std::string oname = j.contains("name") ? r.string(j["name"], w + ".name") : type + std::to_string(i);
+      if (type == "sphere") {
+        r.keys(j, w, {"type", "name", "center", "radius", "material"});
+        Sphere sp;
+        sp.name = oname;
+        if (!j.contains("center") || !j.contains("radius")) r.fail(w, "a sphere needs center and radius");
+        sp.center = r.vec3(j["center"], w + ".center");
+        sp.radius = r.number(j["radius"], w + ".radius", 1e-30f, 1e30f);
+        sp.material = material_ref(j, w);
+        s.spheres.push_back(sp);
+      } else if (type == "plane") {
+        r.keys(j, w, {"type", "name", "point", "normal", "material"});
+        Plane p;
+        p.name = oname;
+        if (j.contains("point")) p.point = r.vec3(j["point"], w + ".point");
+        if (j.contains("normal")) p.normal = r.vec3(j["normal"], w + ".normal");
+        if (glm::dot(p.normal, p.normal) == 0.0f) r.fail(w + ".normal", "must be non-zero");
+        p.material = material_ref(j, w);
+        s.planes.push_back(p);
+      } else if (type == "mesh") {
+        r.keys(j, w, {"type", "name", "file", "transform", "material", "smooth"});
+        if (!j.contains("file")) r.fail(w, "a mesh needs a 'file'");
+        std::filesystem::path f = r.string(j["file"], w + ".file");
+        if (f.is_relative()) f = base_dir / f;
+        if (!mesh_loader) r.fail(w, "no mesh reader available for '" + f.string() + "'");
+        TriangleMesh m;
+        try {
+          m = mesh_loader(f);
+        } catch (const std::exception& e) {
+          std::string msg = e.what();
+          throw SceneError(name + ": " + w + ".file: " + msg);
+        }
+        if (j.contains("smooth") && !r.boolean(j["smooth"], w + ".smooth")) m.normals.clear();
+        if (j.contains("transform")) {
+          glm::mat4 t = parse_transform(r, j["transform"], w + ".transform");
+          glm::mat3 nt = glm::transpose(glm::inverse(glm::mat3(t)));
+          for (Vec3& p : m.positions) p = Vec3(t * glm::vec4(p, 1.0f));
+          for (Vec3& n : m.normals) {
+            n = nt * n;
+            float l = glm::length(n);
+            if (l > 0.0f) n /= l;
+          }
+          if (glm::determinant(glm::mat3(t)) == 0.0f) r.fail(w + ".transform", "transform is singular");
+        }
+        m.name = oname;
+        m.material = material_ref(j, w);
+        s.meshes.push_back(std::move(m));
+      } else {
+        r.fail(w + ".type", "expected \"sphere\", \"plane\" or \"mesh\", got \"" + type + "\"");
+      }
+    }
+  }
+  return out;
+}
+
+LoadedScene load_scene(const std::filesystem::path& path, const MeshLoader& mesh_loader) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw SceneError(path.string() + ": file not found");
+  if (std::filesystem::is_directory(path, ec)) throw SceneError(path.string() + ": is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path.string() + ": cannot open file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_scene(ss.str(), path.string(), path.parent_path(), mesh_loader);
+}
+
+}  // namespace rayscope

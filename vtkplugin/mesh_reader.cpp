@@ -1,0 +1,128 @@
+#include <algorithm>
+#include <cctype>
+#include <stdexcept>
+#include <string>
+
+#include <vtkCellArray.h>
+#include <vtkDataArray.h>
+#include <vtkDataSet.h>
+#include <vtkDataSetReader.h>
+#include <vtkDataSetSurfaceFilter.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
+#include <vtkOBJReader.h>
+#include <vtkPLYReader.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkSTLReader.h>
+#include <vtkSmartPointer.h>
+#include <vtkTriangleFilter.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkXMLGenericDataObjectReader.h>
+
+#include "rayscope/vtk_mesh.h"
+
+namespace rayscope {
+
+TriangleMesh mesh_from_vtk(vtkDataSet* data, const std::string& name) {
+  if (!data) throw std::runtime_error(name + ": no data");
+  vtkNew<vtkDataSetSurfaceFilter> surface;
+  surface->SetInputData(data);
+  surface->SetNonlinearSubdivisionLevel(1);
+  vtkNew<vtkTriangleFilter> tri;
+  tri->SetInputConnection(surface->GetOutputPort());
+  tri->PassVertsOff();
+  tri->PassLinesOff();
+  tri->Update();
+  vtkPolyData* pd = tri->GetOutput();
+
+  TriangleMesh m;
+  m.name = name;
+  const vtkIdType np = pd->GetNumberOfPoints();
+  m.positions.resize(size_t(np));
+  for (vtkIdType i = 0; i < np; ++i) {
+    double p[3];
+    pd->GetPoint(i, p);
+    m.positions[size_t(i)] = Vec3(float(p[0]), float(p[1]), float(p[2]));
+  }
+  vtkCellArray* polys = pd->GetPolys();
+  m.triangles.reserve(size_t(polys->GetNumberOfCells()));
+  vtkNew<vtkIdList> ids;
+  for (polys->InitTraversal(); polys->GetNextCell(ids);) {
+    if (ids->GetNumberOfIds() != 3) continue;
+    m.triangles.emplace_back(uint32_t(ids->GetId(0)), uint32_t(ids->GetId(1)),
+                             uint32_t(ids->GetId(2)));
+  }
+  if (vtkDataArray* n = pd->GetPointData()->GetNormals();
+      n && n->GetNumberOfComponents() == 3 && n->GetNumberOfTuples() == np) {
+    m.normals.resize(size_t(np));
+    for (vtkIdType i = 0; i < np; ++i) {
+      double v[3];
+      n->GetTuple(i, v);
+      m.normals[size_t(i)] = Vec3(float(v[0]), float(v[1]), float(v[2]));
+    }
+  }
+  // Direct RGB(A) colors, as VTK's mappers show them with ColorModeToDirectScalars.
+  if (auto* c = vtkUnsignedCharArray::SafeDownCast(pd->GetPointData()->GetScalars());
+      c && (c->GetNumberOfComponents() == 3 || c->GetNumberOfComponents() == 4) &&
+      c->GetNumberOfTuples() == np) {
+    m.colors.resize(size_t(np));
+    for (vtkIdType i = 0; i < np; ++i) {
+      Color col;
+      for (int k = 0; k < 3; ++k) {
+        float s = float(c->GetTypedComponent(i, k)) / 255.0f;
+        col[k] = s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
+      }
+      m.colors[size_t(i)] = col;
+    }
+  }
+  return m;
+}
+
+TriangleMesh read_mesh_file(const std::filesystem::path& path) {
+  const std::string f = path.string();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw std::runtime_error(f + ": file not found");
+  if (!std::filesystem::is_regular_file(path, ec)) throw std::runtime_error(f + ": not a file");
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  vtkSmartPointer<vtkDataSet> data;
+  if (ext == ".stl") {
+    vtkNew<vtkSTLReader> r;
+    r->SetFileName(f.c_str());
+    r->Update();
+    data = r->GetOutput();
+  } else if (ext == ".ply") {
+    if (!vtkPLYReader::CanReadFile(f.c_str())) throw std::runtime_error(f + ": not a PLY file");
+    vtkNew<vtkPLYReader> r;
+    r->SetFileName(f.c_str());
+    r->Update();
+    data = r->GetOutput();
+  } else if (ext == ".obj") {
+    vtkNew<vtkOBJReader> r;
+    r->SetFileName(f.c_str());
+    r->Update();
+    data = r->GetOutput();
+  } else if (ext == ".vtk") {
+    vtkNew<vtkDataSetReader> r;
+    r->SetFileName(f.c_str());
+    r->Update();
+    data = r->GetOutput();
+  } else if (ext == ".vtp" || ext == ".vtu" || ext == ".vti" || ext == ".vts" || ext == ".vtr") {
+    vtkNew<vtkXMLGenericDataObjectReader> r;
+    if (!r->CanReadFile(f.c_str())) throw std::runtime_error(f + ": not a VTK XML file");
+    r->SetFileName(f.c_str());
+    r->Update();
+    data = vtkDataSet::SafeDownCast(r->GetOutputDataObject(0));
+  } else {
+    throw std::runtime_error(f + ": unsupported mesh format '" + ext +
+                             "' (use .vtp, .vtu, .vtk, .stl, .ply or .obj)");
+  }
+  if (!data) throw std::runtime_error(f + ": could not read a dataset");
+  TriangleMesh m = mesh_from_vtk(data, path.filename().string());
+  if (m.triangles.empty()) throw std::runtime_error(f + ": contains no surface triangles");
+  return m;
+}
+
+}  // namespace rayscope
