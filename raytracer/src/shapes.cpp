@@ -129,8 +129,8 @@ Scene make_default_scene() {
 
   s.planes.push_back(Plane{"floor", Vec3(0.0f), Vec3(0.0f, 1.0f, 0.0f), 0});
   s.spheres.push_back(Sphere{"mirror sphere", Vec3(-1.3f, 1.0f, -0.6f), 1.0f, 1});
-  s.spheres.push_back(Sphere{"glass sphere", Vec3(0.9f, 0.8f, 1.3f), 0.8f, 2});
-  TriangleMesh torus = make_torus(Vec3(1.6f, 0.45f, -1.2f), 0.8f, 0.3f, 48, 24);
+  s.spheres.push_back(Sphere{"glass sphere", Vec3(0.2f, 0.8f, 1.5f), 0.8f, 2});
+  TriangleMesh torus = make_torus(Vec3(1.9f, 0.3f, -0.9f), 0.75f, 0.3f, 48, 24);
   torus.material = 3;
   s.meshes.push_back(std::move(torus));
 

@@ -1,0 +1,11 @@
+// Subcommands of the `rayscope` executable.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace rayscope::cli {
+
+/// Registers `rayscope render`; the callback sets `exit_code`.
+void add_render_command(CLI::App& app, int& exit_code);
+
+}  // namespace rayscope::cli

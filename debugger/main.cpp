@@ -1,0 +1,24 @@
+// rayscope: render scenes and (in later versions) inspect the ray tree of a pixel.
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"RayScope: a Whitted ray tracer and ray-tree debugger for VTK data"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "rayscope 0.1.0");
+  int exit_code = 0;
+  rayscope::cli::add_render_command(app, exit_code);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rayscope: error: %s\n", e.what());
+    return 1;
+  }
+  return exit_code;
+}
