@@ -14,8 +14,16 @@ int main(int argc, char** argv) {
   rayscope::cli::add_render_command(app, exit_code);
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // One line, like every other error; --help tells the rest.
+    std::fprintf(stderr, "rayscope: error: %s (see rayscope --help)\n", e.what());
+    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rayscope: error: %s\n", e.what());
     return 1;

@@ -116,6 +116,12 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
     std::string msg = e.what();
     auto pos = msg.find("parse error");
     r.fail("", "malformed JSON: " + (pos == std::string::npos ? msg : msg.substr(pos)));
+  } catch (const json::exception& e) {
+    // e.g. out_of_range 406: "number overflow parsing '1e400'" (not a finite number).
+    std::string msg = e.what();
+    auto pos = msg.find("] ");
+    r.fail("", "malformed JSON: " + (pos == std::string::npos ? msg : msg.substr(pos + 2)) +
+                   " (not a finite number)");
   }
   r.keys(root, "", {"camera", "render", "materials", "lights", "objects", "background", "ambient_light"});
   LoadedScene out;
