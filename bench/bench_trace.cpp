@@ -1,0 +1,778 @@
+// bench_trace: RayScope's BVH against Embree 3 on identical rays.
+//
+// For the Stanford bunny (69,666 triangles) and, unless --no-big, a version of it
+// subdivided twice (1,114,656 triangles) this measures
+//  - build time: Scene::commit() (validation + bounds + binned SAH build + leaf
+//    records), Bvh::build() alone, and rtcCommitScene() with Embree's builder
+//    limited to 1 and 2 threads (device config "threads=N");
+//  - primary rays (closest hit): Scene::intersect vs rtcIntersect1, one ray per
+//    pixel centre of a pinhole camera framing the mesh, traced in 16x16 tiles;
+//  - shadow rays (any hit): Scene::occluded vs rtcOccluded1, spawned once with
+//    spawn_ray_to from our primary hits toward a point light above the mesh (only
+//    where the light is in front of the surface, as the Whitted integrator does),
+//    and fed unchanged to both tracers.
+// Both tracers run the same loop: tbb::parallel_for over blocks of 256 rays
+// inside a tbb::task_arena(threads), one warm-up pass, then the median of --runs
+// passes. Embree's "threads=N" only limits its builder; tracing with
+// rtcIntersect1 / rtcOccluded1 runs on the calling (arena) thread.
+// Finally the two tracers' answers are compared ray by ray.
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "rayscope/camera.h"
+#include "rayscope/scene.h"
+#include "rayscope/shapes.h"
+#include "rayscope/vtk_mesh.h"
+
+namespace {
+
+using namespace rayscope;
+using Clock = std::chrono::steady_clock;
+
+constexpr size_t kBlock = 256;  // rays per task; one 16x16 tile of primary rays
+constexpr int kTile = 16;
+constexpr const char* kDefaultMesh = "/usr/share/glmark2/models/bunny.obj";
+constexpr double kRelTolerance = 1e-4;   // hit distances agree when closer than this
+constexpr double kAgreeRequired = 0.999;  // fraction of rays that must agree
+
+static_assert(sizeof(Vec3) == 3 * sizeof(float));
+static_assert(sizeof(glm::uvec3) == 3 * sizeof(unsigned));
+
+// ---------------------------------------------------------------------------
+// Options
+
+struct Options {
+  int runs = 7;
+  int res = 1024;
+  std::string mesh = kDefaultMesh;
+  bool big = true;
+  std::string csv;
+  std::vector<int> threads{1, 2};
+  RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM;
+};
+
+const char* quality_name(RTCBuildQuality q) {
+  switch (q) {
+    case RTC_BUILD_QUALITY_LOW: return "LOW";
+    case RTC_BUILD_QUALITY_MEDIUM: return "MEDIUM";
+    case RTC_BUILD_QUALITY_HIGH: return "HIGH";
+    default: return "REFIT";
+  }
+}
+
+[[noreturn]] void usage(int code) {
+  std::fprintf(code ? stderr : stdout,
+               "usage: bench_trace [options]\n"
+               "  --runs N              timed passes per measurement, median reported (default 7)\n"
+               "  --res N               N x N primary rays (default 1024)\n"
+               "  --mesh PATH           mesh file read through VTK (default %s)\n"
+               "  --no-big              skip the subdivided (> 1M triangle) mesh\n"
+               "  --threads LIST        comma-separated thread counts (default 1,2)\n"
+               "  --embree-quality Q    low | medium | high (default medium: binned SAH,\n"
+               "                        like ours; high adds spatial splits)\n"
+               "  --csv FILE            also write all results to FILE\n",
+               kDefaultMesh);
+  std::exit(code);
+}
+
+int parse_int(const std::string& s, const char* what, int lo, int hi) {
+  try {
+    size_t pos = 0;
+    int v = std::stoi(s, &pos);
+    if (pos == s.size() && v >= lo && v <= hi) return v;
+  } catch (const std::exception&) {
+  }
+  std::fprintf(stderr, "bench_trace: %s must be an integer in %d..%d, got '%s'\n", what, lo, hi,
+               s.c_str());
+  std::exit(2);
+}
+
+Options parse_options(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "bench_trace: %s needs a value\n", a.c_str());
+        usage(2);
+      }
+      return argv[++i];
+    };
+    if (a == "-h" || a == "--help") {
+      usage(0);
+    } else if (a == "--runs") {
+      o.runs = parse_int(value(), "--runs", 1, 1000);
+    } else if (a == "--res") {
+      o.res = parse_int(value(), "--res", 1, 16384);
+    } else if (a == "--mesh") {
+      o.mesh = value();
+    } else if (a == "--no-big") {
+      o.big = false;
+    } else if (a == "--csv") {
+      o.csv = value();
+    } else if (a == "--threads") {
+      o.threads.clear();
+      std::stringstream ss(value());
+      for (std::string t; std::getline(ss, t, ',');)
+        o.threads.push_back(parse_int(t, "--threads", 1, 1024));
+      if (o.threads.empty()) usage(2);
+    } else if (a == "--embree-quality") {
+      const std::string q = value();
+      if (q == "low")
+        o.quality = RTC_BUILD_QUALITY_LOW;
+      else if (q == "medium")
+        o.quality = RTC_BUILD_QUALITY_MEDIUM;
+      else if (q == "high")
+        o.quality = RTC_BUILD_QUALITY_HIGH;
+      else
+        usage(2);
+    } else {
+      std::fprintf(stderr, "bench_trace: unknown option '%s'\n", a.c_str());
+      usage(2);
+    }
+  }
+  return o;
+}
+
+// ---------------------------------------------------------------------------
+// Timing and system information
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// One untimed warm-up call, then the median of `runs` calls; `once` returns seconds.
+template <class F>
+double median_seconds(int runs, F&& once) {
+  once();
+  std::vector<double> t;
+  for (int i = 0; i < runs; ++i) t.push_back(once());
+  return median(t);
+}
+
+std::string cpu_model() {
+  std::ifstream f("/proc/cpuinfo");
+  for (std::string line; std::getline(f, line);) {
+    if (line.rfind("model name", 0) != 0) continue;
+    size_t colon = line.find(':');
+    if (colon == std::string::npos) break;
+    size_t start = line.find_first_not_of(" \t", colon + 1);
+    return start == std::string::npos ? "unknown" : line.substr(start);
+  }
+  return "unknown";
+}
+
+std::string compiler() {
+#if defined(__clang__)
+  return "clang " __clang_version__;
+#elif defined(__GNUC__)
+  return "g++ " __VERSION__;
+#else
+  return "unknown compiler";
+#endif
+}
+
+// ---------------------------------------------------------------------------
+// Embree
+
+const char* tasking_name(ssize_t v) {
+  switch (v) {
+    case 0: return "internal";
+    case 1: return "TBB";
+    case 2: return "PPL";
+    default: return "unknown";
+  }
+}
+
+void embree_error(void* /*user*/, RTCError code, const char* message) {
+  std::fprintf(stderr, "Embree error %d: %s\n", int(code), message ? message : "");
+}
+
+RTCDevice new_device(const std::string& config) {
+  RTCDevice dev = rtcNewDevice(config.c_str());
+  if (!dev) {
+    std::fprintf(stderr, "bench_trace: rtcNewDevice(\"%s\") failed (error %d)\n", config.c_str(),
+                 int(rtcGetDeviceError(nullptr)));
+    std::exit(2);
+  }
+  rtcSetDeviceErrorFunction(dev, embree_error, nullptr);
+  return dev;
+}
+
+/// Builds an Embree scene holding one triangle mesh. The vertex and index data
+/// are copied into Embree-owned buffers (rtcSetNewGeometryBuffer): a shared
+/// std::vector<Vec3> does not guarantee the 4 bytes of readable padding after
+/// the last vertex that Embree's 16-byte loads need. The copy is part of the
+/// measured build, as our commit() also copies the vertices into its leaves.
+RTCScene embree_scene(RTCDevice dev, const TriangleMesh& m, RTCBuildQuality quality) {
+  RTCScene scene = rtcNewScene(dev);
+  rtcSetSceneBuildQuality(scene, quality);
+  RTCGeometry geom = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+  rtcSetGeometryBuildQuality(geom, quality);
+  void* v = rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                    sizeof(Vec3), m.positions.size());
+  void* i = rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                    sizeof(glm::uvec3), m.triangles.size());
+  if (!v || !i) {
+    std::fprintf(stderr, "bench_trace: Embree could not allocate the geometry buffers\n");
+    std::exit(2);
+  }
+  std::memcpy(v, m.positions.data(), m.positions.size() * sizeof(Vec3));
+  std::memcpy(i, m.triangles.data(), m.triangles.size() * sizeof(glm::uvec3));
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(scene, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(scene);
+  return scene;
+}
+
+// ---------------------------------------------------------------------------
+// Rays
+
+/// Pinhole camera looking at the mesh's bounding sphere from the front, a little
+/// from above and to the side, close enough that the sphere fills the frame.
+Camera framing_camera(const Bounds3& b, int res) {
+  Camera cam;
+  const Vec3 c = b.center();
+  const float r = 0.5f * glm::length(b.extent());
+  cam.vfov_degrees = 40.0f;
+  const float dist = r / std::tan(0.5f * glm::radians(cam.vfov_degrees));
+  cam.eye = c + dist * glm::normalize(Vec3(0.35f, 0.3f, 1.0f));
+  cam.look_at = c;
+  cam.up = Vec3(0.0f, 1.0f, 0.0f);
+  cam.prepare(res, res);
+  return cam;
+}
+
+Vec3 light_position(const Bounds3& b) {
+  const Vec3 c = b.center();
+  const float r = 0.5f * glm::length(b.extent());
+  return c + r * Vec3(0.6f, 2.5f, 1.2f);
+}
+
+/// One ray through every pixel centre, in 16x16 tiles (rows within a tile), so
+/// that each 256-ray block is one compact tile as in the renderer.
+std::vector<Ray> primary_rays(const Camera& cam, int res) {
+  std::vector<Ray> rays;
+  rays.reserve(size_t(res) * size_t(res));
+  for (int ty = 0; ty < res; ty += kTile)
+    for (int tx = 0; tx < res; tx += kTile)
+      for (int y = ty; y < std::min(ty + kTile, res); ++y)
+        for (int x = tx; x < std::min(tx + kTile, res); ++x)
+          rays.push_back(cam.generate_ray(float(x) + 0.5f, float(y) + 0.5f));
+  return rays;
+}
+
+struct ShadowSet {
+  std::vector<Ray> rays;
+  size_t primary_hits = 0;
+  size_t facing_away = 0;  // hits where the light is behind the surface: no shadow ray
+};
+
+/// Shadow rays from our closest hits toward the light, spawned exactly as the
+/// integrator does (normal facing the incoming ray, spawn_ray_to, t in (0, 1)).
+ShadowSet shadow_rays(const Scene& scene, const std::vector<Ray>& primary, const Vec3& light) {
+  const size_t n = primary.size();
+  std::vector<Ray> slot(n);
+  std::vector<uint8_t> state(n, 0);  // 0 miss, 1 facing away, 2 shadow ray
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kBlock),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t i = r.begin(); i != r.end(); ++i) {
+                        SurfaceHit h;
+                        if (!scene.intersect(primary[i], h)) continue;
+                        const Vec3 ng = glm::dot(primary[i].dir, h.ng) < 0.0f ? h.ng : -h.ng;
+                        if (glm::dot(ng, light - h.p) <= 0.0f) {
+                          state[i] = 1;
+                          continue;
+                        }
+                        slot[i] = spawn_ray_to(h.p, h.p_error, ng, light);
+                        state[i] = 2;
+                      }
+                    });
+  ShadowSet s;
+  for (size_t i = 0; i < n; ++i) {
+    if (state[i] == 0) continue;
+    s.primary_hits++;
+    if (state[i] == 1)
+      s.facing_away++;
+    else
+      s.rays.push_back(slot[i]);
+  }
+  return s;
+}
+
+// ---------------------------------------------------------------------------
+// Tracing loops (identical scheduling for both tracers)
+
+/// Runs body(begin, end) over blocks of kBlock rays in the arena; returns seconds.
+template <class Body>
+double run_blocks(tbb::task_arena& arena, size_t n, const Body& body) {
+  const size_t nblocks = (n + kBlock - 1) / kBlock;
+  const auto t0 = Clock::now();
+  arena.execute([&] {
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, nblocks, 1),
+        [&](const tbb::blocked_range<size_t>& r) {
+          for (size_t b = r.begin(); b != r.end(); ++b)
+            body(b * kBlock, std::min(n, (b + 1) * kBlock));
+        },
+        tbb::simple_partitioner());
+  });
+  return seconds_since(t0);
+}
+
+struct PrimaryResult {
+  std::vector<float> t;  // +inf for a miss
+  std::vector<uint32_t> prim;
+  explicit PrimaryResult(size_t n) : t(n, kInfinity), prim(n, ~0u) {}
+};
+
+double trace_ours_primary(tbb::task_arena& arena, const Scene& scene, const std::vector<Ray>& rays,
+                          PrimaryResult& out) {
+  return run_blocks(arena, rays.size(), [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      SurfaceHit h;
+      if (scene.intersect(rays[i], h)) {
+        out.t[i] = h.t;
+        out.prim[i] = h.prim;
+      } else {
+        out.t[i] = kInfinity;
+        out.prim[i] = ~0u;
+      }
+    }
+  });
+}
+
+double trace_embree_primary(tbb::task_arena& arena, RTCScene scene, const std::vector<Ray>& rays,
+                            PrimaryResult& out) {
+  return run_blocks(arena, rays.size(), [&](size_t begin, size_t end) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (size_t i = begin; i < end; ++i) {
+      const Ray& r = rays[i];
+      RTCRayHit rh;
+      rh.ray.org_x = r.origin.x;
+      rh.ray.org_y = r.origin.y;
+      rh.ray.org_z = r.origin.z;
+      rh.ray.tnear = 0.0f;
+      rh.ray.dir_x = r.dir.x;
+      rh.ray.dir_y = r.dir.y;
+      rh.ray.dir_z = r.dir.z;
+      rh.ray.time = 0.0f;
+      rh.ray.tfar = r.tmax;
+      rh.ray.mask = ~0u;
+      rh.ray.id = 0;
+      rh.ray.flags = 0;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(scene, &ctx, &rh);
+      if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+        out.t[i] = rh.ray.tfar;
+        out.prim[i] = rh.hit.primID;
+      } else {
+        out.t[i] = kInfinity;
+        out.prim[i] = ~0u;
+      }
+    }
+  });
+}
+
+double trace_ours_shadow(tbb::task_arena& arena, const Scene& scene, const std::vector<Ray>& rays,
+                         std::vector<uint8_t>& occluded) {
+  return run_blocks(arena, rays.size(), [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) occluded[i] = scene.occluded(rays[i]) ? 1 : 0;
+  });
+}
+
+double trace_embree_shadow(tbb::task_arena& arena, RTCScene scene, const std::vector<Ray>& rays,
+                           std::vector<uint8_t>& occluded) {
+  return run_blocks(arena, rays.size(), [&](size_t begin, size_t end) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (size_t i = begin; i < end; ++i) {
+      const Ray& r = rays[i];
+      RTCRay ray;
+      ray.org_x = r.origin.x;
+      ray.org_y = r.origin.y;
+      ray.org_z = r.origin.z;
+      ray.tnear = 0.0f;
+      ray.dir_x = r.dir.x;
+      ray.dir_y = r.dir.y;
+      ray.dir_z = r.dir.z;
+      ray.time = 0.0f;
+      ray.tfar = r.tmax;
+      ray.mask = ~0u;
+      ray.id = 0;
+      ray.flags = 0;
+      rtcOccluded1(scene, &ctx, &ray);
+      occluded[i] = ray.tfar < 0.0f ? 1 : 0;  // tfar = -inf when occluded
+    }
+  });
+}
+
+// ---------------------------------------------------------------------------
+// Validation
+
+struct Check {
+  std::string mesh, kind;
+  int threads = 0;
+  size_t rays = 0;
+  size_t ours = 0, embree = 0;  // hits (primary) or occluded rays (shadow)
+  size_t hit_mismatch = 0;      // one tracer hits / is occluded, the other not
+  size_t t_mismatch = 0;        // both hit, relative t difference >= kRelTolerance
+  size_t prim_differs = 0;      // both hit, different triangle (ties, edges): information only
+  double max_rel = 0.0;         // largest relative t difference among matching hits
+  double agree() const {
+    return rays ? double(rays - hit_mismatch - t_mismatch) / double(rays) : 1.0;
+  }
+  bool pass() const { return agree() > kAgreeRequired; }
+};
+
+Check compare_primary(const PrimaryResult& a, const PrimaryResult& b) {
+  Check c;
+  c.kind = "primary";
+  c.rays = a.t.size();
+  for (size_t i = 0; i < c.rays; ++i) {
+    const bool ha = a.t[i] != kInfinity, hb = b.t[i] != kInfinity;
+    c.ours += ha;
+    c.embree += hb;
+    if (ha != hb) {
+      c.hit_mismatch++;
+      continue;
+    }
+    if (!ha) continue;
+    const double rel = std::abs(double(a.t[i]) - double(b.t[i])) / std::max(double(b.t[i]), 1e-30);
+    if (rel >= kRelTolerance)
+      c.t_mismatch++;
+    else
+      c.max_rel = std::max(c.max_rel, rel);
+    if (a.prim[i] != b.prim[i]) c.prim_differs++;
+  }
+  return c;
+}
+
+Check compare_shadow(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  Check c;
+  c.kind = "shadow";
+  c.rays = a.size();
+  for (size_t i = 0; i < c.rays; ++i) {
+    c.ours += a[i];
+    c.embree += b[i];
+    c.hit_mismatch += a[i] != b[i];
+  }
+  return c;
+}
+
+// ---------------------------------------------------------------------------
+// One mesh
+
+struct BuildRow {
+  std::string mesh;
+  size_t tris = 0;
+  double commit_ms = 0.0, bvh_ms = 0.0;
+  std::vector<std::pair<int, double>> embree_ms;  // (builder threads, ms)
+  BvhQuality quality;
+};
+
+struct TraceRow {
+  std::string mesh, kind;
+  size_t tris = 0, rays = 0;
+  int threads = 0;
+  double ours = 0.0, embree = 0.0;  // Mrays/s
+};
+
+struct Results {
+  std::vector<BuildRow> builds;
+  std::vector<TraceRow> traces;
+  std::vector<Check> checks;
+  std::vector<std::string> notes;
+};
+
+void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options& opt,
+                Results& res) {
+  const size_t tris = mesh.triangles.size();
+  std::fprintf(stderr, "[%s] %zu triangles\n", name.c_str(), tris);
+
+  // --- Our build: the whole commit(), and the BVH builder alone.
+  BuildRow build;
+  build.mesh = name;
+  build.tris = tris;
+  build.commit_ms = 1e3 * median_seconds(opt.runs, [&] {
+                      Scene s;
+                      s.meshes.push_back(mesh);
+                      const auto t0 = Clock::now();
+                      s.commit();
+                      return seconds_since(t0);
+                    });
+  {
+    std::vector<Bounds3> bounds(tris);
+    std::vector<Vec3> centroids(tris);
+    for (size_t i = 0; i < tris; ++i) {
+      const glm::uvec3& t = mesh.triangles[i];
+      Bounds3 b(mesh.positions[t.x]);
+      b.extend(mesh.positions[t.y]);
+      b.extend(mesh.positions[t.z]);
+      bounds[i] = b;
+      centroids[i] = b.center();
+    }
+    build.bvh_ms = 1e3 * median_seconds(opt.runs, [&] {
+                     Bvh bvh;
+                     const auto t0 = Clock::now();
+                     bvh.build(bounds, centroids);
+                     return seconds_since(t0);
+                   });
+  }
+  std::fprintf(stderr, "[%s] ours: commit %.1f ms, Bvh::build %.1f ms\n", name.c_str(),
+               build.commit_ms, build.bvh_ms);
+
+  // --- Embree build with its builder limited to N threads. With the TBB tasking
+  // system "threads=N" installs a process-wide tbb::global_control while the
+  // device lives, so the device is released before any tracing (it would
+  // otherwise cap our task_arena too).
+  for (int n : opt.threads) {
+    RTCDevice dev = new_device("threads=" + std::to_string(n) + ",start_threads=1");
+    const double ms = 1e3 * median_seconds(opt.runs, [&] {
+                        const auto t0 = Clock::now();
+                        RTCScene s = embree_scene(dev, mesh, opt.quality);
+                        const double sec = seconds_since(t0);
+                        rtcReleaseScene(s);
+                        return sec;
+                      });
+    rtcReleaseDevice(dev);
+    build.embree_ms.emplace_back(n, ms);
+    std::fprintf(stderr, "[%s] Embree (%s, %d thread%s): %.1f ms\n", name.c_str(),
+                 quality_name(opt.quality), n, n == 1 ? "" : "s", ms);
+  }
+
+  // --- Scenes used for tracing.
+  Scene scene;
+  scene.meshes.push_back(mesh);
+  scene.commit();
+  build.quality = scene.bvh().quality();
+  res.builds.push_back(build);
+
+  RTCDevice dev = new_device("");  // default: no thread cap
+  RTCScene escene = embree_scene(dev, mesh, opt.quality);
+
+  // --- Rays.
+  const Bounds3 box = scene.bvh().bounds();
+  const Camera cam = framing_camera(box, opt.res);
+  const std::vector<Ray> primary = primary_rays(cam, opt.res);
+  const ShadowSet shadow = shadow_rays(scene, primary, light_position(box));
+  {
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "%s: %zu primary rays, %zu hit (%.1f%%); %zu shadow rays (%zu hits face away "
+                  "from the light)",
+                  name.c_str(), primary.size(), shadow.primary_hits,
+                  100.0 * double(shadow.primary_hits) / double(primary.size()), shadow.rays.size(),
+                  shadow.facing_away);
+    res.notes.push_back(buf);
+    std::fprintf(stderr, "[%s] %s\n", name.c_str(), buf + name.size() + 2);
+  }
+
+  PrimaryResult ours_p(primary.size()), embree_p(primary.size());
+  std::vector<uint8_t> ours_s(shadow.rays.size()), embree_s(shadow.rays.size());
+  for (int n : opt.threads) {
+    tbb::task_arena arena(n);
+    auto mrays = [&](size_t rays, double sec) { return double(rays) / sec * 1e-6; };
+
+    TraceRow p{name, "primary", tris, primary.size(), n, 0.0, 0.0};
+    p.ours = mrays(primary.size(), median_seconds(opt.runs, [&] {
+                     return trace_ours_primary(arena, scene, primary, ours_p);
+                   }));
+    p.embree = mrays(primary.size(), median_seconds(opt.runs, [&] {
+                       return trace_embree_primary(arena, escene, primary, embree_p);
+                     }));
+    res.traces.push_back(p);
+    std::fprintf(stderr, "[%s] %dT primary: ours %.2f, Embree %.2f Mrays/s\n", name.c_str(), n,
+                 p.ours, p.embree);
+
+    TraceRow s{name, "shadow", tris, shadow.rays.size(), n, 0.0, 0.0};
+    s.ours = mrays(shadow.rays.size(), median_seconds(opt.runs, [&] {
+                     return trace_ours_shadow(arena, scene, shadow.rays, ours_s);
+                   }));
+    s.embree = mrays(shadow.rays.size(), median_seconds(opt.runs, [&] {
+                       return trace_embree_shadow(arena, escene, shadow.rays, embree_s);
+                     }));
+    res.traces.push_back(s);
+    std::fprintf(stderr, "[%s] %dT shadow:  ours %.2f, Embree %.2f Mrays/s\n", name.c_str(), n,
+                 s.ours, s.embree);
+
+    // The arrays hold the answers of the last timed pass with n threads.
+    Check cp = compare_primary(ours_p, embree_p);
+    Check cs = compare_shadow(ours_s, embree_s);
+    for (Check* c : {&cp, &cs}) {
+      c->mesh = name;
+      c->threads = n;
+      res.checks.push_back(*c);
+    }
+  }
+
+  rtcReleaseScene(escene);
+  rtcReleaseDevice(dev);
+}
+
+// ---------------------------------------------------------------------------
+// Output
+
+void print_tables(const Results& r, const Options& opt) {
+  std::printf("\nBuild (median of %d; Embree quality %s; ours: binned SAH, 16 bins, leaves <= 8)\n",
+              opt.runs, quality_name(opt.quality));
+  std::printf("%-11s %9s %10s %10s", "mesh", "tris", "commit ms", "bvh ms");
+  for (const auto& [n, ms] : r.builds.front().embree_ms) {
+    (void)ms;
+    std::printf("  %8s%-2d", "Embree ", n);
+  }
+  std::printf(" %9s %9s %6s %9s %8s %8s\n", "nodes", "leaves", "depth", "leaf avg", "max leaf",
+              "SAH");
+  for (const BuildRow& b : r.builds) {
+    std::printf("%-11s %9zu %10.1f %10.1f", b.mesh.c_str(), b.tris, b.commit_ms, b.bvh_ms);
+    for (const auto& [n, ms] : b.embree_ms) {
+      (void)n;
+      std::printf("  %10.1f", ms);
+    }
+    std::printf(" %9u %9u %6u %9.2f %8u %8.2f\n", b.quality.nodes, b.quality.leaves,
+                b.quality.depth, b.quality.mean_leaf_prims, b.quality.max_leaf_prims,
+                b.quality.sah_cost);
+  }
+  std::printf("(commit = Scene::commit(): validation, bounds, Bvh::build, leaf records; bvh = "
+              "Bvh::build() alone;\n Embree N = rtcNewScene .. rtcCommitScene incl. buffer copy "
+              "with device \"threads=N\")\n");
+
+  std::printf("\nTrace throughput (Mrays/s, median of %d after 1 warm-up; blocks of %zu rays)\n",
+              opt.runs, kBlock);
+  std::printf("%-11s %7s %-8s %9s %10s %10s %12s\n", "mesh", "threads", "kind", "rays", "ours",
+              "Embree", "ours/Embree");
+  for (const TraceRow& t : r.traces)
+    std::printf("%-11s %7d %-8s %9zu %10.2f %10.2f %12.3f\n", t.mesh.c_str(), t.threads,
+                t.kind.c_str(), t.rays, t.ours, t.embree, t.ours / t.embree);
+  for (const std::string& n : r.notes) std::printf("  %s\n", n.c_str());
+
+  std::printf("\nValidation (ours vs Embree; agree = same hit/miss and |dt|/t < %g)\n",
+              kRelTolerance);
+  std::printf("%-11s %7s %-8s %9s %9s %9s %9s %9s %9s %10s %9s %5s\n", "mesh", "threads", "kind",
+              "rays", "ours", "Embree", "hit/miss", "t diff", "prim diff", "agree", "max rel",
+              "");
+  for (const Check& c : r.checks)
+    std::printf("%-11s %7d %-8s %9zu %9zu %9zu %9zu %9zu %9zu %9.5f%% %9.2e %5s\n",
+                c.mesh.c_str(), c.threads, c.kind.c_str(), c.rays, c.ours, c.embree,
+                c.hit_mismatch, c.t_mismatch, c.prim_differs, 100.0 * c.agree(), c.max_rel,
+                c.pass() ? "ok" : "FAIL");
+  std::printf("(ours/Embree = hits for primary rays, occluded rays for shadow rays; prim diff is "
+              "informational)\n");
+}
+
+void write_csv(const Results& r, const std::string& path) {
+  std::ofstream f(path);
+  if (!f) {
+    std::fprintf(stderr, "bench_trace: cannot write %s\n", path.c_str());
+    return;
+  }
+  f << "mesh,triangles,metric,threads,rays,ours,embree,ours_over_embree,unit\n";
+  for (const BuildRow& b : r.builds) {
+    f << b.mesh << ',' << b.tris << ",build_commit,1,0," << b.commit_ms << ",,,ms\n";
+    f << b.mesh << ',' << b.tris << ",build_bvh,1,0," << b.bvh_ms << ",,,ms\n";
+    for (const auto& [n, ms] : b.embree_ms)
+      // ratio as speed (Embree time / our commit time): > 1 means ours is faster.
+      f << b.mesh << ',' << b.tris << ",build," << n << ",0," << b.commit_ms << ',' << ms << ','
+        << ms / b.commit_ms << ",ms\n";
+    f << b.mesh << ',' << b.tris << ",bvh_nodes,1,0," << b.quality.nodes << ",,,count\n";
+    f << b.mesh << ',' << b.tris << ",bvh_leaves,1,0," << b.quality.leaves << ",,,count\n";
+    f << b.mesh << ',' << b.tris << ",bvh_depth,1,0," << b.quality.depth << ",,,count\n";
+    f << b.mesh << ',' << b.tris << ",bvh_sah_cost,1,0," << b.quality.sah_cost << ",,,cost\n";
+  }
+  for (const TraceRow& t : r.traces)
+    f << t.mesh << ',' << t.tris << ',' << t.kind << ',' << t.threads << ',' << t.rays << ','
+      << t.ours << ',' << t.embree << ',' << t.ours / t.embree << ",Mrays/s\n";
+  for (const Check& c : r.checks)
+    f << c.mesh << ",," << c.kind << "_agree," << c.threads << ',' << c.rays << ',' << c.ours
+      << ',' << c.embree << ',' << c.agree() << ",fraction\n";
+  std::fprintf(stderr, "wrote %s\n", path.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options opt = parse_options(argc, argv);
+
+  if (!std::filesystem::exists(opt.mesh)) {
+    std::printf("bench_trace: mesh '%s' not found; skipping (install glmark2-data or pass "
+                "--mesh PATH)\n",
+                opt.mesh.c_str());
+    return 0;
+  }
+
+  TriangleMesh base;
+  try {
+    base = read_mesh_file(opt.mesh);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_trace: %s\n", e.what());
+    return 2;
+  }
+  const std::string base_name = std::filesystem::path(opt.mesh).stem().string();
+  std::vector<std::pair<std::string, TriangleMesh>> meshes;
+  meshes.emplace_back(base_name, base);
+  if (opt.big) meshes.emplace_back(base_name + "/sub2", subdivide(subdivide(base)));
+
+  {
+    RTCDevice dev = new_device("");
+    std::printf("RayScope bench_trace\n");
+    std::printf("  CPU       %s (%u hardware threads)\n", cpu_model().c_str(),
+                std::thread::hardware_concurrency());
+    std::printf("  compiler  %s, %s%s\n", compiler().c_str(), RAYSCOPE_BENCH_BUILD_TYPE,
+                RAYSCOPE_BENCH_NATIVE ? ", -march=native" : "");
+    std::printf("  Embree    %s (tasking: %s), build quality %s, scene flags none, rtcIntersect1 / "
+                "rtcOccluded1\n",
+                RTC_VERSION_STRING,
+                tasking_name(rtcGetDeviceProperty(dev, RTC_DEVICE_PROPERTY_TASKING_SYSTEM)),
+                quality_name(opt.quality));
+    rtcReleaseDevice(dev);
+    std::printf("  mesh      %s\n", opt.mesh.c_str());
+    for (const auto& [name, m] : meshes)
+      std::printf("  %-9s %zu triangles, %zu vertices\n", name.c_str(), m.triangles.size(),
+                  m.positions.size());
+    std::printf("  rays      %dx%d primary (pixel centres, 16x16 tiles), shadow rays from our "
+                "hits; runs %d\n",
+                opt.res, opt.res, opt.runs);
+    std::fflush(stdout);
+  }
+
+  Results results;
+  for (const auto& [name, m] : meshes) bench_mesh(name, m, opt, results);
+
+  print_tables(results, opt);
+  if (!opt.csv.empty()) write_csv(results, opt.csv);
+
+  bool ok = true;
+  for (const Check& c : results.checks) ok = ok && c.pass();
+  if (!ok) {
+    std::printf("\nVALIDATION FAILED: ours and Embree disagree on more than %.1f%% of rays\n",
+                100.0 * (1.0 - kAgreeRequired));
+    return 1;
+  }
+  return 0;
+}

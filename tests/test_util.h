@@ -1,0 +1,124 @@
+// Helpers shared by the RayScope tests: a seeded random source and
+// double-precision reference computations. Every reference takes the float
+// inputs the code under test sees, converts them exactly to double and works
+// there, so its own error (~1e-16 relative) is negligible against float's
+// 6e-8 and the difference to the tested result is the tested code's error.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+
+#include <glm/glm.hpp>
+
+#include "rayscope/math.h"
+
+namespace rstest {
+
+using rayscope::Vec3;
+using DVec3 = glm::dvec3;
+
+inline DVec3 to_d(const Vec3& v) { return DVec3(v); }
+
+/// Seeded random numbers (std::mt19937 with a fixed seed: every run of a test
+/// sees the same cases, so a failure can be reproduced).
+class Rng {
+ public:
+  explicit Rng(uint32_t seed) : gen_(seed) {}
+
+  double uniform(double lo = 0.0, double hi = 1.0) {
+    return std::uniform_real_distribution<double>(lo, hi)(gen_);
+  }
+  int integer(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(gen_); }
+  bool coin() { return integer(0, 1) == 1; }
+  /// |x| log-uniform in [lo, hi], random sign.
+  double log_uniform_signed(double lo, double hi) {
+    double m = std::pow(10.0, uniform(std::log10(lo), std::log10(hi)));
+    return coin() ? m : -m;
+  }
+  double log_uniform(double lo, double hi) {
+    return std::pow(10.0, uniform(std::log10(lo), std::log10(hi)));
+  }
+  /// Uniformly distributed unit vector (double).
+  DVec3 unit_vector() {
+    std::normal_distribution<double> n(0.0, 1.0);
+    for (;;) {
+      DVec3 v(n(gen_), n(gen_), n(gen_));
+      double l = glm::length(v);
+      if (l > 1e-6) return v / l;
+    }
+  }
+  /// Uniform point in the unit ball (double).
+  DVec3 in_unit_ball() {
+    for (;;) {
+      DVec3 v(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+      if (glm::dot(v, v) <= 1.0) return v;
+    }
+  }
+  std::mt19937& engine() { return gen_; }
+
+ private:
+  std::mt19937 gen_;
+};
+
+/// Ray-triangle intersection in double (Moller-Trumbore). Returns false for a
+/// miss or a ray parallel to the plane; fills t and the barycentrics (b0, b1,
+/// b2) of p0, p1, p2. `edge_margin` receives the smallest barycentric: negative
+/// outside the triangle, its magnitude is the relative distance from the
+/// nearest edge line.
+struct RefTriHit {
+  double t = 0.0, b0 = 0.0, b1 = 0.0, b2 = 0.0;
+  double min_bary = 0.0;
+  bool front_of_origin = false;
+};
+inline bool ref_ray_plane_of_triangle(const DVec3& o, const DVec3& d, const DVec3& p0,
+                                      const DVec3& p1, const DVec3& p2, RefTriHit& h) {
+  DVec3 e1 = p1 - p0, e2 = p2 - p0;
+  DVec3 pv = glm::cross(d, e2);
+  double det = glm::dot(e1, pv);
+  if (det == 0.0) return false;
+  double inv = 1.0 / det;
+  DVec3 tv = o - p0;
+  double u = glm::dot(tv, pv) * inv;
+  DVec3 qv = glm::cross(tv, e1);
+  double v = glm::dot(d, qv) * inv;
+  h.t = glm::dot(e2, qv) * inv;
+  h.b1 = u;
+  h.b2 = v;
+  h.b0 = 1.0 - u - v;
+  h.min_bary = std::min(h.b0, std::min(h.b1, h.b2));
+  h.front_of_origin = h.t > 0.0;
+  return true;
+}
+
+/// Ray-sphere in double, via the closest approach of the line to the center.
+/// Returns false if the line misses; t0 <= t1 are the two roots, `impact` is the
+/// distance of the line from the center.
+inline bool ref_ray_sphere(const DVec3& o, const DVec3& d, const DVec3& c, double r, double& t0,
+                           double& t1, double& impact) {
+  DVec3 f = o - c;
+  double a = glm::dot(d, d);
+  double tc = -glm::dot(f, d) / a;  // parameter of the closest approach
+  DVec3 l = f + tc * d;
+  impact = glm::length(l);
+  double h2 = r * r - glm::dot(l, l);
+  if (h2 < 0.0) return false;
+  double h = std::sqrt(h2 / a);
+  t0 = tc - h;
+  t1 = tc + h;
+  return true;
+}
+
+/// Componentwise |a - b| <= bound.
+inline bool within(const DVec3& a, const DVec3& b, const DVec3& bound) {
+  DVec3 e = glm::abs(a - b);
+  return e.x <= bound.x && e.y <= bound.y && e.z <= bound.z;
+}
+
+inline double max_abs(const DVec3& v) {
+  return std::max(std::abs(v.x), std::max(std::abs(v.y), std::abs(v.z)));
+}
+
+inline Vec3 to_f(const DVec3& v) { return Vec3(float(v.x), float(v.y), float(v.z)); }
+
+}  // namespace rstest
