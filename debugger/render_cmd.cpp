@@ -51,8 +51,8 @@ void parse_size(const std::string& s, int& w, int& h) {
     throw std::invalid_argument("--size: expected WIDTHxHEIGHT, got '" + s + "'");
 }
 
-void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters& c,
-                 double build_s, double render_s) {
+void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters& c, double build_s,
+                 double render_s) {
   BvhQuality q = scene.bvh().quality();
   const SceneSummary& sum = scene.summary();
   std::printf("Scene:     %zu triangles, %zu spheres, %zu planes, %zu lights\n", sum.triangles,
@@ -60,10 +60,11 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
   std::printf("Image:     %dx%d, %dx%d samples per pixel, max depth %d, %d threads\n", rs.width,
               rs.height, rs.samples, rs.samples, rs.max_depth,
               rs.threads > 0 ? rs.threads : int(std::thread::hardware_concurrency()));
-  std::printf("BVH:       %u nodes, %u leaves, depth %u, %.1f prims/leaf, SAH cost %.2f, %.2f MiB, "
-              "built in %.3f s\n",
-              q.nodes, q.leaves, q.depth, q.mean_leaf_prims, q.sah_cost,
-              double(q.memory_bytes) / (1024.0 * 1024.0), build_s);
+  std::printf(
+      "BVH:       %u nodes, %u leaves, depth %u, %.1f prims/leaf, SAH cost %.2f, %.2f MiB, "
+      "built in %.3f s\n",
+      q.nodes, q.leaves, q.depth, q.mean_leaf_prims, q.sah_cost,
+      double(q.memory_bytes) / (1024.0 * 1024.0), build_s);
   std::printf("%-22s %14s\n", "Rays", "count");
   for (int k = 0; k < kRayKindCount; ++k)
     std::printf("  %-20s %14llu\n", to_string(RayKind(k)), (unsigned long long)c.rays[size_t(k)]);
@@ -141,7 +142,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
   cmd->add_option("-o,--output", opts->output, "Output image (.png, .exr)")->capture_default_str();
   cmd->add_option("--size", opts->size, "Image size WIDTHxHEIGHT");
   cmd->add_option("-W,--width", opts->width, "Image width in pixels")->check(CLI::Range(1, 32768));
-  cmd->add_option("-H,--height", opts->height, "Image height in pixels")->check(CLI::Range(1, 32768));
+  cmd->add_option("-H,--height", opts->height, "Image height in pixels")
+      ->check(CLI::Range(1, 32768));
   cmd->add_option("-s,--spp", opts->samples, "N: N x N stratified samples per pixel")
       ->check(CLI::Range(1, 64));
   cmd->add_option("-d,--max-depth", opts->max_depth, "Maximum recursion depth")
@@ -149,7 +151,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--min-contribution", opts->min_contribution,
                   "Skip secondary rays whose weight is below this")
       ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--seed", opts->seed, "Seed of the sample jitter")->check(CLI::Range(0, 2147483647));
+  cmd->add_option("--seed", opts->seed, "Seed of the sample jitter")
+      ->check(CLI::Range(0, 2147483647));
   cmd->add_option("-t,--threads", opts->threads, "Threads (0: all)")->check(CLI::Range(0, 1024));
   cmd->add_flag("--stats", opts->stats, "Print ray counts, BVH figures, time and Mrays/s");
   cmd->add_flag("-q,--quiet", opts->quiet, "No progress bar or messages");

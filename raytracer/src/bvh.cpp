@@ -47,8 +47,9 @@ struct Builder {
     auto median_split = [&]() -> uint32_t {
       uint32_t mid = begin + count / 2;
       int axis = max_dimension(ext);
-      std::nth_element(idx.begin() + begin, idx.begin() + mid, idx.begin() + end,
-                       [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+      std::nth_element(
+          idx.begin() + begin, idx.begin() + mid, idx.begin() + end,
+          [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
       return mid;
     };
 

@@ -89,8 +89,8 @@ void write_image(const std::filesystem::path& path, const Framebuffer& fb) {
   if (!ok) {
     std::error_code ec;
     fs::remove(tmp, ec);
-    throw std::runtime_error(path.string() + ": cannot write image: " +
-                             (err.empty() ? out->geterror() : err));
+    throw std::runtime_error(path.string() +
+                             ": cannot write image: " + (err.empty() ? out->geterror() : err));
   }
   std::error_code ec;
   fs::rename(tmp, path, ec);
@@ -102,7 +102,8 @@ void write_image(const std::filesystem::path& path, const Framebuffer& fb) {
 
 std::vector<float> read_image_rgb(const std::filesystem::path& path, int& width, int& height) {
   auto in = OIIO::ImageInput::open(path.string());
-  if (!in) throw std::runtime_error(path.string() + ": cannot read image (" + OIIO::geterror() + ")");
+  if (!in)
+    throw std::runtime_error(path.string() + ": cannot read image (" + OIIO::geterror() + ")");
   const OIIO::ImageSpec& spec = in->spec();
   width = spec.width;
   height = spec.height;

@@ -37,8 +37,8 @@ uint64_t mix(uint64_t z) {
 
 Vec2 sample_position(int x, int y, int k, int n, uint32_t seed) {
   if (n == 1) return Vec2(float(x) + 0.5f, float(y) + 0.5f);
-  uint64_t h = mix((uint64_t(seed) << 32) ^ mix((uint64_t(uint32_t(y)) << 32) | uint32_t(x)) ^
-                   uint64_t(k));
+  uint64_t h =
+      mix((uint64_t(seed) << 32) ^ mix((uint64_t(uint32_t(y)) << 32) | uint32_t(x)) ^ uint64_t(k));
   float u = float(h >> 40) * 0x1p-24f;
   float v = float((h >> 16) & 0xffffff) * 0x1p-24f;
   int sx = k % n, sy = k / n;
@@ -90,8 +90,7 @@ Framebuffer render(Scene& scene, const RenderSettings& settings, RayCounters* co
   const int threads =
       settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
-  arena.execute(
-      [&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 1), body); });
+  arena.execute([&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 1), body); });
   if (counters) {
     RayCounters sum;
     for (const RayCounters& c : local) sum += c;

@@ -32,12 +32,14 @@ void Scene::commit(const BvhBuildConfig& config) {
   for (const Sphere& s : spheres) {
     check_material(s.material, "sphere '" + s.name + "'");
     if (!all_finite(s.center) || !std::isfinite(s.radius) || !(s.radius > 0.0f))
-      throw std::invalid_argument("sphere '" + s.name + "': center and radius must be finite, radius > 0");
+      throw std::invalid_argument("sphere '" + s.name +
+                                  "': center and radius must be finite, radius > 0");
   }
   for (Plane& p : planes) {
     check_material(p.material, "plane '" + p.name + "'");
     if (!all_finite(p.point) || !all_finite(p.normal) || glm::dot(p.normal, p.normal) == 0.0f)
-      throw std::invalid_argument("plane '" + p.name + "': point and normal must be finite, normal non-zero");
+      throw std::invalid_argument("plane '" + p.name +
+                                  "': point and normal must be finite, normal non-zero");
     p.normal = glm::normalize(p.normal);
   }
   for (const Light& l : lights)
@@ -85,7 +87,8 @@ void Scene::commit(const BvhBuildConfig& config) {
     r.pad = 0;
     if (id < ntri) {
       size_t mi = size_t(std::upper_bound(tri_offsets_.begin(), tri_offsets_.end(), id) -
-                         tri_offsets_.begin()) - 1;
+                         tri_offsets_.begin()) -
+                  1;
       const TriangleMesh& m = meshes[mi];
       const glm::uvec3& t = m.triangles[id - tri_offsets_[mi]];
       r.a = m.positions[t.x];
@@ -131,7 +134,8 @@ const std::string& Scene::object_name(uint32_t object) const {
 uint32_t Scene::prim_object(uint32_t prim) const {
   if (prim < num_triangles_)
     return uint32_t(std::upper_bound(tri_offsets_.begin(), tri_offsets_.end(), prim) -
-                    tri_offsets_.begin()) - 1;
+                    tri_offsets_.begin()) -
+           1;
   return uint32_t(meshes.size()) + (prim - num_triangles_);
 }
 
@@ -171,7 +175,8 @@ void Scene::fill_hit(const Ray& ray, uint32_t best, const TriangleHit& th, float
     }
     if (!m.colors.empty()) {
       hit.has_vertex_color = true;
-      hit.vertex_color = th.b0 * m.colors[tri.x] + th.b1 * m.colors[tri.y] + th.b2 * m.colors[tri.z];
+      hit.vertex_color =
+          th.b0 * m.colors[tri.x] + th.b1 * m.colors[tri.y] + th.b2 * m.colors[tri.z];
     }
     hit.object = mi;
     hit.prim = ti;

@@ -77,11 +77,13 @@ glm::mat4 parse_transform(Reader& r, const json& j, const std::string& where) {
   if (j.contains("matrix")) {
     if (j.size() != 1) r.fail(where, "'matrix' cannot be combined with translate/rotate/scale");
     const json& m = j["matrix"];
-    if (!m.is_array() || m.size() != 16) r.fail(where + ".matrix", "expected 16 numbers (row-major)");
+    if (!m.is_array() || m.size() != 16)
+      r.fail(where + ".matrix", "expected 16 numbers (row-major)");
     glm::mat4 out(1.0f);
     for (int row = 0; row < 4; ++row)
       for (int col = 0; col < 4; ++col)
-        out[col][row] = r.number(m[row * 4 + col], where + ".matrix[" + std::to_string(row * 4 + col) + "]");
+        out[col][row] =
+            r.number(m[row * 4 + col], where + ".matrix[" + std::to_string(row * 4 + col) + "]");
     return out;
   }
   glm::mat4 t(1.0f);
@@ -123,13 +125,15 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
     r.fail("", "malformed JSON: " + (pos == std::string::npos ? msg : msg.substr(pos + 2)) +
                    " (not a finite number)");
   }
-  r.keys(root, "", {"camera", "render", "materials", "lights", "objects", "background", "ambient_light"});
+  r.keys(root, "",
+         {"camera", "render", "materials", "lights", "objects", "background", "ambient_light"});
   LoadedScene out;
   Scene& s = out.scene;
   RenderSettings& rs = out.settings;
   s.lights.clear();
   if (root.contains("background")) s.background = r.color(root["background"], "background");
-  if (root.contains("ambient_light")) s.ambient_light = r.color(root["ambient_light"], "ambient_light");
+  if (root.contains("ambient_light"))
+    s.ambient_light = r.color(root["ambient_light"], "ambient_light");
 
   if (root.contains("camera")) {
     const json& c = root["camera"];
@@ -140,7 +144,8 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
     if (c.contains("fov")) s.camera.vfov_degrees = r.number(c["fov"], "camera.fov", 1e-3f, 179.0f);
     if (c.contains("parallel")) s.camera.parallel = r.boolean(c["parallel"], "camera.parallel");
     if (c.contains("parallel_scale"))
-      s.camera.parallel_scale = r.number(c["parallel_scale"], "camera.parallel_scale", 1e-30f, 1e30f);
+      s.camera.parallel_scale =
+          r.number(c["parallel_scale"], "camera.parallel_scale", 1e-30f, 1e30f);
     if (s.camera.eye == s.camera.look_at) r.fail("camera", "eye and look_at coincide");
     if (glm::length(glm::cross(s.camera.look_at - s.camera.eye, s.camera.up)) == 0.0f)
       r.fail("camera", "up is zero or parallel to the view direction");
@@ -152,7 +157,8 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
     if (j.contains("width")) rs.width = r.integer(j["width"], "render.width", 1, 32768);
     if (j.contains("height")) rs.height = r.integer(j["height"], "render.height", 1, 32768);
     if (j.contains("samples")) rs.samples = r.integer(j["samples"], "render.samples", 1, 64);
-    if (j.contains("max_depth")) rs.max_depth = r.integer(j["max_depth"], "render.max_depth", 0, 64);
+    if (j.contains("max_depth"))
+      rs.max_depth = r.integer(j["max_depth"], "render.max_depth", 0, 64);
     if (j.contains("min_contribution"))
       rs.min_contribution = r.number(j["min_contribution"], "render.min_contribution", 0.0f, 1.0f);
     if (j.contains("seed")) rs.seed = uint32_t(r.integer(j["seed"], "render.seed", 0, 2147483647));
@@ -168,8 +174,9 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
     for (auto it = ms.begin(); it != ms.end(); ++it) {
       std::string w = "materials." + it.key();
       const json& j = it.value();
-      r.keys(j, w, {"color", "ambient", "diffuse", "specular", "specular_color", "shininess",
-                    "reflectivity", "transparency", "ior", "model", "checker"});
+      r.keys(j, w,
+             {"color", "ambient", "diffuse", "specular", "specular_color", "shininess",
+              "reflectivity", "transparency", "ior", "model", "checker"});
       Material m;
       m.name = it.key();
       if (j.contains("color")) m.color = r.color(j["color"], w + ".color");
@@ -201,7 +208,8 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
         r.keys(c, w + ".checker", {"color", "size"});
         m.checker = true;
         if (c.contains("color")) m.checker_color = r.color(c["color"], w + ".checker.color");
-        if (c.contains("size")) m.checker_size = r.number(c["size"], w + ".checker.size", 1e-30f, 1e30f);
+        if (c.contains("size"))
+          m.checker_size = r.number(c["size"], w + ".checker.size", 1e-30f, 1e30f);
       }
       if (it.key() == "default") {
         s.materials[0] = m;
@@ -225,8 +233,9 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
     for (size_t i = 0; i < ls.size(); ++i) {
       std::string w = "lights[" + std::to_string(i) + "]";
       const json& j = ls[i];
-      r.keys(j, w, {"type", "name", "position", "direction", "color", "intensity", "attenuation",
-                    "shadows"});
+      r.keys(j, w,
+             {"type", "name", "position", "direction", "color", "intensity", "attenuation",
+              "shadows"});
       Light l;
       std::string type = j.contains("type") ? r.string(j["type"], w + ".type") : "point";
       l.name = j.contains("name") ? r.string(j["name"], w + ".name") : "light" + std::to_string(i);
@@ -239,13 +248,15 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
         l.type = Light::Type::Directional;
         if (!j.contains("direction")) r.fail(w, "a directional light needs a direction");
         l.direction = r.vec3(j["direction"], w + ".direction");
-        if (glm::dot(l.direction, l.direction) == 0.0f) r.fail(w + ".direction", "must be non-zero");
+        if (glm::dot(l.direction, l.direction) == 0.0f)
+          r.fail(w + ".direction", "must be non-zero");
         if (j.contains("position")) r.fail(w, "a directional light has no position");
       } else {
         r.fail(w + ".type", "expected \"point\" or \"directional\", got \"" + type + "\"");
       }
       if (j.contains("color")) l.color = r.color(j["color"], w + ".color");
-      if (j.contains("intensity")) l.intensity = r.number(j["intensity"], w + ".intensity", 0.0f, 1e30f);
+      if (j.contains("intensity"))
+        l.intensity = r.number(j["intensity"], w + ".intensity", 0.0f, 1e30f);
       if (j.contains("attenuation")) {
         l.attenuation = r.vec3(j["attenuation"], w + ".attenuation");
         if (l.attenuation.x < 0 || l.attenuation.y < 0 || l.attenuation.z < 0 ||
@@ -266,12 +277,14 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
       if (!j.is_object()) r.fail(w, "expected an object");
       if (!j.contains("type")) r.fail(w, "missing 'type' (sphere, plane or mesh)");
       std::string type = r.string(j["type"], w + ".type");
-      std::string oname = j.contains("name") ? r.string(j["name"], w + ".name") : type + std::to_string(i);
+      std::string oname =
+          j.contains("name") ? r.string(j["name"], w + ".name") : type + std::to_string(i);
       if (type == "sphere") {
         r.keys(j, w, {"type", "name", "center", "radius", "material"});
         Sphere sp;
         sp.name = oname;
-        if (!j.contains("center") || !j.contains("radius")) r.fail(w, "a sphere needs center and radius");
+        if (!j.contains("center") || !j.contains("radius"))
+          r.fail(w, "a sphere needs center and radius");
         sp.center = r.vec3(j["center"], w + ".center");
         sp.radius = r.number(j["radius"], w + ".radius", 1e-30f, 1e30f);
         sp.material = material_ref(j, w);
@@ -308,7 +321,8 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
             float l = glm::length(n);
             if (l > 0.0f) n /= l;
           }
-          if (glm::determinant(glm::mat3(t)) == 0.0f) r.fail(w + ".transform", "transform is singular");
+          if (glm::determinant(glm::mat3(t)) == 0.0f)
+            r.fail(w + ".transform", "transform is singular");
         }
         m.name = oname;
         m.material = material_ref(j, w);

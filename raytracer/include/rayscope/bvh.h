@@ -40,12 +40,12 @@ static_assert(sizeof(BvhNode) == 32);
 
 /// Settings of the binned SAH builder, with the defaults used by RayScope.
 struct BvhBuildConfig {
-  int bins = 16;                 ///< Candidate split planes per axis are bins - 1.
-  uint32_t max_leaf_size = 8;    ///< Leaves never hold more primitives than this...
-  uint32_t min_leaf_size = 1;    ///< ...nor fewer, unless the node is that small.
-  float traversal_cost = 1.0f;   ///< SAH cost of visiting an inner node...
+  int bins = 16;                   ///< Candidate split planes per axis are bins - 1.
+  uint32_t max_leaf_size = 8;      ///< Leaves never hold more primitives than this...
+  uint32_t min_leaf_size = 1;      ///< ...nor fewer, unless the node is that small.
+  float traversal_cost = 1.0f;     ///< SAH cost of visiting an inner node...
   float intersection_cost = 1.0f;  ///< ...relative to one primitive test.
-  int max_depth = 56;            ///< Deeper nodes are split at the object median.
+  int max_depth = 56;              ///< Deeper nodes are split at the object median.
 };
 
 /// Quality figures of a built hierarchy (see Bvh::quality()).

@@ -12,8 +12,8 @@ struct Camera {
   Vec3 eye{0.0f, 0.0f, 5.0f};
   Vec3 look_at{0.0f};
   Vec3 up{0.0f, 1.0f, 0.0f};
-  float vfov_degrees = 40.0f;  ///< Vertical field of view of the central projection.
-  bool parallel = false;       ///< Parallel (orthographic) projection instead.
+  float vfov_degrees = 40.0f;   ///< Vertical field of view of the central projection.
+  bool parallel = false;        ///< Parallel (orthographic) projection instead.
   float parallel_scale = 1.0f;  ///< Half the image height in world units when parallel.
 
   /// Precomputes the image-plane basis for an image of width x height pixels.

@@ -20,11 +20,11 @@ namespace rayscope {
 struct RenderSettings {
   int width = 640;
   int height = 480;
-  int samples = 1;  ///< N: each pixel takes N x N stratified samples.
-  int max_depth = 5;  ///< Maximum recursion depth r (primary rays have depth 0).
+  int samples = 1;                 ///< N: each pixel takes N x N stratified samples.
+  int max_depth = 5;               ///< Maximum recursion depth r (primary rays have depth 0).
   float min_contribution = 1e-3f;  ///< Secondary rays with a smaller pixel weight are not traced.
-  int threads = 0;  ///< 0: all hardware threads.
-  uint32_t seed = 0;  ///< Seed of the stratified jitter.
+  int threads = 0;                 ///< 0: all hardware threads.
+  uint32_t seed = 0;               ///< Seed of the stratified jitter.
   int tile_size = 16;
 
   /// Throws std::invalid_argument naming the first bad field.
@@ -159,8 +159,9 @@ class WhittedIntegrator {
       ev.fresnel_reflect =
           ev.total_internal_reflection ? 1.0f : fresnel_dielectric(ev.cos_incidence, ev.n1, ev.n2);
       ev.fresnel_transmit = 1.0f - ev.fresnel_reflect;
-      ev.cos_transmission =
-          ev.total_internal_reflection ? 0.0f : std::clamp(-glm::dot(glm::normalize(t_dir), ng), 0.0f, 1.0f);
+      ev.cos_transmission = ev.total_internal_reflection
+                                ? 0.0f
+                                : std::clamp(-glm::dot(glm::normalize(t_dir), ng), 0.0f, 1.0f);
       if (ev.total_internal_reflection) counters_.total_internal_reflections++;
       w_reflect += m.transparency * ev.fresnel_reflect;
       w_refract = m.transparency * ev.fresnel_transmit;

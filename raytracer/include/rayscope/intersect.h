@@ -150,8 +150,7 @@ inline bool intersect_sphere(const Ray& ray, const Vec3& center, float radius, f
 }
 
 /// Hit point on a sphere, re-projected onto the surface, with its error bound.
-inline Vec3 sphere_point(const Ray& ray, float t, const Vec3& center, float radius,
-                         Vec3& p_error) {
+inline Vec3 sphere_point(const Ray& ray, float t, const Vec3& center, float radius, Vec3& p_error) {
   Vec3 v = (ray.origin + t * ray.dir) - center;
   float len = glm::length(v);
   if (len > 0.0f) v *= radius / len;
@@ -184,8 +183,8 @@ inline Vec3 plane_point(const Ray& ray, float t, const Vec3& point, const Vec3& 
 /// Returns the entry distance or +inf when the box is missed within [0, tmax].
 /// The exit distance is rounded up by 2 gamma(3) so that rays touching a box
 /// face never miss the primitives inside (robust traversal).
-inline float intersect_box(const Vec3& lo, const Vec3& hi, const Vec3& origin,
-                           const Vec3& inv_dir, float tmax) {
+inline float intersect_box(const Vec3& lo, const Vec3& hi, const Vec3& origin, const Vec3& inv_dir,
+                           float tmax) {
   Vec3 t0 = (lo - origin) * inv_dir;
   Vec3 t1 = (hi - origin) * inv_dir;
   Vec3 tn = glm::min(t0, t1), tf = glm::max(t0, t1);

@@ -12,7 +12,7 @@ struct Light {
   enum class Type { Point, Directional };
   Type type = Type::Point;
   std::string name;
-  Vec3 position{0.0f, 10.0f, 0.0f};  ///< Point lights.
+  Vec3 position{0.0f, 10.0f, 0.0f};   ///< Point lights.
   Vec3 direction{0.0f, -1.0f, 0.0f};  ///< Directional lights: direction light travels.
   Color color{1.0f};
   float intensity = 1.0f;

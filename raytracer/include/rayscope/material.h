@@ -18,7 +18,7 @@ struct Material {
   float diffuse = 0.9f;
   float specular = 0.0f;
   Color specular_color{1.0f};
-  float shininess = 32.0f;  ///< Phong exponent.
+  float shininess = 32.0f;    ///< Phong exponent.
   float reflectivity = 0.0f;  ///< Weight of the mirror reflection.
   float transparency = 0.0f;  ///< Weight of the dielectric (Fresnel-split reflect/refract).
   float ior = 1.5f;           ///< Index of refraction of the inside.
@@ -35,7 +35,9 @@ struct Material {
 
 /// Mirror reflection of incident direction d about unit normal n (lecture: "reflect
 /// ray across normal"). |result| == |d|.
-inline Vec3 reflect(const Vec3& d, const Vec3& n) { return d - 2.0f * glm::dot(d, n) * n; }
+inline Vec3 reflect(const Vec3& d, const Vec3& n) {
+  return d - 2.0f * glm::dot(d, n) * n;
+}
 
 /// Refraction of unit incident direction d through a surface with unit normal n
 /// facing the incident side (dot(d, n) < 0), going from index n1 to n2 (Snell:

@@ -45,14 +45,18 @@ inline float next_float_down(float v) {
   return std::bit_cast<float>(bits);
 }
 
-inline float max_component(const Vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+inline float max_component(const Vec3& v) {
+  return std::max(v.x, std::max(v.y, v.z));
+}
 inline int max_dimension(const Vec3& v) {
   return (v.x > v.y) ? (v.x > v.z ? 0 : 2) : (v.y > v.z ? 1 : 2);
 }
 inline bool all_finite(const Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
-inline float luminance(const Color& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+inline float luminance(const Color& c) {
+  return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
 
 /// Axis-aligned bounding box. An empty box has lo > hi.
 struct Bounds3 {

@@ -11,10 +11,10 @@ namespace rayscope {
 
 struct RayCounters {
   std::array<uint64_t, kRayKindCount> rays{};  ///< Rays traced, by RayKind.
-  uint64_t shadow_occluded = 0;  ///< Shadow rays that found an occluder.
-  uint64_t primary_hits = 0;     ///< Primary rays that hit something.
-  uint64_t depth_cutoffs = 0;    ///< Secondary rays not traced: maximum depth reached.
-  uint64_t weight_cutoffs = 0;   ///< Secondary rays not traced: weight below the minimum.
+  uint64_t shadow_occluded = 0;                ///< Shadow rays that found an occluder.
+  uint64_t primary_hits = 0;                   ///< Primary rays that hit something.
+  uint64_t depth_cutoffs = 0;   ///< Secondary rays not traced: maximum depth reached.
+  uint64_t weight_cutoffs = 0;  ///< Secondary rays not traced: weight below the minimum.
   uint64_t total_internal_reflections = 0;
 
   uint64_t total_rays() const {
