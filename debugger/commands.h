@@ -7,5 +7,7 @@ namespace rayscope::cli {
 
 /// Registers `rayscope render`; the callback sets `exit_code`.
 void add_render_command(CLI::App& app, int& exit_code);
+/// Registers `rayscope inspect`.
+void add_inspect_command(CLI::App& app, int& exit_code);
 
 }  // namespace rayscope::cli

@@ -1,4 +1,4 @@
-// rayscope: render scenes and (in later versions) inspect the ray tree of a pixel.
+// rayscope: render scenes and inspect the ray tree behind any pixel.
 #include <cstdio>
 #include <exception>
 
@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "rayscope 0.1.0");
   int exit_code = 0;
   rayscope::cli::add_render_command(app, exit_code);
+  rayscope::cli::add_inspect_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

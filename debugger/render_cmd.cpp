@@ -4,26 +4,20 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <optional>
 #include <string>
 #include <thread>
 
 #include "commands.h"
 #include "rayscope/render.h"
-#include "rayscope/scene_io.h"
-#include "rayscope/shapes.h"
-#include "rayscope/vtk_mesh.h"
+#include "scene_options.h"
 
 namespace rayscope::cli {
 namespace {
 
 struct RenderOptions {
-  std::string scene;
+  SceneOptions scene;
   std::string output = "rayscope.png";
-  std::string size;
-  std::optional<int> width, height, samples, max_depth, seed;
-  std::optional<float> min_contribution;
-  int threads = 0;
+  std::string pixel;
   bool stats = false;
   bool quiet = false;
 };
@@ -35,20 +29,6 @@ void print_progress(size_t done, size_t total) {
                bar - filled, "", int(100.0 * double(done) / double(total)));
   if (done == total) std::fputc('\n', stderr);
   std::fflush(stderr);
-}
-
-void parse_size(const std::string& s, int& w, int& h) {
-  auto x = s.find('x');
-  std::size_t pw = 0, ph = 0;
-  try {
-    if (x == std::string::npos) throw std::invalid_argument("");
-    w = std::stoi(s.substr(0, x), &pw);
-    h = std::stoi(s.substr(x + 1), &ph);
-  } catch (const std::exception&) {
-    throw std::invalid_argument("--size: expected WIDTHxHEIGHT, got '" + s + "'");
-  }
-  if (pw != x || ph != s.size() - x - 1)
-    throw std::invalid_argument("--size: expected WIDTHxHEIGHT, got '" + s + "'");
 }
 
 void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters& c, double build_s,
@@ -77,27 +57,34 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
   std::printf("  %-20s %14llu\n", "cut by weight", (unsigned long long)c.weight_cutoffs);
   std::printf("Time:      %.3f s render, %.2f Mrays/s\n", render_s,
               render_s > 0 ? double(c.total_rays()) / render_s * 1e-6 : 0.0);
+  std::fflush(stdout);
+}
+
+bool parse_pixel(const std::string& s, int& x, int& y) {
+  auto c = s.find(',');
+  if (c == std::string::npos) return false;
+  try {
+    std::size_t px = 0, py = 0;
+    x = std::stoi(s.substr(0, c), &px);
+    y = std::stoi(s.substr(c + 1), &py);
+    return px == c && py == s.size() - c - 1;
+  } catch (const std::exception&) {
+    return false;
+  }
 }
 
 int run_render(const RenderOptions& o) {
   namespace fs = std::filesystem;
-  LoadedScene loaded;
-  if (o.scene.empty()) {
-    loaded.scene = make_default_scene();
-    loaded.settings.samples = 2;
-  } else {
-    loaded = load_scene(o.scene, read_mesh_file);
-  }
+  int px = -1, py = -1;
+  if (!o.pixel.empty() && !parse_pixel(o.pixel, px, py))
+    throw std::invalid_argument("--pixel: expected X,Y, got '" + o.pixel + "'");
+  auto t0 = std::chrono::steady_clock::now();
+  LoadedScene loaded = o.scene.load();
+  auto t1 = std::chrono::steady_clock::now();
   RenderSettings& rs = loaded.settings;
-  if (!o.size.empty()) parse_size(o.size, rs.width, rs.height);
-  if (o.width) rs.width = *o.width;
-  if (o.height) rs.height = *o.height;
-  if (o.samples) rs.samples = *o.samples;
-  if (o.max_depth) rs.max_depth = *o.max_depth;
-  if (o.seed) rs.seed = uint32_t(*o.seed);
-  if (o.min_contribution) rs.min_contribution = *o.min_contribution;
-  rs.threads = o.threads;
-  rs.validate();
+  if (!o.pixel.empty() && (px < 0 || py < 0 || px >= rs.width || py >= rs.height))
+    throw std::out_of_range("--pixel: (" + o.pixel + ") is outside the " +
+                            std::to_string(rs.width) + "x" + std::to_string(rs.height) + " image");
 
   // Fail on an unwritable output before spending time on the render.
   fs::path out(o.output);
@@ -105,21 +92,13 @@ int run_render(const RenderOptions& o) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
     throw std::runtime_error(o.output + ": folder '" + dir.string() + "' does not exist");
-  std::string ext = out.extension().string();
-  if (ext.empty()) throw std::runtime_error(o.output + ": no file extension (use .png or .exr)");
+  if (out.extension().empty())
+    throw std::runtime_error(o.output + ": no file extension (use .png or .exr)");
 
   Scene& scene = loaded.scene;
-  auto t0 = std::chrono::steady_clock::now();
-  try {
-    scene.commit();
-  } catch (const std::invalid_argument& e) {
-    throw std::runtime_error((o.scene.empty() ? std::string("default scene") : o.scene) + ": " +
-                             e.what());
-  }
-  auto t1 = std::chrono::steady_clock::now();
   if (scene.summary().skipped_triangles)
     std::fprintf(stderr, "rayscope: warning: %s: %zu triangles with non-finite vertices skipped\n",
-                 o.scene.c_str(), scene.summary().skipped_triangles);
+                 o.scene.scene.c_str(), scene.summary().skipped_triangles);
   RayCounters counters;
   ProgressFn progress;
   if (!o.quiet && ::isatty(STDERR_FILENO)) progress = print_progress;
@@ -129,6 +108,23 @@ int run_render(const RenderOptions& o) {
   if (o.stats)
     print_stats(scene, rs, counters, std::chrono::duration<double>(t1 - t0).count(),
                 std::chrono::duration<double>(t2 - t1).count());
+  // A pixel that went wrong (non-finite color) is reported with its replay command.
+  for (int y = 0; y < rs.height; ++y)
+    for (int x = 0; x < rs.width; ++x)
+      if (!all_finite(fb.color[fb.index(x, y)])) {
+        std::fprintf(stderr,
+                     "rayscope: warning: pixel (%d, %d) is not finite; replay it with:\n  "
+                     "rayscope inspect %s --pixel %d,%d\n",
+                     x, y, SceneOptions::replay_args(o.scene.scene, rs).c_str(), x, y);
+        y = rs.height;
+        break;
+      }
+  if (!o.pixel.empty()) {
+    Color c = fb.color[fb.index(px, py)];
+    std::printf(
+        "pixel (%d, %d) = (%.6g, %.6g, %.6g); its ray tree:\n  rayscope inspect %s --pixel %d,%d\n",
+        px, py, c.r, c.g, c.b, SceneOptions::replay_args(o.scene.scene, rs).c_str(), px, py);
+  }
   if (!o.quiet) std::fprintf(stderr, "wrote %s (%dx%d)\n", o.output.c_str(), rs.width, rs.height);
   return 0;
 }
@@ -138,22 +134,9 @@ int run_render(const RenderOptions& o) {
 void add_render_command(CLI::App& app, int& exit_code) {
   auto opts = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Render a scene (or the built-in default scene)");
-  cmd->add_option("scene", opts->scene, "Scene file (JSON); omit for the default scene");
+  opts->scene.add_to(cmd);
   cmd->add_option("-o,--output", opts->output, "Output image (.png, .exr)")->capture_default_str();
-  cmd->add_option("--size", opts->size, "Image size WIDTHxHEIGHT");
-  cmd->add_option("-W,--width", opts->width, "Image width in pixels")->check(CLI::Range(1, 32768));
-  cmd->add_option("-H,--height", opts->height, "Image height in pixels")
-      ->check(CLI::Range(1, 32768));
-  cmd->add_option("-s,--spp", opts->samples, "N: N x N stratified samples per pixel")
-      ->check(CLI::Range(1, 64));
-  cmd->add_option("-d,--max-depth", opts->max_depth, "Maximum recursion depth")
-      ->check(CLI::Range(0, 64));
-  cmd->add_option("--min-contribution", opts->min_contribution,
-                  "Skip secondary rays whose weight is below this")
-      ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--seed", opts->seed, "Seed of the sample jitter")
-      ->check(CLI::Range(0, 2147483647));
-  cmd->add_option("-t,--threads", opts->threads, "Threads (0: all)")->check(CLI::Range(0, 1024));
+  cmd->add_option("--pixel", opts->pixel, "X,Y: print this pixel's value and its inspect command");
   cmd->add_flag("--stats", opts->stats, "Print ray counts, BVH figures, time and Mrays/s");
   cmd->add_flag("-q,--quiet", opts->quiet, "No progress bar or messages");
   cmd->callback([opts, &exit_code]() { exit_code = run_render(*opts); });

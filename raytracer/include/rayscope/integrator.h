@@ -42,6 +42,8 @@ struct RefractionEvent {
 /// The recorder interface, with every hook empty.
 struct NullRecorder {
   static constexpr bool kActive = false;
+  /// Called before each sample of a pixel.
+  void begin_sample(int /*sample*/) {}
   /// A new ray; returns its node id. parent < 0 for the primary ray.
   int begin_ray(RayKind, const Ray&, int /*depth*/, const Color& /*weight*/, int /*parent*/) {
     return -1;

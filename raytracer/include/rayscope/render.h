@@ -33,6 +33,7 @@ Color render_pixel(const Scene& scene, const RenderSettings& settings, int x, in
   const Color w(1.0f / float(n * n));
   Color sum(0.0f);
   for (int k = 0; k < n * n; ++k) {
+    if constexpr (Recorder::kActive) recorder.begin_sample(k);
     Vec2 s = sample_position(x, y, k, n, settings.seed);
     Ray ray = scene.camera.generate_ray(s.x, s.y);
     SurfaceHit hit;

@@ -1,0 +1,29 @@
+// Options shared by the subcommands that load a scene and render settings.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "rayscope/scene_io.h"
+
+namespace rayscope::cli {
+
+struct SceneOptions {
+  std::string scene;  ///< Empty: the built-in default scene.
+  std::string size;
+  std::optional<int> width, height, samples, max_depth, seed;
+  std::optional<float> min_contribution;
+  int threads = 0;
+
+  /// Adds the scene argument and the render-setting options to a subcommand.
+  void add_to(CLI::App* cmd);
+  /// Loads (and commits) the scene and applies the option overrides. Throws
+  /// std::exception with a one-line message naming the file.
+  LoadedScene load() const;
+  /// The options that reproduce `settings` on another command line.
+  static std::string replay_args(const std::string& scene, const RenderSettings& settings);
+};
+
+}  // namespace rayscope::cli

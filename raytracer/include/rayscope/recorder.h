@@ -1,0 +1,170 @@
+// Ray-tree recording: every ray traced for a pixel (primary, shadow, reflection,
+// refraction) with its hit, normals, ids, optics, weight, returned color and the
+// BVH nodes it visited. The recorder is a policy of the integrator template;
+// renders use NullRecorder, so none of this costs anything unless a pixel is
+// replayed with record_pixel().
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "rayscope/integrator.h"
+#include "rayscope/scene.h"
+
+namespace rayscope {
+
+/// How one ray walked the BVH.
+struct TraversalRecord {
+  std::vector<uint32_t> nodes;  ///< Node ids in the order visited.
+  uint32_t boxes_tested = 0;
+  uint32_t prims_tested = 0;
+  uint32_t culled = 0;  ///< Nodes skipped because a closer hit was already found.
+  /// Early termination cut the walk short: nodes were culled by a closer hit, or
+  /// an any-hit (shadow) query stopped at its first occluder.
+  bool early_terminated = false;
+};
+
+/// One node of the ray tree.
+struct RayRecord {
+  int id = 0;
+  int parent = -1;
+  std::vector<int> children;
+  RayKind kind = RayKind::Primary;
+  int depth = 0;
+  int sample = 0;
+  Vec3 origin{0.0f}, dir{0.0f};
+  float tmin = 0.0f, tmax = kInfinity;
+  Color weight{0.0f};  ///< Weight of this ray in the pixel.
+  Color color{0.0f};   ///< Radiance it returned (shadow rays: light arriving, 0 if occluded).
+
+  // Closest hit (not for shadow rays).
+  bool hit = false;
+  float t = kInfinity;
+  Vec3 point{0.0f}, ng{0.0f}, ns{0.0f};
+  uint32_t object = ~0u, prim = ~0u, material = ~0u;
+
+  // Shadow rays.
+  int light = -1;
+  bool occluded = false;
+  uint32_t occluder = ~0u;
+
+  // Refraction at this ray's hit (dielectric materials).
+  bool has_refraction = false;
+  RefractionEvent refraction{};
+
+  TraversalRecord traversal;
+};
+
+/// Integrator policy that records the ray tree of the samples it is told to.
+class RayTreeRecorder {
+ public:
+  static constexpr bool kActive = true;
+
+  /// Record only this sample (-1: every sample).
+  explicit RayTreeRecorder(int only_sample = -1) : only_sample_(only_sample) {}
+
+  std::vector<RayRecord> rays;
+
+  struct Observer {
+    static constexpr bool kActive = true;
+    TraversalRecord* rec;
+    void on_node(uint32_t node) {
+      if (rec) rec->nodes.push_back(node);
+    }
+    void on_box_test() {
+      if (rec) rec->boxes_tested++;
+    }
+    void on_cull(uint32_t) {
+      if (rec) {
+        rec->culled++;
+        rec->early_terminated = true;
+      }
+    }
+    void on_prim_test(uint32_t) {
+      if (rec) rec->prims_tested++;
+    }
+  };
+
+  void begin_sample(int sample) {
+    sample_ = sample;
+    enabled_ = only_sample_ < 0 || only_sample_ == sample;
+  }
+  int begin_ray(RayKind kind, const Ray& ray, int depth, const Color& weight, int parent) {
+    if (!enabled_) return -1;
+    RayRecord r;
+    r.id = int(rays.size());
+    r.parent = parent;
+    r.kind = kind;
+    r.depth = depth;
+    r.sample = sample_;
+    r.origin = ray.origin;
+    r.dir = ray.dir;
+    r.tmax = ray.tmax;
+    r.weight = weight;
+    if (parent >= 0) rays[size_t(parent)].children.push_back(r.id);
+    rays.push_back(std::move(r));
+    return int(rays.size()) - 1;
+  }
+  Observer traversal(int node) {
+    return Observer{node >= 0 ? &rays[size_t(node)].traversal : nullptr};
+  }
+  void on_hit(int node, const SurfaceHit& h) {
+    if (node < 0) return;
+    RayRecord& r = rays[size_t(node)];
+    r.hit = true;
+    r.t = h.t;
+    r.point = h.p;
+    r.ng = h.ng;
+    r.ns = h.ns;
+    r.object = h.object;
+    r.prim = h.prim;
+    r.material = h.material;
+  }
+  void on_shadow(int node, uint32_t light, bool occluded, uint32_t occluder) {
+    if (node < 0) return;
+    RayRecord& r = rays[size_t(node)];
+    r.light = int(light);
+    r.occluded = occluded;
+    r.occluder = occluder;
+    if (occluded) r.traversal.early_terminated = true;
+  }
+  void on_refraction(int node, const RefractionEvent& e) {
+    if (node < 0) return;
+    rays[size_t(node)].has_refraction = true;
+    rays[size_t(node)].refraction = e;
+  }
+  void end_ray(int node, const Color& c) {
+    if (node >= 0) rays[size_t(node)].color = c;
+  }
+
+ private:
+  int only_sample_ = -1;
+  int sample_ = 0;
+  bool enabled_ = true;
+};
+
+/// The recorded ray tree of one pixel.
+struct PixelRecord {
+  int x = 0, y = 0;
+  int sample = -1;    ///< The recorded sample, -1 for all.
+  int samples = 1;    ///< N: the pixel took N x N samples.
+  Color color{0.0f};  ///< The pixel's color, exactly as in a full render.
+  std::vector<RayRecord> rays;
+};
+
+/// Replays pixel (x, y) of a render with these settings, recording its ray tree
+/// (one sample, or all with sample == -1). scene.camera must be prepared for the
+/// settings' image size (render() and prepare_for_replay() do that). Throws
+/// std::out_of_range for a pixel or sample outside the image.
+PixelRecord record_pixel(const Scene& scene, const RenderSettings& settings, int x, int y,
+                         int sample = -1);
+
+/// Validates settings and prepares the camera, as render() does before tracing.
+void prepare_for_replay(Scene& scene, const RenderSettings& settings);
+
+/// The ray tree as indented text, one ray per line with its details.
+std::string format_text(const PixelRecord& rec, const Scene& scene);
+/// The ray tree as JSON (for tools and the VTK module).
+std::string format_json(const PixelRecord& rec, const Scene& scene, int indent = 2);
+
+}  // namespace rayscope

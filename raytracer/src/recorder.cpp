@@ -1,0 +1,202 @@
+#include "rayscope/recorder.h"
+
+#include <cstdarg>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "rayscope/render.h"
+
+namespace rayscope {
+
+void prepare_for_replay(Scene& scene, const RenderSettings& settings) {
+  settings.validate();
+  scene.camera.prepare(settings.width, settings.height);
+}
+
+PixelRecord record_pixel(const Scene& scene, const RenderSettings& settings, int x, int y,
+                         int sample) {
+  if (x < 0 || y < 0 || x >= settings.width || y >= settings.height)
+    throw std::out_of_range("pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                            ") is outside the " + std::to_string(settings.width) + "x" +
+                            std::to_string(settings.height) + " image");
+  const int n2 = settings.samples * settings.samples;
+  if (sample < -1 || sample >= n2)
+    throw std::out_of_range("sample " + std::to_string(sample) + " is outside 0.." +
+                            std::to_string(n2 - 1) + " (" + std::to_string(settings.samples) + "x" +
+                            std::to_string(settings.samples) + " samples per pixel)");
+  RayTreeRecorder rec(sample);
+  RayCounters counters;
+  PixelRecord out;
+  out.x = x;
+  out.y = y;
+  out.sample = sample;
+  out.samples = settings.samples;
+  out.color = render_pixel(scene, settings, x, y, counters, rec);
+  out.rays = std::move(rec.rays);
+  return out;
+}
+
+namespace {
+
+std::string fmt(const char* f, ...) __attribute__((format(printf, 1, 2)));
+std::string fmt(const char* f, ...) {
+  char buf[512];
+  va_list ap;
+  va_start(ap, f);
+  std::vsnprintf(buf, sizeof buf, f, ap);
+  va_end(ap);
+  return buf;
+}
+std::string v3(const Vec3& v) {
+  return fmt("(%.4g, %.4g, %.4g)", v.x, v.y, v.z);
+}
+float degrees_from_cos(float c) {
+  return glm::degrees(std::acos(std::clamp(c, -1.0f, 1.0f)));
+}
+
+const char* object_kind(const Scene& s, uint32_t o) {
+  switch (s.object_type(o)) {
+    case ObjectType::Mesh:
+      return "mesh";
+    case ObjectType::Sphere:
+      return "sphere";
+    case ObjectType::Plane:
+      return "plane";
+  }
+  return "?";
+}
+
+void text_ray(const PixelRecord& rec, const Scene& s, int id, int indent, std::string& out) {
+  const RayRecord& r = rec.rays[size_t(id)];
+  std::string pad(size_t(indent) * 2, ' ');
+  std::string line = pad + fmt("#%d %s  depth %d  weight %.4g", r.id, to_string(r.kind), r.depth,
+                               max_component(r.weight));
+  if (r.kind == RayKind::Shadow) {
+    const std::string& lname = r.light >= 0 && size_t(r.light) < s.lights.size()
+                                   ? s.lights[size_t(r.light)].name
+                                   : std::string("?");
+    line += fmt("  to light %d \"%s\": ", r.light, lname.c_str());
+    if (r.occluded)
+      line += fmt("occluded by \"%s\" (%s)", s.object_name(r.occluder).c_str(),
+                  object_kind(s, r.occluder));
+    else
+      line += "visible, light " + v3(r.color);
+  } else if (r.hit) {
+    line += fmt("  hit \"%s\" (%s", s.object_name(r.object).c_str(), object_kind(s, r.object));
+    if (s.object_type(r.object) == ObjectType::Mesh) line += fmt(" triangle %u", r.prim);
+    line += fmt(", material \"%s\") t=%.5g", s.materials[r.material].name.c_str(), r.t);
+    line += "\n" + pad + "   at " + v3(r.point) + "  normal " + v3(r.ns);
+    if (r.ns != r.ng) line += "  geometric " + v3(r.ng);
+    line += "\n" + pad + "   returned " + v3(r.color);
+  } else {
+    line += "  miss (background) returned " + v3(r.color);
+  }
+  out += line + "\n";
+  out += pad + fmt("   BVH: %zu nodes visited, %u boxes, %u primitives tested",
+                   r.traversal.nodes.size(), r.traversal.boxes_tested, r.traversal.prims_tested);
+  if (r.traversal.culled) out += fmt(", %u nodes culled", r.traversal.culled);
+  if (r.traversal.early_terminated) out += ", early termination";
+  out += "\n";
+  if (r.has_refraction) {
+    const RefractionEvent& e = r.refraction;
+    out += pad + fmt("   refraction: n1 %.4g -> n2 %.4g, incidence %.2f deg, ", e.n1, e.n2,
+                     degrees_from_cos(e.cos_incidence));
+    if (e.total_internal_reflection)
+      out += "total internal reflection";
+    else
+      out += fmt("transmission %.2f deg", degrees_from_cos(e.cos_transmission));
+    out += fmt(", Fresnel R %.4f T %.4f\n", e.fresnel_reflect, e.fresnel_transmit);
+  }
+  for (int c : r.children) text_ray(rec, s, c, indent + 1, out);
+}
+
+nlohmann::json jv(const Vec3& v) {
+  return {v.x, v.y, v.z};
+}
+nlohmann::json jf(float f) {
+  if (std::isfinite(f)) return f;
+  return nullptr;
+}
+
+}  // namespace
+
+std::string format_text(const PixelRecord& rec, const Scene& s) {
+  std::string out =
+      fmt("pixel (%d, %d): %dx%d samples, color ", rec.x, rec.y, rec.samples, rec.samples) +
+      v3(rec.color) + fmt(", %zu rays recorded\n", rec.rays.size());
+  for (const RayRecord& r : rec.rays)
+    if (r.parent < 0) {
+      out += fmt("sample %d\n", r.sample);
+      text_ray(rec, s, r.id, 1, out);
+    }
+  return out;
+}
+
+std::string format_json(const PixelRecord& rec, const Scene& s, int indent) {
+  using json = nlohmann::json;
+  json rays = json::array();
+  for (const RayRecord& r : rec.rays) {
+    json j = {{"id", r.id},
+              {"parent", r.parent},
+              {"children", r.children},
+              {"kind", to_string(r.kind)},
+              {"depth", r.depth},
+              {"sample", r.sample},
+              {"origin", jv(r.origin)},
+              {"direction", jv(r.dir)},
+              {"tmin", jf(r.tmin)},
+              {"tmax", jf(r.tmax)},
+              {"weight", jv(r.weight)},
+              {"color", jv(r.color)},
+              {"bvh",
+               {{"nodes", r.traversal.nodes},
+                {"boxes_tested", r.traversal.boxes_tested},
+                {"primitives_tested", r.traversal.prims_tested},
+                {"culled", r.traversal.culled},
+                {"early_termination", r.traversal.early_terminated}}}};
+    if (r.kind == RayKind::Shadow) {
+      j["light"] = r.light;
+      j["occluded"] = r.occluded;
+      if (r.occluded) {
+        j["occluder"] = r.occluder;
+        j["occluder_name"] = s.object_name(r.occluder);
+      }
+    } else {
+      j["hit"] = r.hit;
+      if (r.hit) {
+        j["t"] = r.t;
+        j["point"] = jv(r.point);
+        j["geometric_normal"] = jv(r.ng);
+        j["shading_normal"] = jv(r.ns);
+        j["object"] = r.object;
+        j["object_name"] = s.object_name(r.object);
+        j["primitive"] = r.prim;
+        j["material"] = s.materials[r.material].name;
+      }
+    }
+    if (r.has_refraction) {
+      const RefractionEvent& e = r.refraction;
+      j["refraction"] = {{"n1", e.n1},
+                         {"n2", e.n2},
+                         {"incidence_deg", degrees_from_cos(e.cos_incidence)},
+                         {"transmission_deg", e.total_internal_reflection
+                                                  ? json(nullptr)
+                                                  : json(degrees_from_cos(e.cos_transmission))},
+                         {"total_internal_reflection", e.total_internal_reflection},
+                         {"fresnel_reflect", e.fresnel_reflect},
+                         {"fresnel_transmit", e.fresnel_transmit}};
+    }
+    rays.push_back(std::move(j));
+  }
+  json root = {{"pixel", {rec.x, rec.y}},
+               {"sample", rec.sample},
+               {"samples_per_axis", rec.samples},
+               {"color", jv(rec.color)},
+               {"rays", std::move(rays)}};
+  return root.dump(indent);
+}
+
+}  // namespace rayscope
