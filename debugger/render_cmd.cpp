@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "commands.h"
 #include "rayscope/render.h"
@@ -18,7 +19,9 @@ struct RenderOptions {
   SceneOptions scene;
   std::string output = "rayscope.png";
   std::string pixel;
+  std::vector<std::string> aovs;
   bool stats = false;
+  bool explain = false;
   bool quiet = false;
 };
 
@@ -55,8 +58,80 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
               (unsigned long long)c.total_internal_reflections);
   std::printf("  %-20s %14llu\n", "cut by depth", (unsigned long long)c.depth_cutoffs);
   std::printf("  %-20s %14llu\n", "cut by weight", (unsigned long long)c.weight_cutoffs);
+  if (rs.statistics) {
+    const double rays = double(std::max<uint64_t>(1, c.total_rays()));
+    std::printf("%-22s %14s %10s\n", "Traversal", "count", "per ray");
+    auto row = [&](const char* name, uint64_t v) {
+      std::printf("  %-20s %14llu %10.2f\n", name, (unsigned long long)v, double(v) / rays);
+    };
+    row("nodes visited", c.nodes_visited);
+    row("boxes tested", c.boxes_tested);
+    row("primitives tested", c.prims_tested);
+    row("nodes culled", c.nodes_culled);
+    row("hits", c.hits);
+    row("shadow skipped N.L<=0", c.shadow_skipped_backfacing);
+  }
   std::printf("Time:      %.3f s render, %.2f Mrays/s\n", render_s,
               render_s > 0 ? double(c.total_rays()) / render_s * 1e-6 : 0.0);
+  std::fflush(stdout);
+}
+
+void print_explain(const Scene& scene, const RenderSettings& rs, const RayCounters& c) {
+  const SceneSummary& s = scene.summary();
+  std::vector<std::string> refl, refr;
+  for (const Material& m : scene.materials) {
+    if (m.reflective()) refl.push_back(m.name);
+    if (m.refractive()) refr.push_back(m.name);
+  }
+  auto join = [](const std::vector<std::string>& v) {
+    std::string o;
+    for (const std::string& x : v) o += (o.empty() ? "" : ", ") + x;
+    return o;
+  };
+  auto u = [](uint64_t v) { return (unsigned long long)v; };
+  const unsigned long long pixels = (unsigned long long)rs.width * (unsigned long long)rs.height;
+  std::printf("Scene analysis: %zu triangles, %zu spheres, %zu planes, %zu lights\n", s.triangles,
+              s.spheres, s.planes, s.lights);
+  if (s.lights == 0)
+    std::printf(
+        "- shadow rays: none; the scene has no lights, so the integrator is compiled "
+        "without the light loop (ambient only)\n");
+  else
+    std::printf(
+        "- shadow rays: %llu traced (%llu occluded); %llu skipped because the light is "
+        "behind the surface (N.L <= 0)\n",
+        u(c.rays[int(RayKind::Shadow)]), u(c.shadow_occluded), u(c.shadow_skipped_backfacing));
+  if (!s.reflective && !s.refractive)
+    std::printf(
+        "- secondary rays: none; no reflective or refractive material, so the integrator "
+        "is compiled without reflection and refraction\n");
+  else
+    std::printf(
+        "- secondary rays: %llu reflection (materials: %s), %llu refraction (materials: "
+        "%s); not traced: %llu at max depth %d, %llu below min contribution %g\n",
+        u(c.rays[int(RayKind::Reflection)]), refl.empty() ? "none" : join(refl).c_str(),
+        u(c.rays[int(RayKind::Refraction)]), refr.empty() ? "none" : join(refr).c_str(),
+        u(c.depth_cutoffs), rs.max_depth, u(c.weight_cutoffs), double(rs.min_contribution));
+  const size_t bounded = s.triangles + s.spheres;
+  if (s.bvh_used)
+    std::printf("- BVH: used for %zu bounded primitives (%u nodes)\n", bounded,
+                scene.bvh().quality().nodes);
+  else
+    std::printf(
+        "- BVH: skipped; %zu bounded primitives (<= %zu) are tested directly, which is "
+        "cheaper than walking a hierarchy\n",
+        bounded, Scene::kBruteForceMax);
+  if (s.planes) std::printf("- planes: %zu unbounded, tested outside the BVH\n", s.planes);
+  if (rs.samples == 1)
+    std::printf(
+        "- sampling: 1 sample per pixel at the pixel center (%llu primary rays = "
+        "width x height, no jitter)\n",
+        u(c.rays[int(RayKind::Primary)]));
+  else
+    std::printf(
+        "- sampling: %dx%d stratified samples per pixel (%llu primary rays = %llu pixels "
+        "x %d)\n",
+        rs.samples, rs.samples, u(c.rays[int(RayKind::Primary)]), pixels, rs.samples * rs.samples);
   std::fflush(stdout);
 }
 
@@ -95,6 +170,10 @@ int run_render(const RenderOptions& o) {
   if (out.extension().empty())
     throw std::runtime_error(o.output + ": no file extension (use .png or .exr)");
 
+  for (const std::string& a : o.aovs)
+    if (a != "cost") throw std::invalid_argument("--aov: unknown AOV '" + a + "' (known: cost)");
+  const bool cost_aov = !o.aovs.empty();
+  rs.statistics = o.stats || cost_aov;
   Scene& scene = loaded.scene;
   if (scene.summary().skipped_triangles)
     std::fprintf(stderr, "rayscope: warning: %s: %zu triangles with non-finite vertices skipped\n",
@@ -105,6 +184,15 @@ int run_render(const RenderOptions& o) {
   Framebuffer fb = render(scene, rs, &counters, progress);
   auto t2 = std::chrono::steady_clock::now();
   write_image(out, fb);
+  if (cost_aov) {
+    fs::path heat = out;
+    heat.replace_extension(".cost.png");
+    std::vector<float> nodes(fb.cost.size());
+    for (size_t i = 0; i < nodes.size(); ++i) nodes[i] = float(fb.cost[i].nodes);
+    write_heatmap(heat, nodes, fb.width, fb.height, "BVH nodes visited per pixel");
+    if (!o.quiet) std::fprintf(stderr, "wrote %s\n", heat.string().c_str());
+  }
+  if (o.explain) print_explain(scene, rs, counters);
   if (o.stats)
     print_stats(scene, rs, counters, std::chrono::duration<double>(t1 - t0).count(),
                 std::chrono::duration<double>(t2 - t1).count());
@@ -137,7 +225,13 @@ void add_render_command(CLI::App& app, int& exit_code) {
   opts->scene.add_to(cmd);
   cmd->add_option("-o,--output", opts->output, "Output image (.png, .exr)")->capture_default_str();
   cmd->add_option("--pixel", opts->pixel, "X,Y: print this pixel's value and its inspect command");
-  cmd->add_flag("--stats", opts->stats, "Print ray counts, BVH figures, time and Mrays/s");
+  cmd->add_flag("--stats", opts->stats,
+                "Print ray counts, traversal counts, BVH figures, time and Mrays/s");
+  cmd->add_option("--aov", opts->aovs,
+                  "Extra outputs: 'cost' writes OUT.cost.png (heat map of BVH nodes visited, with "
+                  "legend) and cost channels in .exr output");
+  cmd->add_flag("--explain", opts->explain,
+                "Print what the renderer skipped for this scene and why, with counts");
   cmd->add_flag("-q,--quiet", opts->quiet, "No progress bar or messages");
   cmd->callback([opts, &exit_code]() { exit_code = run_render(*opts); });
 }

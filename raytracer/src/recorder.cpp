@@ -34,7 +34,10 @@ PixelRecord record_pixel(const Scene& scene, const RenderSettings& settings, int
   out.y = y;
   out.sample = sample;
   out.samples = settings.samples;
-  out.color = render_pixel(scene, settings, x, y, counters, rec);
+  out.color = with_scene_features(scene, [&]<bool kShadows, bool kSecondary>() {
+    return render_pixel<RayTreeRecorder, kShadows, kSecondary>(scene, settings, x, y, counters,
+                                                               rec);
+  });
   out.rays = std::move(rec.rays);
   return out;
 }

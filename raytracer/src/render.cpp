@@ -45,24 +45,21 @@ Vec2 sample_position(int x, int y, int k, int n, uint32_t seed) {
   return Vec2(float(x) + (float(sx) + u) / float(n), float(y) + (float(sy) + v) / float(n));
 }
 
-Framebuffer render(Scene& scene, const RenderSettings& settings, RayCounters* counters,
-                   const ProgressFn& progress) {
-  settings.validate();
-  scene.camera.prepare(settings.width, settings.height);
-  Framebuffer fb;
-  fb.resize(settings.width, settings.height);
+namespace {
+
+template <bool kStats, bool kShadows, bool kSecondary>
+void render_tiles(const Scene& scene, const RenderSettings& settings, Framebuffer& fb,
+                  tbb::enumerable_thread_specific<RayCounters>& local, const ProgressFn& progress) {
   const int ts = settings.tile_size;
   const int tiles_x = (settings.width + ts - 1) / ts;
   const int tiles_y = (settings.height + ts - 1) / ts;
   const size_t total = size_t(tiles_x) * size_t(tiles_y);
-  tbb::enumerable_thread_specific<RayCounters> local;
   std::atomic<size_t> done{0};
   std::mutex progress_mutex;
-  const Scene& cscene = scene;
+  using Recorder = std::conditional_t<kStats, StatsRecorder, NullRecorder>;
 
   auto body = [&](const tbb::blocked_range<size_t>& r) {
     RayCounters& cnt = local.local();
-    NullRecorder rec;
     for (size_t tile = r.begin(); tile != r.end(); ++tile) {
       int x0 = int(tile % size_t(tiles_x)) * ts, y0 = int(tile / size_t(tiles_x)) * ts;
       int x1 = std::min(x0 + ts, settings.width), y1 = std::min(y0 + ts, settings.height);
@@ -70,12 +67,18 @@ Framebuffer render(Scene& scene, const RenderSettings& settings, RayCounters* co
         for (int x = x0; x < x1; ++x) {
           SurfaceHit hit;
           bool any = false;
-          Color c = render_pixel(cscene, settings, x, y, cnt, rec, &hit, &any);
+          Recorder rec;
+          Color c = render_pixel<Recorder, kShadows, kSecondary>(scene, settings, x, y, cnt, rec,
+                                                                 &hit, &any);
           size_t i = fb.index(x, y);
           fb.color[i] = c;
+          if constexpr (kStats) {
+            fb.cost[i] = rec.cost;
+            rec.add_to(cnt);
+          }
           if (any) {
             Vec2 s = sample_position(x, y, 0, settings.samples, settings.seed);
-            fb.depth[i] = hit.t * glm::length(cscene.camera.generate_ray(s.x, s.y).dir);
+            fb.depth[i] = hit.t * glm::length(scene.camera.generate_ray(s.x, s.y).dir);
             fb.normal[i] = hit.ns;
             fb.object_id[i] = float(hit.object);
           }
@@ -87,10 +90,31 @@ Framebuffer render(Scene& scene, const RenderSettings& settings, RayCounters* co
       }
     }
   };
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 1), body);
+}
+
+}  // namespace
+
+Framebuffer render(Scene& scene, const RenderSettings& settings, RayCounters* counters,
+                   const ProgressFn& progress) {
+  settings.validate();
+  scene.camera.prepare(settings.width, settings.height);
+  Framebuffer fb;
+  fb.resize(settings.width, settings.height);
+  if (settings.statistics) fb.cost.assign(fb.color.size(), PixelCost{});
+  tbb::enumerable_thread_specific<RayCounters> local;
+  const Scene& cscene = scene;
   const int threads =
       settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
-  arena.execute([&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 1), body); });
+  arena.execute([&] {
+    with_scene_features(cscene, [&]<bool kShadows, bool kSecondary>() {
+      if (settings.statistics)
+        render_tiles<true, kShadows, kSecondary>(cscene, settings, fb, local, progress);
+      else
+        render_tiles<false, kShadows, kSecondary>(cscene, settings, fb, local, progress);
+    });
+  });
   if (counters) {
     RayCounters sum;
     for (const RayCounters& c : local) sum += c;

@@ -102,6 +102,8 @@ void Scene::commit(const BvhBuildConfig& config) {
     }
   }
 
+  use_bvh_ = prims_.size() > kBruteForceMax;
+  summary_.bvh_used = use_bvh_;
   summary_.triangles = ntri - summary_.skipped_triangles;
   summary_.spheres = spheres.size();
   summary_.planes = planes.size();

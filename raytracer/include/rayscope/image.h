@@ -2,9 +2,11 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "rayscope/math.h"
+#include "rayscope/stats.h"
 
 namespace rayscope {
 
@@ -17,6 +19,7 @@ struct Framebuffer {
   std::vector<float> depth;
   std::vector<Vec3> normal;
   std::vector<float> object_id;
+  std::vector<PixelCost> cost;  ///< Per-pixel traversal cost; empty unless statistics were on.
 
   void resize(int w, int h);
   size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
@@ -27,10 +30,22 @@ float linear_to_srgb(float v);
 
 /// Writes the framebuffer. The format follows the extension: .png (8-bit sRGB,
 /// color only), .exr (32-bit float, linear color plus Z, N.x/N.y/N.z and
-/// objectId channels); other formats OpenImageIO knows get 8-bit sRGB color. The
+/// objectId channels, plus cost.rays/cost.nodes/cost.boxes/cost.prims when the
+/// framebuffer has cost AOVs); other formats OpenImageIO knows get 8-bit sRGB color. The
 /// file is written under a temporary name in the same folder and renamed, so an
 /// interrupted run never leaves a half-written file. Throws std::runtime_error.
 void write_image(const std::filesystem::path& path, const Framebuffer& fb);
+
+/// Writes a color-mapped heat map of one value per pixel (e.g. BVH nodes visited)
+/// with a legend strip below it: a color bar from 0 to the maximum, its scale and
+/// `title`. Atomic like write_image(). Legend text needs the DejaVu Sans font
+/// (Debian's fonts-dejavu-core); without it the bar is drawn without labels.
+void write_heatmap(const std::filesystem::path& path, const std::vector<float>& values, int width,
+                   int height, const std::string& title);
+
+/// The heat map's color for t in [0, 1] (a perceptually ordered map, dark blue
+/// through green to yellow).
+Color heat_color(float t);
 
 /// Reads an image's first three channels as floats (as stored: sRGB values for
 /// 8-bit formats). Throws std::runtime_error.

@@ -26,6 +26,9 @@ struct RenderSettings {
   int threads = 0;                 ///< 0: all hardware threads.
   uint32_t seed = 0;               ///< Seed of the stratified jitter.
   int tile_size = 16;
+  /// Gather traversal statistics and per-pixel cost AOVs (a separate compiled
+  /// path; the plain path has no counting code at all).
+  bool statistics = false;
 
   /// Throws std::invalid_argument naming the first bad field.
   void validate() const;
@@ -55,7 +58,9 @@ struct NullRecorder {
   void end_ray(int /*node*/, const Color& /*returned*/) {}
 };
 
-template <class Recorder = NullRecorder>
+/// kShadows == false: the scene has no lights, so no light loop and no shadow rays.
+/// kSecondary == false: no reflective or refractive material, so no secondary rays.
+template <class Recorder = NullRecorder, bool kShadows = true, bool kSecondary = true>
 class WhittedIntegrator {
  public:
   WhittedIntegrator(const Scene& scene, const RenderSettings& settings, RayCounters& counters,
@@ -83,6 +88,7 @@ class WhittedIntegrator {
     }
     if constexpr (Recorder::kActive) rec_.on_hit(node, hit);
     if (first_hit) *first_hit = hit;
+    counters_.hits++;
     if (kind == RayKind::Primary) counters_.primary_hits++;
     Color c = shade(ray, hit, depth, weight, node);
     if constexpr (Recorder::kActive) rec_.end_ray(node, c);
@@ -103,6 +109,14 @@ class WhittedIntegrator {
 
     // Local illumination: ambient + (diffuse + specular) per visible light.
     Color c = opaque * m.ambient * albedo * scene_.ambient_light;
+    if constexpr (kShadows) shade_lights(hit, m, albedo, ng, ns, v, opaque, depth, weight, node, c);
+    if constexpr (kSecondary) shade_secondary(hit, m, d, ng, ns, v, front, depth, weight, node, c);
+    return c;
+  }
+
+  void shade_lights(const SurfaceHit& hit, const Material& m, const Color& albedo, const Vec3& ng,
+                    const Vec3& ns, const Vec3& v, float opaque, int depth, const Color& weight,
+                    int node, Color& c) {
     for (uint32_t li = 0; li < scene_.lights.size(); ++li) {
       const Light& light = scene_.lights[li];
       Vec3 l;
@@ -113,12 +127,18 @@ class WhittedIntegrator {
         dist = glm::length(to);
         if (!(dist > 0.0f)) continue;
         l = to / dist;
-        if (glm::dot(ng, l) <= 0.0f || glm::dot(ns, l) <= 0.0f) continue;  // light behind
+        if (glm::dot(ng, l) <= 0.0f || glm::dot(ns, l) <= 0.0f) {  // light behind the surface
+          counters_.shadow_skipped_backfacing++;
+          continue;
+        }
         shadow = spawn_ray_to(hit.p, hit.p_error, ng, light.position);
       } else {
         l = -glm::normalize(light.direction);
         dist = kInfinity;
-        if (glm::dot(ng, l) <= 0.0f || glm::dot(ns, l) <= 0.0f) continue;
+        if (glm::dot(ng, l) <= 0.0f || glm::dot(ns, l) <= 0.0f) {
+          counters_.shadow_skipped_backfacing++;
+          continue;
+        }
         shadow = spawn_ray(hit.p, hit.p_error, ng, l);
       }
       if (light.casts_shadows) {
@@ -143,9 +163,13 @@ class WhittedIntegrator {
       c += light.radiance_at(dist) *
            (opaque * m.diffuse * t.diffuse * albedo + m.specular * t.specular * m.specular_color);
     }
+  }
 
-    // Secondary rays: mirror reflection and Fresnel-split refraction.
-    if (!m.reflective() && !m.refractive()) return c;
+  // Secondary rays: mirror reflection and Fresnel-split refraction.
+  void shade_secondary(const SurfaceHit& hit, const Material& m, const Vec3& d, const Vec3& ng,
+                       const Vec3& ns, const Vec3& v, bool front, int depth, const Color& weight,
+                       int node, Color& c) {
+    if (!m.reflective() && !m.refractive()) return;
     float w_reflect = m.reflectivity;
     float w_refract = 0.0f;
     Vec3 t_dir(0.0f);
@@ -189,7 +213,6 @@ class WhittedIntegrator {
       spawn_child(w_reflect, RayKind::Reflection, r);
     }
     if (w_refract > 0.0f) spawn_child(w_refract, RayKind::Refraction, t_dir);
-    return c;
   }
 
   const Scene& scene_;

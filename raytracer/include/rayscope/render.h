@@ -23,12 +23,25 @@ Vec2 sample_position(int x, int y, int k, int n, uint32_t seed);
 Framebuffer render(Scene& scene, const RenderSettings& settings, RayCounters* counters = nullptr,
                    const ProgressFn& progress = {});
 
+/// Calls f.template operator()<kShadows, kSecondary>() with the integrator
+/// features the scene needs: no shadow code without lights, no secondary rays
+/// without reflective or refractive materials.
+template <class F>
+decltype(auto) with_scene_features(const Scene& scene, F&& f) {
+  const SceneSummary& s = scene.summary();
+  const bool shadows = s.lights > 0, secondary = s.reflective || s.refractive;
+  if (shadows && secondary) return f.template operator()<true, true>();
+  if (shadows) return f.template operator()<true, false>();
+  if (secondary) return f.template operator()<false, true>();
+  return f.template operator()<false, false>();
+}
+
 /// Renders one pixel exactly as render() does (same samples, same color).
-template <class Recorder = NullRecorder>
+template <class Recorder = NullRecorder, bool kShadows = true, bool kSecondary = true>
 Color render_pixel(const Scene& scene, const RenderSettings& settings, int x, int y,
                    RayCounters& counters, Recorder& recorder, SurfaceHit* first_hit = nullptr,
                    bool* hit_anything = nullptr) {
-  WhittedIntegrator<Recorder> integrator(scene, settings, counters, recorder);
+  WhittedIntegrator<Recorder, kShadows, kSecondary> integrator(scene, settings, counters, recorder);
   const int n = settings.samples;
   const Color w(1.0f / float(n * n));
   Color sum(0.0f);

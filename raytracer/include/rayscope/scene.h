@@ -66,11 +66,19 @@ struct SurfaceHit {
 struct SceneSummary {
   size_t triangles = 0, spheres = 0, planes = 0, lights = 0;
   size_t skipped_triangles = 0;  ///< Triangles with non-finite vertices, left out.
+  /// False when the scene has so few bounded primitives (<= kBruteForceMax) that
+  /// testing them all is cheaper than walking a hierarchy.
+  bool bvh_used = true;
   bool reflective = false, refractive = false;
 };
 
 class Scene {
  public:
+  /// Scenes with at most this many bounded primitives skip the BVH: a walk costs
+  /// at least three box tests (root and two children), about what testing four
+  /// primitives costs.
+  static constexpr size_t kBruteForceMax = 4;
+
   Camera camera;
   std::vector<Material> materials{Material{}};
   std::vector<Light> lights;
@@ -121,6 +129,7 @@ class Scene {
   std::vector<PrimRecord> prims_;
   std::vector<uint32_t> tri_offsets_;  ///< Prefix sums of mesh triangle counts.
   uint32_t num_triangles_ = 0;
+  bool use_bvh_ = true;
   SceneSummary summary_;
 };
 
@@ -157,7 +166,10 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit, Observer&& obs) const {
     }
     return found;
   };
-  bvh_.traverse<false>(ray, tmax, leaf, obs);
+  if (use_bvh_)
+    bvh_.traverse<false>(ray, tmax, leaf, obs);
+  else if (!prims_.empty())
+    leaf(0, uint32_t(prims_.size()), tmax);
   int best_plane = -1;
   for (size_t k = 0; k < planes.size(); ++k) {
     float tp;
@@ -203,7 +215,8 @@ bool Scene::occluded(const Ray& ray, Observer&& obs, uint32_t* occluder) const {
     }
     return false;
   };
-  bool h = bvh_.traverse<true>(ray, tmax, leaf, obs);
+  bool h = use_bvh_ ? bvh_.traverse<true>(ray, tmax, leaf, obs)
+                    : (!prims_.empty() && leaf(0, uint32_t(prims_.size()), tmax));
   if (h && occluder) *occluder = prim_object(hit_prim);
   return h;
 }
