@@ -233,3 +233,27 @@ TEST(RenderOnlyWhatIsNeeded, DepthZeroCutsAllSecondaryRays) {
   EXPECT_EQ(c.rays[int(RayKind::Reflection)] + c.rays[int(RayKind::Refraction)], 0u);
   EXPECT_GT(c.depth_cutoffs, 0u);
 }
+
+// Recording pixels during a full render changes nothing in the image, and the
+// records equal those of a separate replay.
+TEST(RayTree, RenderAndRecordMatchesReplay) {
+  Scene scene = make_default_scene();
+  scene.commit();
+  RenderSettings rs = small(64, 48, 2);
+  Framebuffer plain = render(scene, rs);
+  std::vector<glm::ivec2> pixels = {{10, 10}, {32, 24}, {50, 30}, {32, 24}};
+  std::vector<PixelRecord> records;
+  RayCounters c;
+  Framebuffer fb = render_and_record(scene, rs, pixels, records, &c);
+  ASSERT_EQ(0, std::memcmp(plain.color.data(), fb.color.data(), fb.color.size() * sizeof(Color)));
+  ASSERT_EQ(records.size(), pixels.size());
+  for (size_t k = 0; k < pixels.size(); ++k) {
+    PixelRecord replay = record_pixel(scene, rs, pixels[k].x, pixels[k].y);
+    EXPECT_TRUE(same_bits(records[k].color, replay.color)) << "record " << k;
+    ASSERT_EQ(records[k].rays.size(), replay.rays.size());
+    for (size_t i = 0; i < replay.rays.size(); ++i)
+      EXPECT_EQ(records[k].rays[i].traversal.nodes, replay.rays[i].traversal.nodes);
+  }
+  std::vector<PixelRecord> none;
+  EXPECT_THROW(render_and_record(scene, rs, {{64, 0}}, none), std::out_of_range);
+}

@@ -1,5 +1,7 @@
 #include "rayscope/render.h"
 
+#include "rayscope/recorder.h"
+
 #include <atomic>
 #include <mutex>
 #include <stdexcept>
@@ -47,9 +49,20 @@ Vec2 sample_position(int x, int y, int k, int n, uint32_t seed) {
 
 namespace {
 
-template <bool kStats, bool kShadows, bool kSecondary>
+// No pixel is recorded: the selection check compiles away.
+struct NoSelection {
+  static constexpr bool kActive = false;
+  template <bool, bool>
+  bool record(int, int, const Scene&, const RenderSettings&, RayCounters&, Color&, SurfaceHit&,
+              bool&) {
+    return false;
+  }
+};
+
+template <bool kStats, bool kShadows, bool kSecondary, class Selection = NoSelection>
 void render_tiles(const Scene& scene, const RenderSettings& settings, Framebuffer& fb,
-                  tbb::enumerable_thread_specific<RayCounters>& local, const ProgressFn& progress) {
+                  tbb::enumerable_thread_specific<RayCounters>& local, const ProgressFn& progress,
+                  [[maybe_unused]] Selection& selection) {
   const int ts = settings.tile_size;
   const int tiles_x = (settings.width + ts - 1) / ts;
   const int tiles_y = (settings.height + ts - 1) / ts;
@@ -67,15 +80,22 @@ void render_tiles(const Scene& scene, const RenderSettings& settings, Framebuffe
         for (int x = x0; x < x1; ++x) {
           SurfaceHit hit;
           bool any = false;
-          Recorder rec;
-          Color c = render_pixel<Recorder, kShadows, kSecondary>(scene, settings, x, y, cnt, rec,
-                                                                 &hit, &any);
+          Color c;
           size_t i = fb.index(x, y);
-          fb.color[i] = c;
-          if constexpr (kStats) {
-            fb.cost[i] = rec.cost;
-            rec.add_to(cnt);
+          bool recorded = false;
+          if constexpr (Selection::kActive)
+            recorded = selection.template record<kShadows, kSecondary>(x, y, scene, settings, cnt,
+                                                                       c, hit, any);
+          if (!recorded) {
+            Recorder rec;
+            c = render_pixel<Recorder, kShadows, kSecondary>(scene, settings, x, y, cnt, rec, &hit,
+                                                             &any);
+            if constexpr (kStats) {
+              fb.cost[i] = rec.cost;
+              rec.add_to(cnt);
+            }
           }
+          fb.color[i] = c;
           if (any) {
             Vec2 s = sample_position(x, y, 0, settings.samples, settings.seed);
             fb.depth[i] = hit.t * glm::length(scene.camera.generate_ray(s.x, s.y).dir);
@@ -107,14 +127,86 @@ Framebuffer render(Scene& scene, const RenderSettings& settings, RayCounters* co
   const int threads =
       settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
+  NoSelection none;
   arena.execute([&] {
     with_scene_features(cscene, [&]<bool kShadows, bool kSecondary>() {
       if (settings.statistics)
-        render_tiles<true, kShadows, kSecondary>(cscene, settings, fb, local, progress);
+        render_tiles<true, kShadows, kSecondary>(cscene, settings, fb, local, progress, none);
       else
-        render_tiles<false, kShadows, kSecondary>(cscene, settings, fb, local, progress);
+        render_tiles<false, kShadows, kSecondary>(cscene, settings, fb, local, progress, none);
     });
   });
+  if (counters) {
+    RayCounters sum;
+    for (const RayCounters& c : local) sum += c;
+    *counters = sum;
+  }
+  return fb;
+}
+
+namespace {
+
+// Pixels whose ray trees are recorded during a full render.
+struct PixelSelection {
+  static constexpr bool kActive = true;
+  int width;
+  std::vector<int32_t> slot;  // per pixel: index into records, or -1
+  std::vector<PixelRecord>* records;
+
+  template <bool kShadows, bool kSecondary>
+  bool record(int x, int y, const Scene& scene, const RenderSettings& settings, RayCounters& cnt,
+              Color& c, SurfaceHit& hit, bool& any) {
+    int32_t k = slot[size_t(y) * size_t(width) + size_t(x)];
+    if (k < 0) return false;
+    RayTreeRecorder rec;
+    c = render_pixel<RayTreeRecorder, kShadows, kSecondary>(scene, settings, x, y, cnt, rec, &hit,
+                                                            &any);
+    PixelRecord& r = (*records)[size_t(k)];
+    r.x = x;
+    r.y = y;
+    r.sample = -1;
+    r.samples = settings.samples;
+    r.color = c;
+    r.rays = std::move(rec.rays);
+    return true;
+  }
+};
+
+}  // namespace
+
+Framebuffer render_and_record(Scene& scene, const RenderSettings& settings,
+                              const std::vector<glm::ivec2>& pixels,
+                              std::vector<PixelRecord>& records, RayCounters* counters) {
+  settings.validate();
+  if (settings.statistics)
+    throw std::invalid_argument("render_and_record: statistics and recording are exclusive");
+  scene.camera.prepare(settings.width, settings.height);
+  Framebuffer fb;
+  fb.resize(settings.width, settings.height);
+  PixelSelection sel{settings.width, std::vector<int32_t>(fb.color.size(), -1), &records};
+  records.assign(pixels.size(), PixelRecord{});
+  for (size_t k = 0; k < pixels.size(); ++k) {
+    const glm::ivec2& p = pixels[k];
+    if (p.x < 0 || p.y < 0 || p.x >= settings.width || p.y >= settings.height)
+      throw std::out_of_range("pixel (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
+                              ") is outside the image");
+    sel.slot[size_t(p.y) * size_t(settings.width) + size_t(p.x)] = int32_t(k);
+  }
+  tbb::enumerable_thread_specific<RayCounters> local;
+  const Scene& cscene = scene;
+  const int threads =
+      settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    with_scene_features(cscene, [&]<bool kShadows, bool kSecondary>() {
+      render_tiles<false, kShadows, kSecondary>(cscene, settings, fb, local, {}, sel);
+    });
+  });
+  // A pixel listed twice shares one slot; fill the duplicates' records.
+  for (size_t k = 0; k < pixels.size(); ++k) {
+    int32_t s = sel.slot[size_t(pixels[k].y) * size_t(settings.width) + size_t(pixels[k].x)];
+    if (size_t(s) != k) records[k] = records[size_t(s)];
+  }
   if (counters) {
     RayCounters sum;
     for (const RayCounters& c : local) sum += c;

@@ -70,6 +70,10 @@ inline bool intersect_triangle(const TrianglePrecomp& pre, float tmax, const Vec
   float det = e0 + e1 + e2;
   if (det == 0.0f) return false;
 
+  // Largest translated z in world units, before scaling: the error of the
+  // sheared x and y is bounded in terms of it (|sx|, |sy| <= 1).
+  const float max_z_world = max_component(glm::abs(Vec3(p0t.z, p1t.z, p2t.z)));
+
   // Scaled hit distance, compared against the range without dividing.
   p0t.z *= pre.sz;
   p1t.z *= pre.sz;
@@ -86,8 +90,8 @@ inline bool intersect_triangle(const TrianglePrecomp& pre, float tmax, const Vec
   float delta_z = gamma(3) * max_zt;
   float max_xt = max_component(glm::abs(Vec3(p0t.x, p1t.x, p2t.x)));
   float max_yt = max_component(glm::abs(Vec3(p0t.y, p1t.y, p2t.y)));
-  float delta_x = gamma(5) * (max_xt + max_zt);
-  float delta_y = gamma(5) * (max_yt + max_zt);
+  float delta_x = gamma(5) * (max_xt + max_z_world);
+  float delta_y = gamma(5) * (max_yt + max_z_world);
   float delta_e = 2.0f * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
   float max_e = max_component(glm::abs(Vec3(e0, e1, e2)));
   float delta_t =
@@ -185,11 +189,18 @@ inline Vec3 plane_point(const Ray& ray, float t, const Vec3& point, const Vec3& 
 /// face never miss the primitives inside (robust traversal).
 inline float intersect_box(const Vec3& lo, const Vec3& hi, const Vec3& origin, const Vec3& inv_dir,
                            float tmax) {
-  Vec3 t0 = (lo - origin) * inv_dir;
-  Vec3 t1 = (hi - origin) * inv_dir;
-  Vec3 tn = glm::min(t0, t1), tf = glm::max(t0, t1);
-  float tnear = std::max(std::max(tn.x, tn.y), std::max(tn.z, 0.0f));
-  float tfar = std::min(std::min(tf.x, tf.y), std::min(tf.z, tmax));
+  // Near and far planes chosen by the sign of the direction. A ray lying in a
+  // slab plane (zero direction component, origin on the plane) gets 0 * inf =
+  // NaN for that plane only; the comparisons below ignore NaN, so such a ray,
+  // which touches the box, is not culled.
+  float tnear = 0.0f, tfar = tmax;
+  for (int i = 0; i < 3; ++i) {
+    const bool neg = std::signbit(inv_dir[i]);
+    const float tn = ((neg ? hi[i] : lo[i]) - origin[i]) * inv_dir[i];
+    const float tf = ((neg ? lo[i] : hi[i]) - origin[i]) * inv_dir[i];
+    if (tn > tnear) tnear = tn;
+    if (tf < tfar) tfar = tf;
+  }
   tfar *= 1.0f + 2.0f * gamma(3);
   return tnear <= tfar ? tnear : kInfinity;
 }

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "rayscope/image.h"
 #include "rayscope/integrator.h"
 #include "rayscope/scene.h"
 
@@ -158,6 +159,14 @@ struct PixelRecord {
 /// std::out_of_range for a pixel or sample outside the image.
 PixelRecord record_pixel(const Scene& scene, const RenderSettings& settings, int x, int y,
                          int sample = -1);
+
+/// Renders the whole image exactly like render() and, in the same pass, records
+/// the full ray trees (all samples) of the listed pixels into `records` (one per
+/// listed pixel, in order). With an empty list, recording is present but idle.
+/// Throws std::out_of_range for a pixel outside the image.
+Framebuffer render_and_record(Scene& scene, const RenderSettings& settings,
+                              const std::vector<glm::ivec2>& pixels,
+                              std::vector<PixelRecord>& records, RayCounters* counters = nullptr);
 
 /// Validates settings and prepares the camera, as render() does before tracing.
 void prepare_for_replay(Scene& scene, const RenderSettings& settings);
