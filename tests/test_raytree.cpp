@@ -211,7 +211,7 @@ TEST(RenderOnlyWhatIsNeeded, TinySceneSkipsBvh) {
   Scene tiny = diffuse_scene(true);
   tiny.commit();
   EXPECT_FALSE(tiny.summary().bvh_used);
-  Scene big = diffuse_scene(true);
+  Scene big = diffuse_scene(true);  // 2 spheres + 3 hidden = 5 > kBruteForceMax
   big.spheres.push_back(Sphere{"hidden1", Vec3(0, 0.5f, 100), 0.1f, 0});  // behind the camera
   big.spheres.push_back(Sphere{"hidden2", Vec3(3, 0.5f, 100), 0.1f, 0});
   big.spheres.push_back(Sphere{"hidden3", Vec3(-3, 0.5f, 100), 0.1f, 0});

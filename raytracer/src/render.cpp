@@ -52,6 +52,7 @@ namespace {
 // No pixel is recorded: the selection check compiles away.
 struct NoSelection {
   static constexpr bool kActive = false;
+  bool tile_selected(size_t) const { return false; }
   template <bool, bool>
   bool record(int, int, const Scene&, const RenderSettings&, RayCounters&, Color&, SurfaceHit&,
               bool&) {
@@ -71,38 +72,50 @@ void render_tiles(const Scene& scene, const RenderSettings& settings, Framebuffe
   std::mutex progress_mutex;
   using Recorder = std::conditional_t<kStats, StatsRecorder, NullRecorder>;
 
+  // One tile's pixels. With kCheck, each pixel first asks the selection whether
+  // to record it; tiles without a selected pixel run the kCheck == false loop,
+  // the very code of a plain render.
+  auto tile_pixels = [&]<bool kCheck>(int x0, int y0, int x1, int y1, RayCounters& cnt) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
+        SurfaceHit hit;
+        bool any = false;
+        Color c;
+        size_t i = fb.index(x, y);
+        bool recorded = false;
+        if constexpr (kCheck)
+          recorded = selection.template record<kShadows, kSecondary>(x, y, scene, settings, cnt, c,
+                                                                     hit, any);
+        if (!recorded) {
+          Recorder rec;
+          c = render_pixel<Recorder, kShadows, kSecondary>(scene, settings, x, y, cnt, rec, &hit,
+                                                           &any);
+          if constexpr (kStats) {
+            fb.cost[i] = rec.cost;
+            rec.add_to(cnt);
+          }
+        }
+        fb.color[i] = c;
+        if (any) {
+          Vec2 s = sample_position(x, y, 0, settings.samples, settings.seed);
+          fb.depth[i] = hit.t * glm::length(scene.camera.generate_ray(s.x, s.y).dir);
+          fb.normal[i] = hit.ns;
+          fb.object_id[i] = float(hit.object);
+        }
+      }
+  };
+
   auto body = [&](const tbb::blocked_range<size_t>& r) {
     RayCounters& cnt = local.local();
     for (size_t tile = r.begin(); tile != r.end(); ++tile) {
       int x0 = int(tile % size_t(tiles_x)) * ts, y0 = int(tile / size_t(tiles_x)) * ts;
       int x1 = std::min(x0 + ts, settings.width), y1 = std::min(y0 + ts, settings.height);
-      for (int y = y0; y < y1; ++y)
-        for (int x = x0; x < x1; ++x) {
-          SurfaceHit hit;
-          bool any = false;
-          Color c;
-          size_t i = fb.index(x, y);
-          bool recorded = false;
-          if constexpr (Selection::kActive)
-            recorded = selection.template record<kShadows, kSecondary>(x, y, scene, settings, cnt,
-                                                                       c, hit, any);
-          if (!recorded) {
-            Recorder rec;
-            c = render_pixel<Recorder, kShadows, kSecondary>(scene, settings, x, y, cnt, rec, &hit,
-                                                             &any);
-            if constexpr (kStats) {
-              fb.cost[i] = rec.cost;
-              rec.add_to(cnt);
-            }
-          }
-          fb.color[i] = c;
-          if (any) {
-            Vec2 s = sample_position(x, y, 0, settings.samples, settings.seed);
-            fb.depth[i] = hit.t * glm::length(scene.camera.generate_ray(s.x, s.y).dir);
-            fb.normal[i] = hit.ns;
-            fb.object_id[i] = float(hit.object);
-          }
-        }
+      bool check = false;
+      if constexpr (Selection::kActive) check = selection.tile_selected(tile);
+      if (check)
+        tile_pixels.template operator()<true>(x0, y0, x1, y1, cnt);
+      else
+        tile_pixels.template operator()<false>(x0, y0, x1, y1, cnt);
       size_t d = ++done;
       if (progress) {
         std::lock_guard<std::mutex> lock(progress_mutex);
@@ -152,6 +165,8 @@ struct PixelSelection {
   int width;
   std::vector<int32_t> slot;  // per pixel: index into records, or -1
   std::vector<PixelRecord>* records;
+  std::vector<uint8_t> tiles;  // per tile: holds a selected pixel
+  bool tile_selected(size_t tile) const { return tiles[tile] != 0; }
 
   template <bool kShadows, bool kSecondary>
   bool record(int x, int y, const Scene& scene, const RenderSettings& settings, RayCounters& cnt,
@@ -183,7 +198,10 @@ Framebuffer render_and_record(Scene& scene, const RenderSettings& settings,
   scene.camera.prepare(settings.width, settings.height);
   Framebuffer fb;
   fb.resize(settings.width, settings.height);
-  PixelSelection sel{settings.width, std::vector<int32_t>(fb.color.size(), -1), &records};
+  const int ts = settings.tile_size, tiles_x = (settings.width + ts - 1) / ts;
+  const int tiles_y = (settings.height + ts - 1) / ts;
+  PixelSelection sel{settings.width, std::vector<int32_t>(fb.color.size(), -1), &records,
+                     std::vector<uint8_t>(size_t(tiles_x) * size_t(tiles_y), 0)};
   records.assign(pixels.size(), PixelRecord{});
   for (size_t k = 0; k < pixels.size(); ++k) {
     const glm::ivec2& p = pixels[k];
@@ -191,6 +209,7 @@ Framebuffer render_and_record(Scene& scene, const RenderSettings& settings,
       throw std::out_of_range("pixel (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
                               ") is outside the image");
     sel.slot[size_t(p.y) * size_t(settings.width) + size_t(p.x)] = int32_t(k);
+    sel.tiles[size_t(p.y / ts) * size_t(tiles_x) + size_t(p.x / ts)] = 1;
   }
   tbb::enumerable_thread_specific<RayCounters> local;
   const Scene& cscene = scene;

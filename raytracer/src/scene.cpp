@@ -102,7 +102,7 @@ void Scene::commit(const BvhBuildConfig& config) {
     }
   }
 
-  use_bvh_ = prims_.size() > kBruteForceMax;
+  use_bvh_ = !allow_brute_force || prims_.size() > kBruteForceMax;
   summary_.bvh_used = use_bvh_;
   summary_.triangles = ntri - summary_.skipped_triangles;
   summary_.spheres = spheres.size();
