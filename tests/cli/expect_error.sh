@@ -7,7 +7,7 @@ set -u
 pattern="$1"; out="$2"; shift 3
 rm -f "$out"
 err="$(mktemp)"
-"$@" >/dev/null 2>"$err"
+"$@" >/dev/null 2>"$err" </dev/null
 rc=$?
 status=0
 if [ $rc -eq 0 ]; then echo "FAIL: exit code 0, expected an error"; status=1; fi
