@@ -12,9 +12,13 @@
 //    where the light is in front of the surface, as the Whitted integrator does),
 //    and fed unchanged to both tracers.
 // Both tracers run the same loop: tbb::parallel_for over blocks of 256 rays
-// inside a tbb::task_arena(threads), one warm-up pass, then the median of --runs
-// passes. Embree's "threads=N" only limits its builder; tracing with
-// rtcIntersect1 / rtcOccluded1 runs on the calling (arena) thread.
+// inside a tbb::task_arena(threads), one warm-up pass each, then --runs passes
+// alternating ours / Embree (so background load hits both alike), median
+// reported. Embree's "threads=N" only limits its builder; tracing with
+// rtcIntersect1 / rtcOccluded1 runs on the calling (arena) thread. Embree is
+// used with default scene flags (not RTC_SCENE_FLAG_ROBUST) unless
+// --embree-robust, and BUILD_QUALITY_MEDIUM (binned SAH, like ours) unless
+// --embree-quality says otherwise.
 // Finally the two tracers' answers are compared ray by ray.
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
@@ -49,7 +53,7 @@ using Clock = std::chrono::steady_clock;
 constexpr size_t kBlock = 256;  // rays per task; one 16x16 tile of primary rays
 constexpr int kTile = 16;
 constexpr const char* kDefaultMesh = "/usr/share/glmark2/models/bunny.obj";
-constexpr double kRelTolerance = 1e-4;   // hit distances agree when closer than this
+constexpr double kRelTolerance = 1e-4;    // hit distances agree when closer than this
 constexpr double kAgreeRequired = 0.999;  // fraction of rays that must agree
 
 static_assert(sizeof(Vec3) == 3 * sizeof(float));
@@ -66,29 +70,37 @@ struct Options {
   std::string csv;
   std::vector<int> threads{1, 2};
   RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM;
+  bool robust = false;  // RTC_SCENE_FLAG_ROBUST (watertight, like ours) instead of none
 };
 
 const char* quality_name(RTCBuildQuality q) {
   switch (q) {
-    case RTC_BUILD_QUALITY_LOW: return "LOW";
-    case RTC_BUILD_QUALITY_MEDIUM: return "MEDIUM";
-    case RTC_BUILD_QUALITY_HIGH: return "HIGH";
-    default: return "REFIT";
+    case RTC_BUILD_QUALITY_LOW:
+      return "LOW";
+    case RTC_BUILD_QUALITY_MEDIUM:
+      return "MEDIUM";
+    case RTC_BUILD_QUALITY_HIGH:
+      return "HIGH";
+    default:
+      return "REFIT";
   }
 }
 
 [[noreturn]] void usage(int code) {
-  std::fprintf(code ? stderr : stdout,
-               "usage: bench_trace [options]\n"
-               "  --runs N              timed passes per measurement, median reported (default 7)\n"
-               "  --res N               N x N primary rays (default 1024)\n"
-               "  --mesh PATH           mesh file read through VTK (default %s)\n"
-               "  --no-big              skip the subdivided (> 1M triangle) mesh\n"
-               "  --threads LIST        comma-separated thread counts (default 1,2)\n"
-               "  --embree-quality Q    low | medium | high (default medium: binned SAH,\n"
-               "                        like ours; high adds spatial splits)\n"
-               "  --csv FILE            also write all results to FILE\n",
-               kDefaultMesh);
+  std::fprintf(
+      code ? stderr : stdout,
+      "usage: bench_trace [options]\n"
+      "  --runs N              timed passes per measurement, median reported (default 7)\n"
+      "  --res N               N x N primary rays (default 1024)\n"
+      "  --mesh PATH           mesh file read through VTK (default %s)\n"
+      "  --no-big              skip the subdivided (> 1M triangle) mesh\n"
+      "  --threads LIST        comma-separated thread counts (default 1,2)\n"
+      "  --embree-quality Q    low | medium | high (default medium: binned SAH,\n"
+      "                        like ours; high adds spatial splits)\n"
+      "  --embree-robust       build Embree scenes with RTC_SCENE_FLAG_ROBUST (watertight\n"
+      "                        like ours; default: no flags, Embree's fast path)\n"
+      "  --csv FILE            also write all results to FILE\n",
+      kDefaultMesh);
   std::exit(code);
 }
 
@@ -125,6 +137,8 @@ Options parse_options(int argc, char** argv) {
       o.mesh = value();
     } else if (a == "--no-big") {
       o.big = false;
+    } else if (a == "--embree-robust") {
+      o.robust = true;
     } else if (a == "--csv") {
       o.csv = value();
     } else if (a == "--threads") {
@@ -173,6 +187,20 @@ double median_seconds(int runs, F&& once) {
   return median(t);
 }
 
+/// The same for two contenders, timed alternately (a, b, a, b, ...) so that load
+/// from other processes hits both alike; returns the two medians in seconds.
+template <class A, class B>
+std::pair<double, double> median_seconds_interleaved(int runs, A&& a, B&& b) {
+  a();
+  b();
+  std::vector<double> ta, tb;
+  for (int i = 0; i < runs; ++i) {
+    ta.push_back(a());
+    tb.push_back(b());
+  }
+  return {median(ta), median(tb)};
+}
+
 std::string cpu_model() {
   std::ifstream f("/proc/cpuinfo");
   for (std::string line; std::getline(f, line);) {
@@ -183,6 +211,13 @@ std::string cpu_model() {
     return start == std::string::npos ? "unknown" : line.substr(start);
   }
   return "unknown";
+}
+
+std::string load_average() {
+  std::ifstream f("/proc/loadavg");
+  std::string a, b, c;
+  if (!(f >> a >> b >> c)) return "unknown";
+  return a + " " + b + " " + c;
 }
 
 std::string compiler() {
@@ -200,10 +235,14 @@ std::string compiler() {
 
 const char* tasking_name(ssize_t v) {
   switch (v) {
-    case 0: return "internal";
-    case 1: return "TBB";
-    case 2: return "PPL";
-    default: return "unknown";
+    case 0:
+      return "internal";
+    case 1:
+      return "TBB";
+    case 2:
+      return "PPL";
+    default:
+      return "unknown";
   }
 }
 
@@ -227,8 +266,9 @@ RTCDevice new_device(const std::string& config) {
 /// std::vector<Vec3> does not guarantee the 4 bytes of readable padding after
 /// the last vertex that Embree's 16-byte loads need. The copy is part of the
 /// measured build, as our commit() also copies the vertices into its leaves.
-RTCScene embree_scene(RTCDevice dev, const TriangleMesh& m, RTCBuildQuality quality) {
+RTCScene embree_scene(RTCDevice dev, const TriangleMesh& m, RTCBuildQuality quality, bool robust) {
   RTCScene scene = rtcNewScene(dev);
+  rtcSetSceneFlags(scene, robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
   rtcSetSceneBuildQuality(scene, quality);
   RTCGeometry geom = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
   rtcSetGeometryBuildQuality(geom, quality);
@@ -252,14 +292,15 @@ RTCScene embree_scene(RTCDevice dev, const TriangleMesh& m, RTCBuildQuality qual
 // ---------------------------------------------------------------------------
 // Rays
 
-/// Pinhole camera looking at the mesh's bounding sphere from the front, a little
-/// from above and to the side, close enough that the sphere fills the frame.
+/// Pinhole camera looking at the centre of the mesh bounds from the front, a
+/// little from above and to the side, close enough that the mesh fills most of
+/// the frame (for the bunny about 40% of the primary rays hit).
 Camera framing_camera(const Bounds3& b, int res) {
   Camera cam;
   const Vec3 c = b.center();
   const float r = 0.5f * glm::length(b.extent());
   cam.vfov_degrees = 40.0f;
-  const float dist = r / std::tan(0.5f * glm::radians(cam.vfov_degrees));
+  const float dist = 0.75f * r / std::tan(0.5f * glm::radians(cam.vfov_degrees));
   cam.eye = c + dist * glm::normalize(Vec3(0.35f, 0.3f, 1.0f));
   cam.look_at = c;
   cam.up = Vec3(0.0f, 1.0f, 0.0f);
@@ -267,10 +308,12 @@ Camera framing_camera(const Bounds3& b, int res) {
   return cam;
 }
 
+/// A point light above the mesh, in front and to the left: about one shadow ray
+/// in ten is blocked on the bunny (ears and head on the back).
 Vec3 light_position(const Bounds3& b) {
   const Vec3 c = b.center();
   const float r = 0.5f * glm::length(b.extent());
-  return c + r * Vec3(0.6f, 2.5f, 1.2f);
+  return c + r * Vec3(-1.0f, 2.0f, 1.5f);
 }
 
 /// One ray through every pixel centre, in 16x16 tiles (rows within a tile), so
@@ -556,7 +599,7 @@ void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options
     RTCDevice dev = new_device("threads=" + std::to_string(n) + ",start_threads=1");
     const double ms = 1e3 * median_seconds(opt.runs, [&] {
                         const auto t0 = Clock::now();
-                        RTCScene s = embree_scene(dev, mesh, opt.quality);
+                        RTCScene s = embree_scene(dev, mesh, opt.quality, opt.robust);
                         const double sec = seconds_since(t0);
                         rtcReleaseScene(s);
                         return sec;
@@ -575,7 +618,7 @@ void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options
   res.builds.push_back(build);
 
   RTCDevice dev = new_device("");  // default: no thread cap
-  RTCScene escene = embree_scene(dev, mesh, opt.quality);
+  RTCScene escene = embree_scene(dev, mesh, opt.quality, opt.robust);
 
   // --- Rays.
   const Bounds3 box = scene.bvh().bounds();
@@ -601,23 +644,21 @@ void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options
     auto mrays = [&](size_t rays, double sec) { return double(rays) / sec * 1e-6; };
 
     TraceRow p{name, "primary", tris, primary.size(), n, 0.0, 0.0};
-    p.ours = mrays(primary.size(), median_seconds(opt.runs, [&] {
-                     return trace_ours_primary(arena, scene, primary, ours_p);
-                   }));
-    p.embree = mrays(primary.size(), median_seconds(opt.runs, [&] {
-                       return trace_embree_primary(arena, escene, primary, embree_p);
-                     }));
+    const auto [po, pe] = median_seconds_interleaved(
+        opt.runs, [&] { return trace_ours_primary(arena, scene, primary, ours_p); },
+        [&] { return trace_embree_primary(arena, escene, primary, embree_p); });
+    p.ours = mrays(primary.size(), po);
+    p.embree = mrays(primary.size(), pe);
     res.traces.push_back(p);
     std::fprintf(stderr, "[%s] %dT primary: ours %.2f, Embree %.2f Mrays/s\n", name.c_str(), n,
                  p.ours, p.embree);
 
     TraceRow s{name, "shadow", tris, shadow.rays.size(), n, 0.0, 0.0};
-    s.ours = mrays(shadow.rays.size(), median_seconds(opt.runs, [&] {
-                     return trace_ours_shadow(arena, scene, shadow.rays, ours_s);
-                   }));
-    s.embree = mrays(shadow.rays.size(), median_seconds(opt.runs, [&] {
-                       return trace_embree_shadow(arena, escene, shadow.rays, embree_s);
-                     }));
+    const auto [so, se] = median_seconds_interleaved(
+        opt.runs, [&] { return trace_ours_shadow(arena, scene, shadow.rays, ours_s); },
+        [&] { return trace_embree_shadow(arena, escene, shadow.rays, embree_s); });
+    s.ours = mrays(shadow.rays.size(), so);
+    s.embree = mrays(shadow.rays.size(), se);
     res.traces.push_back(s);
     std::fprintf(stderr, "[%s] %dT shadow:  ours %.2f, Embree %.2f Mrays/s\n", name.c_str(), n,
                  s.ours, s.embree);
@@ -659,12 +700,15 @@ void print_tables(const Results& r, const Options& opt) {
                 b.quality.depth, b.quality.mean_leaf_prims, b.quality.max_leaf_prims,
                 b.quality.sah_cost);
   }
-  std::printf("(commit = Scene::commit(): validation, bounds, Bvh::build, leaf records; bvh = "
-              "Bvh::build() alone;\n Embree N = rtcNewScene .. rtcCommitScene incl. buffer copy "
-              "with device \"threads=N\")\n");
+  std::printf(
+      "(commit = Scene::commit(): validation, bounds, Bvh::build, leaf records; bvh = "
+      "Bvh::build() alone;\n Embree N = rtcNewScene .. rtcCommitScene incl. buffer copy "
+      "with device \"threads=N\")\n");
 
-  std::printf("\nTrace throughput (Mrays/s, median of %d after 1 warm-up; blocks of %zu rays)\n",
-              opt.runs, kBlock);
+  std::printf(
+      "\nTrace throughput (Mrays/s, median of %d after 1 warm-up, ours and Embree passes "
+      "alternating; blocks of %zu rays)\n",
+      opt.runs, kBlock);
   std::printf("%-11s %7s %-8s %9s %10s %10s %12s\n", "mesh", "threads", "kind", "rays", "ours",
               "Embree", "ours/Embree");
   for (const TraceRow& t : r.traces)
@@ -675,15 +719,14 @@ void print_tables(const Results& r, const Options& opt) {
   std::printf("\nValidation (ours vs Embree; agree = same hit/miss and |dt|/t < %g)\n",
               kRelTolerance);
   std::printf("%-11s %7s %-8s %9s %9s %9s %9s %9s %9s %10s %9s %5s\n", "mesh", "threads", "kind",
-              "rays", "ours", "Embree", "hit/miss", "t diff", "prim diff", "agree", "max rel",
-              "");
+              "rays", "ours", "Embree", "hit/miss", "t diff", "prim diff", "agree", "max rel", "");
   for (const Check& c : r.checks)
-    std::printf("%-11s %7d %-8s %9zu %9zu %9zu %9zu %9zu %9zu %9.5f%% %9.2e %5s\n",
-                c.mesh.c_str(), c.threads, c.kind.c_str(), c.rays, c.ours, c.embree,
-                c.hit_mismatch, c.t_mismatch, c.prim_differs, 100.0 * c.agree(), c.max_rel,
-                c.pass() ? "ok" : "FAIL");
-  std::printf("(ours/Embree = hits for primary rays, occluded rays for shadow rays; prim diff is "
-              "informational)\n");
+    std::printf("%-11s %7d %-8s %9zu %9zu %9zu %9zu %9zu %9zu %9.5f%% %9.2e %5s\n", c.mesh.c_str(),
+                c.threads, c.kind.c_str(), c.rays, c.ours, c.embree, c.hit_mismatch, c.t_mismatch,
+                c.prim_differs, 100.0 * c.agree(), c.max_rel, c.pass() ? "ok" : "FAIL");
+  std::printf(
+      "(ours/Embree = hits for primary rays, occluded rays for shadow rays; prim diff is "
+      "informational)\n");
 }
 
 void write_csv(const Results& r, const std::string& path) {
@@ -709,8 +752,8 @@ void write_csv(const Results& r, const std::string& path) {
     f << t.mesh << ',' << t.tris << ',' << t.kind << ',' << t.threads << ',' << t.rays << ','
       << t.ours << ',' << t.embree << ',' << t.ours / t.embree << ",Mrays/s\n";
   for (const Check& c : r.checks)
-    f << c.mesh << ",," << c.kind << "_agree," << c.threads << ',' << c.rays << ',' << c.ours
-      << ',' << c.embree << ',' << c.agree() << ",fraction\n";
+    f << c.mesh << ",," << c.kind << "_agree," << c.threads << ',' << c.rays << ',' << c.ours << ','
+      << c.embree << ',' << c.agree() << ",fraction\n";
   std::fprintf(stderr, "wrote %s\n", path.c_str());
 }
 
@@ -720,9 +763,10 @@ int main(int argc, char** argv) {
   const Options opt = parse_options(argc, argv);
 
   if (!std::filesystem::exists(opt.mesh)) {
-    std::printf("bench_trace: mesh '%s' not found; skipping (install glmark2-data or pass "
-                "--mesh PATH)\n",
-                opt.mesh.c_str());
+    std::printf(
+        "bench_trace: mesh '%s' not found; skipping (install glmark2-data or pass "
+        "--mesh PATH)\n",
+        opt.mesh.c_str());
     return 0;
   }
 
@@ -745,19 +789,23 @@ int main(int argc, char** argv) {
                 std::thread::hardware_concurrency());
     std::printf("  compiler  %s, %s%s\n", compiler().c_str(), RAYSCOPE_BENCH_BUILD_TYPE,
                 RAYSCOPE_BENCH_NATIVE ? ", -march=native" : "");
-    std::printf("  Embree    %s (tasking: %s), build quality %s, scene flags none, rtcIntersect1 / "
-                "rtcOccluded1\n",
-                RTC_VERSION_STRING,
-                tasking_name(rtcGetDeviceProperty(dev, RTC_DEVICE_PROPERTY_TASKING_SYSTEM)),
-                quality_name(opt.quality));
+    std::printf(
+        "  Embree    %s (tasking: %s), build quality %s, scene flags %s, rtcIntersect1 / "
+        "rtcOccluded1\n",
+        RTC_VERSION_STRING,
+        tasking_name(rtcGetDeviceProperty(dev, RTC_DEVICE_PROPERTY_TASKING_SYSTEM)),
+        quality_name(opt.quality), opt.robust ? "ROBUST" : "NONE");
     rtcReleaseDevice(dev);
+    std::printf("  load avg  %s (at start; other processes skew the timings)\n",
+                load_average().c_str());
     std::printf("  mesh      %s\n", opt.mesh.c_str());
     for (const auto& [name, m] : meshes)
       std::printf("  %-9s %zu triangles, %zu vertices\n", name.c_str(), m.triangles.size(),
                   m.positions.size());
-    std::printf("  rays      %dx%d primary (pixel centres, 16x16 tiles), shadow rays from our "
-                "hits; runs %d\n",
-                opt.res, opt.res, opt.runs);
+    std::printf(
+        "  rays      %dx%d primary (pixel centres, 16x16 tiles), shadow rays from our "
+        "hits; runs %d\n",
+        opt.res, opt.res, opt.runs);
     std::fflush(stdout);
   }
 
@@ -765,6 +813,7 @@ int main(int argc, char** argv) {
   for (const auto& [name, m] : meshes) bench_mesh(name, m, opt, results);
 
   print_tables(results, opt);
+  std::printf("\nload average at the end: %s\n", load_average().c_str());
   if (!opt.csv.empty()) write_csv(results, opt.csv);
 
   bool ok = true;

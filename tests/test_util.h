@@ -119,6 +119,14 @@ inline double max_abs(const DVec3& v) {
   return std::max(std::abs(v.x), std::max(std::abs(v.y), std::abs(v.z)));
 }
 
-inline Vec3 to_f(const DVec3& v) { return Vec3(float(v.x), float(v.y), float(v.z)); }
+/// Rounds a double to float. The volatile store is a barrier: GCC 12.2's SLP
+/// vectorizer was seen to fold double(float(x)) back to x for pairs of
+/// components (-O2 and up), which would silently hand the double references
+/// unrounded inputs that the float code under test never saw.
+inline float round_f(double x) {
+  volatile float f = float(x);
+  return f;
+}
+inline Vec3 to_f(const DVec3& v) { return Vec3(round_f(v.x), round_f(v.y), round_f(v.z)); }
 
 }  // namespace rstest
