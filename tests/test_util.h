@@ -18,7 +18,9 @@ namespace rstest {
 using rayscope::Vec3;
 using DVec3 = glm::dvec3;
 
-inline DVec3 to_d(const Vec3& v) { return DVec3(v); }
+inline DVec3 to_d(const Vec3& v) {
+  return DVec3(v);
+}
 
 /// Seeded random numbers (std::mt19937 with a fixed seed: every run of a test
 /// sees the same cases, so a failure can be reproduced).
@@ -127,6 +129,8 @@ inline float round_f(double x) {
   volatile float f = float(x);
   return f;
 }
-inline Vec3 to_f(const DVec3& v) { return Vec3(round_f(v.x), round_f(v.y), round_f(v.z)); }
+inline Vec3 to_f(const DVec3& v) {
+  return Vec3(round_f(v.x), round_f(v.y), round_f(v.z));
+}
 
 }  // namespace rstest

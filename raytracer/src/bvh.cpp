@@ -53,7 +53,15 @@ struct Builder {
       return mid;
     };
 
-    if (depth >= cfg.max_depth) return count <= cfg.max_leaf_size ? begin : median_split();
+    // Bvh::traverse keeps a 64-entry stack, one entry per level at most, so no
+    // leaf may lie deeper than 64 levels below the root. Median splits need
+    // ceil(log2(count / max_leaf_size)) more levels; switch to them while that
+    // still fits (SAH alone can peel a few primitives per level, e.g. for
+    // geometrically spaced objects, and go arbitrarily deep).
+    int median_levels = 0;
+    while ((uint64_t(std::max(cfg.max_leaf_size, 1u)) << median_levels) < count) ++median_levels;
+    if (depth >= cfg.max_depth || depth + median_levels >= 63)
+      return count <= cfg.max_leaf_size ? begin : median_split();
 
     float best_cost = kInfinity;
     int best_axis = -1, best_bin = 0;

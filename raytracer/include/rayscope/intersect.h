@@ -74,16 +74,20 @@ inline bool intersect_triangle(const TrianglePrecomp& pre, float tmax, const Vec
   // sheared x and y is bounded in terms of it (|sx|, |sy| <= 1).
   const float max_z_world = max_component(glm::abs(Vec3(p0t.z, p1t.z, p2t.z)));
 
-  // Scaled hit distance, compared against the range without dividing.
+  // Scaled hit distance; its sign is checked without dividing.
   p0t.z *= pre.sz;
   p1t.z *= pre.sz;
   p2t.z *= pre.sz;
   float t_scaled = e0 * p0t.z + e1 * p1t.z + e2 * p2t.z;
-  if (det < 0.0f && (t_scaled >= 0.0f || t_scaled < tmax * det)) return false;
-  if (det > 0.0f && (t_scaled <= 0.0f || t_scaled > tmax * det)) return false;
+  if (det < 0.0f && t_scaled >= 0.0f) return false;
+  if (det > 0.0f && t_scaled <= 0.0f) return false;
 
   float inv_det = 1.0f / det;
   float t = t_scaled * inv_det;
+  // The range test is on t itself: comparing t_scaled with tmax * det rounds
+  // differently, let hits up to an ulp beyond tmax through and made the
+  // closest hit depend on the order in which triangles were tested.
+  if (t > tmax) return false;
 
   // Reject hits whose t could be <= 0 within the rounding error of the test.
   float max_zt = max_component(glm::abs(Vec3(p0t.z, p1t.z, p2t.z)));

@@ -1,0 +1,369 @@
+// Scene files (scene_io.h) with the VTK mesh reader (vtk_mesh.h): a valid
+// scene parses to the expected values; every kind of bad input throws a
+// SceneError whose what() is one line "FILE: problem" naming the problem.
+// Mesh files are written at run time into a temporary folder.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+
+#include "rayscope/scene_io.h"
+#include "rayscope/vtk_mesh.h"
+
+namespace {
+
+using namespace rayscope;
+namespace fs = std::filesystem;
+
+// A regular tetrahedron as an ASCII STL (4 facets).
+const char* kTetraStl = R"(solid tetra
+facet normal 0 0 -1
+ outer loop
+  vertex 0 0 0
+  vertex 0 1 0
+  vertex 1 0 0
+ endloop
+endfacet
+facet normal 0 -1 0
+ outer loop
+  vertex 0 0 0
+  vertex 1 0 0
+  vertex 0 0 1
+ endloop
+endfacet
+facet normal -1 0 0
+ outer loop
+  vertex 0 0 0
+  vertex 0 0 1
+  vertex 0 1 0
+ endloop
+endfacet
+facet normal 1 1 1
+ outer loop
+  vertex 1 0 0
+  vertex 0 1 0
+  vertex 0 0 1
+ endloop
+endfacet
+endsolid tetra
+)";
+
+// A quad (two triangles once triangulated) and a triangle.
+const char* kQuadObj = R"(# quad and triangle
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 0 0 1
+f 1 2 3 4
+f 1 2 5
+)";
+
+// Legacy VTK unstructured grid with one hexahedron: its boundary is 6 quads,
+// 12 triangles.
+const char* kHexVtk = R"(# vtk DataFile Version 3.0
+one hexahedron
+ASCII
+DATASET UNSTRUCTURED_GRID
+POINTS 8 float
+0 0 0  1 0 0  1 1 0  0 1 0
+0 0 1  1 0 1  1 1 1  0 1 1
+CELLS 1 9
+8 0 1 2 3 4 5 6 7
+CELL_TYPES 1
+12
+)";
+
+class SceneIo : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rayscope_test_scene_io_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    write("tetra.stl", kTetraStl);
+    write("quad.obj", kQuadObj);
+    write("hex.vtk", kHexVtk);
+    write("mesh.xyz", "1 2 3\n");
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  fs::path write(const std::string& name, const std::string& text) {
+    fs::path p = dir_ / name;
+    std::ofstream(p) << text;
+    return p;
+  }
+
+  // Loads `text` as a scene file named `name` and expects a SceneError whose
+  // message is one line, starts with the file name and contains `problem`.
+  void expect_error(const std::string& name, const std::string& text, const std::string& problem) {
+    fs::path p = write(name, text);
+    try {
+      load_scene(p, read_mesh_file);
+      ADD_FAILURE() << name << ": no error, expected one about \"" << problem << "\"";
+    } catch (const SceneError& e) {
+      std::string msg = e.what();
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << "not one line: " << msg;
+      EXPECT_EQ(msg.find('\r'), std::string::npos) << "not one line: " << msg;
+      EXPECT_EQ(msg.rfind(p.string() + ": ", 0), 0u) << "does not start with the file: " << msg;
+      EXPECT_NE(msg.find(problem), std::string::npos)
+          << name << ": \"" << msg << "\" does not name the problem \"" << problem << "\"";
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << name << ": threw a non-SceneError: " << e.what();
+    }
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(SceneIo, MeshReaderTriangleCounts) {
+  TriangleMesh tetra = read_mesh_file(dir_ / "tetra.stl");
+  EXPECT_EQ(tetra.triangles.size(), 4u);
+  EXPECT_EQ(tetra.positions.size(), 4u);  // the STL reader merges shared corners
+  TriangleMesh quad = read_mesh_file(dir_ / "quad.obj");
+  EXPECT_EQ(quad.triangles.size(), 3u);
+  EXPECT_EQ(quad.positions.size(), 5u);
+  TriangleMesh hex = read_mesh_file(dir_ / "hex.vtk");
+  EXPECT_EQ(hex.triangles.size(), 12u);
+  EXPECT_EQ(hex.positions.size(), 8u);
+  for (const TriangleMesh* m : {&tetra, &quad, &hex})
+    for (const glm::uvec3& t : m->triangles)
+      EXPECT_TRUE(t.x < m->positions.size() && t.y < m->positions.size() &&
+                  t.z < m->positions.size());
+  // The closed meshes are closed: every edge is shared by exactly two triangles.
+  for (const TriangleMesh* m : {&tetra, &hex}) {
+    std::map<std::pair<uint32_t, uint32_t>, int> edges;
+    for (const glm::uvec3& t : m->triangles)
+      for (int e = 0; e < 3; ++e) edges[std::minmax(t[e], t[(e + 1) % 3])]++;
+    for (const auto& [edge, n] : edges) EXPECT_EQ(n, 2);
+  }
+  // Errors: "FILE: problem".
+  try {
+    read_mesh_file(dir_ / "missing.obj");
+    ADD_FAILURE() << "no error for a missing file";
+  } catch (const std::exception& e) {
+    EXPECT_EQ(std::string(e.what()), (dir_ / "missing.obj").string() + ": file not found");
+  }
+  try {
+    read_mesh_file(dir_ / "mesh.xyz");
+    ADD_FAILURE() << "no error for an unsupported format";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("unsupported mesh format '.xyz'"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST_F(SceneIo, ValidSceneParsesToTheExpectedValues) {
+  const char* text = R"({
+    "camera": {"eye": [1, 2, 3], "look_at": [0, 0.5, 0], "up": [0, 1, 0], "fov": 35},
+    "render": {"width": 320, "height": 200, "samples": 3, "max_depth": 4,
+               "min_contribution": 0.01, "seed": 42},
+    "background": [0.1, 0.2, 0.3],
+    "ambient_light": [0.5, 0.25, 1],
+    "materials": {
+      "red": {"color": [0.9, 0.1, 0.1], "ambient": 0.2, "diffuse": 0.7, "specular": 0.3,
+              "shininess": 64, "model": "phong"},
+      "glass": {"transparency": 0.9, "ior": 1.33, "reflectivity": 0.05},
+      "floor": {"checker": {"color": [0, 0, 0], "size": 0.5}}
+    },
+    "lights": [
+      {"type": "point", "name": "key", "position": [0, 5, 0], "intensity": 2,
+       "attenuation": [1, 0.1, 0]},
+      {"type": "directional", "direction": [0, -1, 0], "color": [1, 0.9, 0.8], "shadows": false}
+    ],
+    "objects": [
+      {"type": "sphere", "name": "ball", "center": [0, 1, 0], "radius": 0.5, "material": "red"},
+      {"type": "plane", "point": [0, 0, 0], "normal": [0, 2, 0], "material": "floor"},
+      {"type": "mesh", "file": "tetra.stl", "material": "glass",
+       "transform": {"translate": [1, 0, 0], "scale": 2}},
+      {"type": "mesh", "file": "quad.obj", "name": "q"},
+      {"type": "mesh", "file": "hex.vtk"}
+    ]
+  })";
+  fs::path p = write("good.json", text);
+  LoadedScene ls = load_scene(p, read_mesh_file);
+  const Scene& s = ls.scene;
+  EXPECT_EQ(s.camera.eye, Vec3(1, 2, 3));
+  EXPECT_EQ(s.camera.look_at, Vec3(0, 0.5f, 0));
+  EXPECT_EQ(s.camera.vfov_degrees, 35.0f);
+  EXPECT_FALSE(s.camera.parallel);
+  EXPECT_EQ(ls.settings.width, 320);
+  EXPECT_EQ(ls.settings.height, 200);
+  EXPECT_EQ(ls.settings.samples, 3);
+  EXPECT_EQ(ls.settings.max_depth, 4);
+  EXPECT_EQ(ls.settings.min_contribution, 0.01f);
+  EXPECT_EQ(ls.settings.seed, 42u);
+  EXPECT_EQ(s.background, Vec3(0.1f, 0.2f, 0.3f));
+  EXPECT_EQ(s.ambient_light, Vec3(0.5f, 0.25f, 1.0f));
+
+  // Materials: "default" plus the three named ones, looked up by name.
+  ASSERT_EQ(s.materials.size(), 4u);
+  EXPECT_EQ(s.materials[0].name, "default");
+  auto mat = [&](const std::string& name) -> uint32_t {
+    for (uint32_t i = 0; i < s.materials.size(); ++i)
+      if (s.materials[i].name == name) return i;
+    ADD_FAILURE() << "no material " << name;
+    return 0;
+  };
+  const Material& red = s.materials[mat("red")];
+  EXPECT_EQ(red.color, Vec3(0.9f, 0.1f, 0.1f));
+  EXPECT_EQ(red.ambient, 0.2f);
+  EXPECT_EQ(red.diffuse, 0.7f);
+  EXPECT_EQ(red.specular, 0.3f);
+  EXPECT_EQ(red.shininess, 64.0f);
+  EXPECT_EQ(red.model, ShadingModel::Phong);
+  const Material& glass = s.materials[mat("glass")];
+  EXPECT_EQ(glass.transparency, 0.9f);
+  EXPECT_EQ(glass.reflectivity, 0.05f);
+  EXPECT_EQ(glass.ior, 1.33f);
+  EXPECT_EQ(glass.model, ShadingModel::BlinnPhong);
+  const Material& floor = s.materials[mat("floor")];
+  EXPECT_TRUE(floor.checker);
+  EXPECT_EQ(floor.checker_color, Vec3(0.0f));
+  EXPECT_EQ(floor.checker_size, 0.5f);
+
+  ASSERT_EQ(s.lights.size(), 2u);
+  EXPECT_EQ(s.lights[0].type, Light::Type::Point);
+  EXPECT_EQ(s.lights[0].name, "key");
+  EXPECT_EQ(s.lights[0].position, Vec3(0, 5, 0));
+  EXPECT_EQ(s.lights[0].intensity, 2.0f);
+  EXPECT_EQ(s.lights[0].attenuation, Vec3(1, 0.1f, 0));
+  EXPECT_TRUE(s.lights[0].casts_shadows);
+  EXPECT_EQ(s.lights[1].type, Light::Type::Directional);
+  EXPECT_EQ(s.lights[1].direction, Vec3(0, -1, 0));
+  EXPECT_EQ(s.lights[1].color, Vec3(1, 0.9f, 0.8f));
+  EXPECT_FALSE(s.lights[1].casts_shadows);
+
+  ASSERT_EQ(s.spheres.size(), 1u);
+  EXPECT_EQ(s.spheres[0].name, "ball");
+  EXPECT_EQ(s.spheres[0].center, Vec3(0, 1, 0));
+  EXPECT_EQ(s.spheres[0].radius, 0.5f);
+  EXPECT_EQ(s.spheres[0].material, mat("red"));
+  ASSERT_EQ(s.planes.size(), 1u);
+  EXPECT_EQ(s.planes[0].material, mat("floor"));
+
+  ASSERT_EQ(s.meshes.size(), 3u);
+  EXPECT_EQ(s.meshes[0].triangles.size(), 4u);
+  EXPECT_EQ(s.meshes[0].material, mat("glass"));
+  EXPECT_EQ(s.meshes[1].triangles.size(), 3u);
+  EXPECT_EQ(s.meshes[1].name, "q");
+  EXPECT_EQ(s.meshes[1].material, 0u);
+  EXPECT_EQ(s.meshes[2].triangles.size(), 12u);
+  // The transform scales by 2, then translates by (1, 0, 0): the tetrahedron's
+  // corners (0,0,0), (1,0,0), (0,1,0), (0,0,1) become these.
+  std::vector<Vec3> want = {{1, 0, 0}, {3, 0, 0}, {1, 2, 0}, {1, 0, 2}};
+  for (const Vec3& w : want)
+    EXPECT_NE(std::find(s.meshes[0].positions.begin(), s.meshes[0].positions.end(), w),
+              s.meshes[0].positions.end())
+        << "missing corner " << w.x << "," << w.y << "," << w.z;
+
+  // The parsed scene is usable.
+  LoadedScene copy = ls;
+  EXPECT_NO_THROW(copy.scene.commit());
+  EXPECT_EQ(copy.scene.summary().triangles, 4u + 3u + 12u);
+  EXPECT_TRUE(copy.scene.summary().refractive);
+}
+
+TEST_F(SceneIo, EveryBadInputIsOneLineNamingFileAndProblem) {
+  expect_error("malformed.json", R"({"camera": {"eye": [0, 1, 2]})", "malformed JSON");
+  expect_error("trailing.json", R"({"background": [0, 0, 0],})", "malformed JSON");
+  expect_error("unknown_key.json", R"({"colour": [1, 1, 1]})", "unknown key 'colour'");
+  expect_error("unknown_material_key.json", R"({"materials": {"m": {"shine": 3}}})",
+               "materials.m: unknown key 'shine'");
+  expect_error("unknown_camera_key.json", R"({"camera": {"eyes": [0, 0, 5]}})",
+               "camera: unknown key 'eyes'");
+  expect_error("unknown_object_key.json",
+               R"({"objects": [{"type": "sphere", "center": [0,0,0], "radius": 1, "r": 2}]})",
+               "objects[0]: unknown key 'r'");
+  expect_error("unknown_checker_key.json",
+               R"({"materials": {"m": {"checker": {"colour": [0,0,0]}}}})",
+               "materials.m.checker: unknown key 'colour'");
+  expect_error("wrong_type.json",
+               R"({"objects": [{"type": "sphere", "center": [0,0,0], "radius": "big"}]})",
+               "objects[0].radius: expected a number");
+  expect_error("wrong_type_int.json", R"({"render": {"width": 1.5}})",
+               "render.width: expected an integer");
+  expect_error("wrong_type_bool.json", R"({"lights": [{"position": [0,1,0], "shadows": "yes"}]})",
+               "lights[0].shadows: expected true or false");
+  expect_error("wrong_type_vec.json", R"({"camera": {"eye": [0, 1]}})",
+               "camera.eye: expected an array of 3 numbers");
+  expect_error("not_an_object.json", R"([1, 2, 3])", "expected an object");
+  expect_error("huge.json",
+               R"({"objects": [{"type": "sphere", "center": [0,0,0], "radius": 1e400}]})", "1e400");
+  expect_error("huge_float.json",
+               R"({"objects": [{"type": "sphere", "center": [0,0,1e39], "radius": 1}]})",
+               "objects[0].center[2]: number is not finite");
+  expect_error("negative_radius.json",
+               R"({"objects": [{"type": "sphere", "center": [0,0,0], "radius": -1}]})",
+               "objects[0].radius: value -1 is outside");
+  expect_error("zero_radius.json",
+               R"({"objects": [{"type": "sphere", "center": [0,0,0], "radius": 0}]})",
+               "objects[0].radius");
+  expect_error("unknown_material.json",
+               R"({"objects": [{"type": "sphere", "center": [0,0,0], "radius": 1,
+                   "material": "nope"}]})",
+               "objects[0].material: unknown material 'nope'");
+  expect_error("missing_mesh.json", R"({"objects": [{"type": "mesh", "file": "nothere.obj"}]})",
+               (dir_ / "nothere.obj").string() + ": file not found");
+  expect_error("bad_extension.json", R"({"objects": [{"type": "mesh", "file": "mesh.xyz"}]})",
+               "unsupported mesh format '.xyz'");
+  expect_error("too_reflective.json",
+               R"({"materials": {"m": {"reflectivity": 0.6, "transparency": 0.5}}})",
+               "materials.m: reflectivity + transparency must not exceed 1");
+  expect_error("zero_width.json", R"({"render": {"width": 0}})",
+               "render.width: value 0 is outside [1, 32768]");
+  expect_error("huge_width.json", R"({"render": {"width": 100000}})",
+               "render.width: value 100000 is outside [1, 32768]");
+  expect_error("too_many_pixels.json", R"({"render": {"width": 32768, "height": 32768}})",
+               "image is too large");
+  expect_error("bad_object_type.json", R"({"objects": [{"type": "cube"}]})",
+               "objects[0].type: expected \"sphere\", \"plane\" or \"mesh\", got \"cube\"");
+  expect_error("zero_normal.json", R"({"objects": [{"type": "plane", "normal": [0, 0, 0]}]})",
+               "objects[0].normal: must be non-zero");
+  expect_error("negative_color.json", R"({"background": [0, -1, 0]})",
+               "background: color components must be >= 0");
+}
+
+TEST_F(SceneIo, MissingOrDirectoryScene) {
+  for (const fs::path& p : {dir_ / "no_such_scene.json", dir_}) {
+    try {
+      load_scene(p, read_mesh_file);
+      ADD_FAILURE() << p << ": no error";
+    } catch (const SceneError& e) {
+      std::string msg = e.what();
+      EXPECT_EQ(msg.rfind(p.string() + ": ", 0), 0u) << msg;
+      EXPECT_TRUE(msg.find("file not found") != std::string::npos ||
+                  msg.find("is a directory") != std::string::npos)
+          << msg;
+    }
+  }
+}
+
+TEST_F(SceneIo, ParseSceneUsesTheGivenName) {
+  try {
+    parse_scene("{\"bogus\": 1}", "inline scene", dir_, read_mesh_file);
+    ADD_FAILURE() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()), "inline scene: unknown key 'bogus'");
+  }
+  // Relative mesh paths resolve against base_dir.
+  LoadedScene ls = parse_scene(R"({"objects": [{"type": "mesh", "file": "quad.obj"}]})", "x", dir_,
+                               read_mesh_file);
+  ASSERT_EQ(ls.scene.meshes.size(), 1u);
+  EXPECT_EQ(ls.scene.meshes[0].triangles.size(), 3u);
+  // Defaults when the file says nothing.
+  LoadedScene empty = parse_scene("{}", "empty", dir_, read_mesh_file);
+  EXPECT_EQ(empty.settings.width, RenderSettings{}.width);
+  EXPECT_EQ(empty.scene.materials.size(), 1u);
+  EXPECT_TRUE(empty.scene.lights.empty());
+}
+
+}  // namespace

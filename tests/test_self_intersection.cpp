@@ -1,0 +1,323 @@
+// No self-intersection: secondary rays spawned at a hit with spawn_ray /
+// spawn_ray_to (offset by the hit's error bound, no global epsilon) never hit
+// the surface they leave, at any scale. Geometry spans 1e-6..1e6 in
+// magnitude, so a fixed epsilon would fail at one end or the other.
+//
+// Every check here is exact in intent: a ray leaving a convex surface (a
+// triangle, a sphere from outside, a plane) on the side it leaves cannot meet
+// that surface again in exact arithmetic, so any reported hit is a
+// self-intersection. Cases where float rounding made the primary ray miss are
+// skipped (and counted; most cases must be used).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "rayscope/material.h"
+#include "rayscope/scene.h"
+#include "test_util.h"
+
+namespace {
+
+using namespace rayscope;
+using rstest::DVec3;
+using rstest::Rng;
+using rstest::to_d;
+using rstest::to_f;
+
+// Random direction in the hemisphere around unit n (double).
+DVec3 hemisphere(Rng& rng, const DVec3& n) {
+  DVec3 u = rng.unit_vector();
+  return glm::dot(u, n) < 0 ? -u : u;
+}
+
+// Random unit vector perpendicular to n.
+DVec3 tangent(Rng& rng, const DVec3& n) {
+  for (;;) {
+    DVec3 t = glm::cross(n, rng.unit_vector());
+    double l = glm::length(t);
+    if (l > 1e-3) return t / l;
+  }
+}
+
+struct Counts {
+  int cases = 0, used = 0, rays = 0;
+};
+
+void report(const char* what, const Counts& c) {
+  std::printf("%s: %d cases, %d used, %d secondary rays\n", what, c.cases, c.used, c.rays);
+  EXPECT_GT(c.used, c.cases * 8 / 10) << what << ": too many primary rays missed";
+}
+
+// ---------------------------------------------------------------------------
+// Triangles
+
+// A random, not too thin triangle. mode 0: every coordinate independently
+// log-uniform in 1e-6..1e6 with random sign (large triangles of wild shapes);
+// mode 1: a small triangle far from the origin (size 1e-4..1 times the
+// distance), the hard case for absolute rounding errors.
+bool random_triangle(Rng& rng, int mode, Vec3 v[3]) {
+  if (mode == 0) {
+    for (int i = 0; i < 3; ++i)
+      v[i] = to_f(DVec3(rng.log_uniform_signed(1e-6, 1e6), rng.log_uniform_signed(1e-6, 1e6),
+                        rng.log_uniform_signed(1e-6, 1e6)));
+  } else {
+    DVec3 base(rng.log_uniform_signed(1e-6, 1e6), rng.log_uniform_signed(1e-6, 1e6),
+               rng.log_uniform_signed(1e-6, 1e6));
+    double size = rstest::max_abs(base) * rng.log_uniform(1e-4, 1.0);
+    for (int i = 0; i < 3; ++i) v[i] = to_f(base + size * rng.in_unit_ball());
+  }
+  DVec3 a = to_d(v[0]), b = to_d(v[1]), c = to_d(v[2]);
+  double area2 = glm::length(glm::cross(b - a, c - a));
+  double e = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+  return area2 > 1e-3 * e * e;  // no slivers (smallest angle > ~0.05 degrees)
+}
+
+void triangle_case(Rng& rng, int mode, Counts& cnt) {
+  Vec3 v[3];
+  while (!random_triangle(rng, mode, v)) {
+  }
+  ++cnt.cases;
+  const DVec3 a = to_d(v[0]), b = to_d(v[1]), c = to_d(v[2]);
+  const DVec3 nexact = glm::normalize(glm::cross(b - a, c - a));
+  const double size = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+
+  // The triangle as object 0, plus a few distant distractor triangles as
+  // object 1 so that the scene is large enough to be traced through the BVH.
+  Scene scene;
+  TriangleMesh tri;
+  tri.positions = {v[0], v[1], v[2]};
+  tri.triangles = {{0, 1, 2}};
+  TriangleMesh far;
+  for (uint32_t i = 0; i < 4; ++i) {
+    DVec3 p = a + 100.0 * size * rng.unit_vector();
+    for (int k = 0; k < 3; ++k) far.positions.push_back(to_f(p + size * rng.in_unit_ball()));
+    far.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+  }
+  scene.meshes = {tri, far};
+  scene.commit();
+  ASSERT_TRUE(scene.summary().bvh_used);
+  // The triangle alone (traced without a BVH), for any-hit queries, where a
+  // distractor found first could hide a self-hit.
+  Scene alone;
+  alone.meshes = {tri};
+  alone.commit();
+
+  // Primary ray toward a random interior point, from distance 1e-3..1e3 times
+  // the triangle size, at |cos| 1e-3..1 to the normal.
+  double u, w;
+  do {
+    u = rng.uniform(0.01, 0.98);
+    w = rng.uniform(0.01, 0.98);
+  } while (u + w > 0.99);
+  const DVec3 q = (1 - u - w) * a + u * b + w * c;
+  const double cs = rng.log_uniform(1e-3, 1.0);
+  DVec3 dir = cs * nexact + std::sqrt(1 - cs * cs) * tangent(rng, nexact);
+  if (rng.coin()) dir = -dir;
+  const Vec3 o = to_f(q + size * rng.log_uniform(1e-3, 1e3) * dir);
+  const Vec3 d = to_f((q - to_d(o)) * rng.log_uniform(1e-2, 1e2));
+  SurfaceHit hit;
+  if (!scene.intersect(Ray{o, d, kInfinity}, hit) || hit.object != 0) return;
+  ++cnt.used;
+
+  // Normal facing the side the ray came from.
+  const Vec3 n = glm::dot(d, hit.ng) < 0 ? hit.ng : -hit.ng;
+  const DVec3 nside = glm::dot(to_d(n), nexact) > 0 ? nexact : -nexact;
+  const Vec3 dn = glm::normalize(d);
+
+  auto expect_no_self_hit = [&](const Ray& r, const char* kind) {
+    ++cnt.rays;
+    SurfaceHit h2, h3;
+    bool again = scene.intersect(r, h2) && h2.object == 0;
+    bool again_alone = alone.intersect(r, h3);
+    bool blocked = alone.occluded(r);
+    EXPECT_FALSE(again) << kind << " ray re-hit its triangle at t=" << h2.t << " (mode " << mode
+                        << ", case " << cnt.cases << ")";
+    EXPECT_FALSE(again_alone) << kind << " ray re-hit its triangle at t=" << h3.t << " (mode "
+                              << mode << ", case " << cnt.cases << ", no BVH)";
+    EXPECT_FALSE(blocked) << kind << " ray: triangle occludes itself (mode " << mode << ", case "
+                          << cnt.cases << ")";
+  };
+
+  // Mirror reflection and random directions on the incoming side.
+  Vec3 r = reflect(dn, n);
+  if (glm::dot(r, n) > 0) expect_no_self_hit(spawn_ray(hit.p, hit.p_error, n, r), "reflection");
+  for (int k = 0; k < 2; ++k) {
+    Vec3 wdir = to_f(hemisphere(rng, to_d(n)));
+    if (glm::dot(wdir, n) > 0)
+      expect_no_self_hit(spawn_ray(hit.p, hit.p_error, n, wdir), "hemisphere");
+  }
+  // Through the surface: continuing straight on and refracted (offset to the
+  // far side by spawn_ray since dot(dir, n) < 0).
+  expect_no_self_hit(spawn_ray(hit.p, hit.p_error, n, d), "continuing");
+  Vec3 t;
+  if (refract(dn, n, 1.0f, 1.5f, t) && glm::dot(t, n) < 0)
+    expect_no_self_hit(spawn_ray(hit.p, hit.p_error, n, t), "refraction");
+  // Shadow rays to random points on the incoming side (clearly off the plane:
+  // height 1e-3..1e3 times the size), which the segment cannot reach through
+  // the triangle.
+  for (int k = 0; k < 2; ++k) {
+    DVec3 target = to_d(hit.p) + size * rng.log_uniform(1e-3, 1e3) * to_d(n) +
+                   size * rng.log_uniform(1e-3, 10) * tangent(rng, nside);
+    Vec3 tf = to_f(target);
+    if (!(glm::dot(to_d(tf) - a, nside) > 1e-4 * size)) continue;
+    expect_no_self_hit(spawn_ray_to(hit.p, hit.p_error, n, tf), "shadow");
+  }
+}
+
+TEST(SelfIntersection, TrianglesOfAnyScale) {
+  Rng rng(11);
+  for (int mode = 0; mode < 2; ++mode) {
+    Counts cnt;
+    for (int i = 0; i < 10000; ++i) {
+      triangle_case(rng, mode, cnt);
+      if (HasFailure()) return;
+    }
+    report(mode == 0 ? "triangles, log-uniform coordinates" : "small triangles far away", cnt);
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Spheres
+
+TEST(SelfIntersection, SpheresOfAnyScale) {
+  // Centers with log-uniform coordinates (1e-6..1e6), radius 1e-4..10 times
+  // the center's magnitude. Rays from outside: the outward reflection must not
+  // re-hit the sphere; the inward refraction must hit only the far side, at a
+  // distance of at least half the chord 2 r cos(theta_t) (>= 1.49 r for
+  // ior 1.5), i.e. not at the entry point. Inside, the internal reflection
+  // must again travel a chord, and the ray leaving by refraction must escape.
+  Rng rng(12);
+  Counts cnt;
+  for (int i = 0; i < 20000; ++i) {
+    DVec3 center(rng.log_uniform_signed(1e-6, 1e6), rng.log_uniform_signed(1e-6, 1e6),
+                 rng.log_uniform_signed(1e-6, 1e6));
+    double r = rstest::max_abs(center) * rng.log_uniform(1e-4, 10);
+    Scene scene;
+    scene.spheres.push_back(rayscope::Sphere{"s", to_f(center), rstest::round_f(r), 0});
+    scene.commit();
+    const Vec3 cf = scene.spheres[0].center;
+    const double rf = scene.spheres[0].radius;
+    ++cnt.cases;
+
+    DVec3 wdir = rng.unit_vector();
+    Vec3 o = to_f(to_d(cf) + rf * rng.log_uniform(1.1, 1e3) * wdir);
+    DVec3 aim = to_d(cf) + 0.99 * rf * std::sqrt(rng.uniform()) * tangent(rng, wdir);
+    Vec3 d = to_f((aim - to_d(o)) * rng.log_uniform(1e-2, 1e2));
+    SurfaceHit hit;
+    if (!scene.intersect(Ray{o, d, kInfinity}, hit)) continue;
+    ASSERT_LT(glm::dot(d, hit.ng), 0.0f) << "outside ray must hit the front";
+    ++cnt.used;
+    const Vec3 n = hit.ng, dn = glm::normalize(d);
+
+    // Outward: reflection and random directions.
+    Vec3 refl = reflect(dn, n);
+    Vec3 out[3] = {refl, to_f(hemisphere(rng, to_d(n))), to_f(hemisphere(rng, to_d(n)))};
+    for (const Vec3& w : out) {
+      if (!(glm::dot(w, n) > 0)) continue;
+      ++cnt.rays;
+      SurfaceHit h2;
+      Ray ray = spawn_ray(hit.p, hit.p_error, n, w);
+      EXPECT_FALSE(scene.intersect(ray, h2)) << "case " << i << ": outward ray re-hit, t=" << h2.t;
+      EXPECT_FALSE(scene.occluded(ray)) << "case " << i;
+    }
+    // Shadow ray to a point above the tangent plane.
+    {
+      DVec3 nd = glm::normalize(to_d(n));
+      DVec3 target = to_d(hit.p) + rf * rng.log_uniform(1e-3, 1e2) * nd +
+                     rf * rng.log_uniform(1e-3, 10) * tangent(rng, nd);
+      Vec3 tf = to_f(target);
+      if (glm::dot(to_d(tf) - to_d(hit.p), nd) > 1e-3 * rf) {
+        ++cnt.rays;
+        EXPECT_FALSE(scene.occluded(spawn_ray_to(hit.p, hit.p_error, n, tf))) << "case " << i;
+      }
+    }
+    // Inward refraction: must reach the far side.
+    Vec3 t;
+    ASSERT_TRUE(refract(dn, n, 1.0f, 1.5f, t));
+    ++cnt.rays;
+    Ray in = spawn_ray(hit.p, hit.p_error, n, t);
+    SurfaceHit far;
+    ASSERT_TRUE(scene.intersect(in, far)) << "case " << i << ": refracted ray escaped";
+    double chord = 2 * rf * std::abs(glm::dot(glm::normalize(to_d(t)), glm::normalize(to_d(n))));
+    EXPECT_GT(double(far.t) * glm::length(to_d(t)), 0.5 * chord)
+        << "case " << i << ": refracted ray re-hit near its origin";
+    EXPECT_GT(glm::dot(t, far.ng), 0.0f) << "case " << i << ": must hit the far side (exiting)";
+
+    // Inside, at the far side: the normal facing the ray is -ng.
+    const Vec3 nin = -far.ng;
+    const Vec3 tn = glm::normalize(t);
+    Vec3 r2 = reflect(tn, nin);
+    if (glm::dot(r2, nin) > 0) {
+      ++cnt.rays;
+      SurfaceHit h3;
+      ASSERT_TRUE(scene.intersect(spawn_ray(far.p, far.p_error, nin, r2), h3))
+          << "case " << i << ": internal reflection escaped";
+      double chord2 =
+          2 * rf * std::abs(glm::dot(glm::normalize(to_d(r2)), glm::normalize(to_d(nin))));
+      EXPECT_GT(double(h3.t) * glm::length(to_d(r2)), 0.5 * chord2) << "case " << i;
+    }
+    Vec3 t2;
+    if (refract(tn, nin, 1.5f, 1.0f, t2) && glm::dot(t2, nin) < 0) {
+      ++cnt.rays;
+      SurfaceHit h4;
+      EXPECT_FALSE(scene.intersect(spawn_ray(far.p, far.p_error, nin, t2), h4))
+          << "case " << i << ": ray leaving the sphere re-hit it at t=" << h4.t;
+    }
+    if (HasFailure()) return;
+  }
+  report("spheres", cnt);
+}
+
+// ---------------------------------------------------------------------------
+// Planes
+
+TEST(SelfIntersection, PlanesOfAnyScale) {
+  Rng rng(13);
+  Counts cnt;
+  for (int i = 0; i < 20000; ++i) {
+    DVec3 point(rng.log_uniform_signed(1e-6, 1e6), rng.log_uniform_signed(1e-6, 1e6),
+                rng.log_uniform_signed(1e-6, 1e6));
+    Scene scene;
+    scene.planes.push_back(Plane{"p", to_f(point), to_f(rng.unit_vector()), 0});
+    scene.commit();  // normalizes the normal
+    const Plane& pl = scene.planes[0];
+    const DVec3 nd = glm::normalize(to_d(pl.normal));
+    ++cnt.cases;
+    double scale = std::max(rstest::max_abs(point), 1e-3);
+    DVec3 q = to_d(pl.point) + scale * rng.log_uniform(1e-3, 10) * tangent(rng, nd);
+    double cs = rng.log_uniform(1e-3, 1.0);
+    DVec3 w = cs * nd + std::sqrt(1 - cs * cs) * tangent(rng, nd);
+    if (rng.coin()) w = -w;
+    Vec3 o = to_f(q + scale * rng.log_uniform(1e-4, 10) * w);
+    Vec3 d = to_f((q - to_d(o)) * rng.log_uniform(1e-2, 1e2));
+    SurfaceHit hit;
+    if (!scene.intersect(Ray{o, d, kInfinity}, hit)) continue;
+    ++cnt.used;
+    const Vec3 n = glm::dot(d, hit.ng) < 0 ? hit.ng : -hit.ng;
+    const DVec3 nside = glm::dot(to_d(n), nd) > 0 ? nd : -nd;
+    const Vec3 dn = glm::normalize(d);
+    auto expect_miss = [&](const Ray& r, const char* kind) {
+      ++cnt.rays;
+      SurfaceHit h2;
+      EXPECT_FALSE(scene.intersect(r, h2)) << kind << " ray re-hit the plane, case " << i;
+      EXPECT_FALSE(scene.occluded(r)) << kind << " case " << i;
+    };
+    Vec3 r = reflect(dn, n);
+    if (glm::dot(r, n) > 0) expect_miss(spawn_ray(hit.p, hit.p_error, n, r), "reflection");
+    Vec3 hw = to_f(hemisphere(rng, to_d(n)));
+    if (glm::dot(hw, n) > 0) expect_miss(spawn_ray(hit.p, hit.p_error, n, hw), "hemisphere");
+    expect_miss(spawn_ray(hit.p, hit.p_error, n, d), "continuing");
+    Vec3 t;
+    if (refract(dn, n, 1.0f, 1.5f, t) && glm::dot(t, n) < 0)
+      expect_miss(spawn_ray(hit.p, hit.p_error, n, t), "refraction");
+    DVec3 target = to_d(hit.p) + scale * rng.log_uniform(1e-3, 1e2) * nside +
+                   scale * rng.log_uniform(1e-3, 10) * tangent(rng, nside);
+    Vec3 tf = to_f(target);
+    if (glm::dot(to_d(tf) - to_d(pl.point), nside) > 1e-4 * scale)
+      expect_miss(spawn_ray_to(hit.p, hit.p_error, n, tf), "shadow");
+    if (HasFailure()) return;
+  }
+  report("planes", cnt);
+}
+
+}  // namespace
