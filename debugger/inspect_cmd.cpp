@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "commands.h"
 #include "rayscope/recorder.h"
@@ -13,32 +14,68 @@ namespace {
 
 struct InspectOptions {
   SceneOptions scene;
-  std::string pixel;
+  std::vector<std::string> pixels;
+  std::string rect;
   int sample = -1;
   std::string format = "text";
   std::string output;
 };
 
-int run_inspect(const InspectOptions& o) {
-  auto c = o.pixel.find(',');
-  int x = 0, y = 0;
-  bool ok = c != std::string::npos;
-  if (ok) {
+// Parses "A,B" (or "A,B,C,D" with n == 4) into integers.
+bool parse_ints(const std::string& s, int n, int* out) {
+  size_t pos = 0;
+  for (int i = 0; i < n; ++i) {
+    size_t end = i + 1 < n ? s.find(',', pos) : s.size();
+    if (end == std::string::npos || end == pos) return false;
     try {
-      std::size_t px = 0, py = 0;
-      x = std::stoi(o.pixel.substr(0, c), &px);
-      y = std::stoi(o.pixel.substr(c + 1), &py);
-      ok = px == c && py == o.pixel.size() - c - 1;
+      size_t used = 0;
+      out[i] = std::stoi(s.substr(pos, end - pos), &used);
+      if (used != end - pos) return false;
     } catch (const std::exception&) {
-      ok = false;
+      return false;
     }
+    pos = end + 1;
   }
-  if (!ok) throw std::invalid_argument("--pixel: expected X,Y, got '" + o.pixel + "'");
+  return true;
+}
+
+int run_inspect(const InspectOptions& o) {
+  std::vector<glm::ivec2> pixels;
+  for (const std::string& p : o.pixels) {
+    int v[2];
+    if (!parse_ints(p, 2, v)) throw std::invalid_argument("--pixel: expected X,Y, got '" + p + "'");
+    pixels.emplace_back(v[0], v[1]);
+  }
+  if (!o.rect.empty()) {
+    int v[4];
+    if (!parse_ints(o.rect, 4, v) || v[2] <= 0 || v[3] <= 0)
+      throw std::invalid_argument("--rect: expected X,Y,WIDTH,HEIGHT with positive size, got '" +
+                                  o.rect + "'");
+    if (int64_t(v[2]) * v[3] > 4096)
+      throw std::invalid_argument("--rect: at most 4096 pixels at a time");
+    for (int y = v[1]; y < v[1] + v[3]; ++y)
+      for (int x = v[0]; x < v[0] + v[2]; ++x) pixels.emplace_back(x, y);
+  }
+  if (pixels.empty())
+    throw std::invalid_argument("give --pixel X,Y (repeatable) or --rect X,Y,W,H");
   LoadedScene loaded = o.scene.load();
   prepare_for_replay(loaded.scene, loaded.settings);
-  PixelRecord rec = record_pixel(loaded.scene, loaded.settings, x, y, o.sample);
-  std::string text =
-      o.format == "json" ? format_json(rec, loaded.scene) + "\n" : format_text(rec, loaded.scene);
+  std::vector<PixelRecord> records;
+  for (const glm::ivec2& p : pixels)
+    records.push_back(record_pixel(loaded.scene, loaded.settings, p.x, p.y, o.sample));
+  std::string text;
+  if (o.format == "json") {
+    if (records.size() == 1) {
+      text = format_json(records[0], loaded.scene) + "\n";
+    } else {
+      text = "{\"pixels\": [\n";
+      for (size_t i = 0; i < records.size(); ++i)
+        text += format_json(records[i], loaded.scene) + (i + 1 < records.size() ? ",\n" : "\n");
+      text += "]}\n";
+    }
+  } else {
+    for (const PixelRecord& r : records) text += format_text(r, loaded.scene);
+  }
   if (o.output.empty()) {
     std::fwrite(text.data(), 1, text.size(), stdout);
     return 0;
@@ -69,7 +106,8 @@ void add_inspect_command(CLI::App& app, int& exit_code) {
   CLI::App* cmd = app.add_subcommand(
       "inspect", "Replay one pixel and print its ray tree (every ray, hit, weight and BVH walk)");
   opts->scene.add_to(cmd);
-  cmd->add_option("--pixel", opts->pixel, "X,Y: the pixel (0,0 is the top-left)")->required();
+  cmd->add_option("--pixel", opts->pixels, "X,Y: a pixel (0,0 is the top-left); repeatable");
+  cmd->add_option("--rect", opts->rect, "X,Y,WIDTH,HEIGHT: every pixel of a rectangle");
   cmd->add_option("--sample", opts->sample, "Only this sample (0..N*N-1); default: all")
       ->check(CLI::Range(0, 4095));
   cmd->add_option("--format", opts->format, "text or json")
