@@ -21,24 +21,6 @@ struct InspectOptions {
   std::string output;
 };
 
-// Parses "A,B" (or "A,B,C,D" with n == 4) into integers.
-bool parse_ints(const std::string& s, int n, int* out) {
-  size_t pos = 0;
-  for (int i = 0; i < n; ++i) {
-    size_t end = i + 1 < n ? s.find(',', pos) : s.size();
-    if (end == std::string::npos || end == pos) return false;
-    try {
-      size_t used = 0;
-      out[i] = std::stoi(s.substr(pos, end - pos), &used);
-      if (used != end - pos) return false;
-    } catch (const std::exception&) {
-      return false;
-    }
-    pos = end + 1;
-  }
-  return true;
-}
-
 int run_inspect(const InspectOptions& o) {
   std::vector<glm::ivec2> pixels;
   for (const std::string& p : o.pixels) {

@@ -135,24 +135,12 @@ void print_explain(const Scene& scene, const RenderSettings& rs, const RayCounte
   std::fflush(stdout);
 }
 
-bool parse_pixel(const std::string& s, int& x, int& y) {
-  auto c = s.find(',');
-  if (c == std::string::npos) return false;
-  try {
-    std::size_t px = 0, py = 0;
-    x = std::stoi(s.substr(0, c), &px);
-    y = std::stoi(s.substr(c + 1), &py);
-    return px == c && py == s.size() - c - 1;
-  } catch (const std::exception&) {
-    return false;
-  }
-}
-
 int run_render(const RenderOptions& o) {
   namespace fs = std::filesystem;
-  int px = -1, py = -1;
-  if (!o.pixel.empty() && !parse_pixel(o.pixel, px, py))
+  int pxy[2] = {-1, -1};
+  if (!o.pixel.empty() && !parse_ints(o.pixel, 2, pxy))
     throw std::invalid_argument("--pixel: expected X,Y, got '" + o.pixel + "'");
+  const int px = pxy[0], py = pxy[1];
   auto t0 = std::chrono::steady_clock::now();
   LoadedScene loaded = o.scene.load();
   auto t1 = std::chrono::steady_clock::now();

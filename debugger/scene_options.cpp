@@ -22,6 +22,23 @@ void parse_size(const std::string& s, int& w, int& h) {
 
 }  // namespace
 
+bool parse_ints(const std::string& s, int n, int* out) {
+  size_t pos = 0;
+  for (int i = 0; i < n; ++i) {
+    size_t end = i + 1 < n ? s.find(',', pos) : s.size();
+    if (end == std::string::npos || end == pos) return false;
+    try {
+      size_t used = 0;
+      out[i] = std::stoi(s.substr(pos, end - pos), &used);
+      if (used != end - pos) return false;
+    } catch (const std::exception&) {
+      return false;
+    }
+    pos = end + 1;
+  }
+  return true;
+}
+
 void SceneOptions::add_to(CLI::App* cmd) {
   cmd->add_option("scene", scene, "Scene file (JSON); omit for the default scene");
   cmd->add_option("--size", size, "Image size WIDTHxHEIGHT");

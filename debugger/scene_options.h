@@ -10,6 +10,10 @@
 
 namespace rayscope::cli {
 
+/// Parses n comma-separated integers ("X,Y" or "X,Y,W,H") into out; false when
+/// the text is not exactly that.
+bool parse_ints(const std::string& s, int n, int* out);
+
 struct SceneOptions {
   std::string scene;  ///< Empty: the built-in default scene.
   std::string size;
