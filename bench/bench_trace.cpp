@@ -6,7 +6,11 @@
 //    records), Bvh::build() alone, and rtcCommitScene() with Embree's builder
 //    limited to 1 and 2 threads (device config "threads=N");
 //  - primary rays (closest hit): Scene::intersect vs rtcIntersect1, one ray per
-//    pixel centre of a pinhole camera framing the mesh, traced in 16x16 tiles;
+//    pixel centre of a pinhole camera framing the mesh, traced in 16x16 tiles.
+//    Ours uses the lean query Scene::intersect(ray, PrimHit&), which returns t,
+//    barycentrics and primitive ids, i.e. the same work as rtcIntersect1 (t, u,
+//    v, Ng, primID, geomID); the shading data of Scene::surface_hit (hit point
+//    and error bound, interpolated normal, object, material) is not computed;
 //  - shadow rays (any hit): Scene::occluded vs rtcOccluded1, spawned once with
 //    spawn_ray_to from our primary hits toward a point light above the mesh (only
 //    where the light is in front of the surface, as the Whitted integrator does),
@@ -397,10 +401,11 @@ double trace_ours_primary(tbb::task_arena& arena, const Scene& scene, const std:
                           PrimaryResult& out) {
   return run_blocks(arena, rays.size(), [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
-      SurfaceHit h;
+      // Lean query: t, barycentrics, ids; no shading data (as rtcIntersect1).
+      PrimHit h;
       if (scene.intersect(rays[i], h)) {
         out.t[i] = h.t;
-        out.prim[i] = h.prim;
+        out.prim[i] = h.prim;  // global primitive index = triangle index (one mesh)
       } else {
         out.t[i] = kInfinity;
         out.prim[i] = ~0u;
@@ -806,6 +811,9 @@ int main(int argc, char** argv) {
         "  rays      %dx%d primary (pixel centres, 16x16 tiles), shadow rays from our "
         "hits; runs %d\n",
         opt.res, opt.res, opt.runs);
+    std::printf(
+        "  queries   ours: Scene::intersect(ray, PrimHit&) (t, barycentrics, prim id; no\n"
+        "            shading data, like rtcIntersect1's t, u, v, Ng, ids) / Scene::occluded\n");
     std::fflush(stdout);
   }
 

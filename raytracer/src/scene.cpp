@@ -78,6 +78,7 @@ void Scene::commit(const BvhBuildConfig& config) {
     ids.push_back(ntri + uint32_t(si));
   }
   bvh_.build(bounds, centroids, config);
+  bvh4_.build(bvh_);
 
   prims_.resize(ids.size());
   for (size_t i = 0; i < bvh_.prim_indices.size(); ++i) {
@@ -141,20 +142,21 @@ uint32_t Scene::prim_object(uint32_t prim) const {
   return uint32_t(meshes.size()) + (prim - num_triangles_);
 }
 
-void Scene::fill_hit(const Ray& ray, uint32_t best, const TriangleHit& th, float t, int plane,
-                     SurfaceHit& hit) const {
-  hit = SurfaceHit{};
+SurfaceHit Scene::surface_hit(const Ray& ray, const PrimHit& ph) const {
+  SurfaceHit hit;
+  const float t = ph.t;
   hit.t = t;
-  if (plane >= 0) {
-    const Plane& pl = planes[size_t(plane)];
+  if (ph.plane >= 0) {
+    const Plane& pl = planes[size_t(ph.plane)];
     hit.p = plane_point(ray, t, pl.point, pl.normal, hit.p_error);
     hit.ng = hit.ns = pl.normal;
-    hit.object = uint32_t(meshes.size() + spheres.size() + size_t(plane));
+    hit.object = uint32_t(meshes.size() + spheres.size() + size_t(ph.plane));
     hit.prim = 0;
     hit.material = pl.material;
-    return;
+    return hit;
   }
-  const PrimRecord& r = prims_[best];
+  const PrimRecord& r = prims_[ph.record];
+  const TriangleHit th{t, ph.b0, ph.b1, ph.b2};
   if (r.id < num_triangles_) {
     uint32_t mi = prim_object(r.id);
     const TriangleMesh& m = meshes[mi];
@@ -192,6 +194,7 @@ void Scene::fill_hit(const Ray& ray, uint32_t best, const TriangleHit& th, float
     hit.prim = 0;
     hit.material = s.material;
   }
+  return hit;
 }
 
 }  // namespace rayscope

@@ -7,6 +7,14 @@
 // primitives) and an observer that sees every node visit, box test and
 // early-terminated node. The default observer is empty and compiled out, so
 // recording and statistics cost nothing unless a caller asks for them.
+//
+// For tracing, Scene collapses this hierarchy into a 4-wide one (bvh4.h) and
+// walks that when nobody observes; observed queries (ray-tree recording,
+// statistics, cost AOVs) walk this binary hierarchy, so the node ids, box tests
+// and culls they report are those of Bvh::nodes, as visualised. Both walks
+// return the same hit (see Scene::intersect). Bvh4::traverse has the same
+// observer hooks; it reports binary node ids too (the top binary node of each
+// wide node, and the leaves), and one box test per child box it tests.
 #pragma once
 
 #include <cstdint>
@@ -83,7 +91,9 @@ class Bvh {
   /// first + count) and returns true on a hit, lowering tmax to the hit distance.
   /// With AnyHit the walk stops at the first hit (shadow rays); otherwise it
   /// skips every node whose entry distance is beyond the closest hit so far
-  /// (early termination). Returns whether anything was hit.
+  /// (early termination; "beyond" by more than the box test's rounding margin
+  /// kBoxFarScale, so that the decision does not depend on whether a node is
+  /// tested before or after the hit is found). Returns whether anything was hit.
   template <bool AnyHit, class Observer, class LeafFn>
   bool traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs) const {
     if (nodes.empty()) return false;
@@ -129,7 +139,7 @@ class Bvh {
       for (;;) {
         if (sp == 0) return hit;
         Entry e = stack[--sp];
-        if (e.tnear <= tmax) {
+        if (e.tnear <= tmax * kBoxFarScale) {
           current = e.node;
           break;
         }

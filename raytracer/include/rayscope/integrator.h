@@ -74,18 +74,19 @@ class WhittedIntegrator {
     counters_.rays[int(kind)]++;
     int node = -1;
     if constexpr (Recorder::kActive) node = rec_.begin_ray(kind, ray, depth, weight, parent);
-    SurfaceHit hit;
+    PrimHit ph;
     bool found;
     if constexpr (Recorder::kActive) {
       auto obs = rec_.traversal(node);
-      found = scene_.intersect(ray, hit, obs);
+      found = scene_.intersect(ray, ph, obs);
     } else {
-      found = scene_.intersect(ray, hit);
+      found = scene_.intersect(ray, ph);
     }
     if (!found) {
       if constexpr (Recorder::kActive) rec_.end_ray(node, scene_.background);
       return scene_.background;
     }
+    const SurfaceHit hit = scene_.surface_hit(ray, ph);
     if constexpr (Recorder::kActive) rec_.on_hit(node, hit);
     if (first_hit) *first_hit = hit;
     counters_.hits++;

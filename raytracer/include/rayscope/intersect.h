@@ -43,8 +43,11 @@ struct TriangleHit {
 
 /// Watertight ray-triangle test. Returns true and fills `hit` when the ray hits
 /// the triangle at 0 < t < tmax. Degenerate (zero-area) triangles never hit.
-inline bool intersect_triangle(const TrianglePrecomp& pre, float tmax, const Vec3& p0,
-                               const Vec3& p1, const Vec3& p2, TriangleHit& hit) {
+/// (Always inlined: the compiler otherwise calls it out of line from the BVH
+/// leaf loops, which measured ~2% slower.)
+[[gnu::always_inline]] inline bool intersect_triangle(const TrianglePrecomp& pre, float tmax,
+                                                      const Vec3& p0, const Vec3& p1,
+                                                      const Vec3& p2, TriangleHit& hit) {
   // Translate to the ray origin, permute so that the ray runs along z, shear.
   Vec3 a = p0 - pre.origin, b = p1 - pre.origin, c = p2 - pre.origin;
   Vec3 p0t(a[pre.kx], a[pre.ky], a[pre.kz]);
@@ -187,6 +190,12 @@ inline Vec3 plane_point(const Ray& ray, float t, const Vec3& point, const Vec3& 
   return p;
 }
 
+/// Factor by which box tests round exit distances up (robust traversal, see
+/// intersect_box). Traversal culls a node only when its entry distance exceeds
+/// the closest hit times this factor, i.e. only when the box test itself,
+/// repeated with that closest hit as tmax, would reject the node.
+inline constexpr float kBoxFarScale = 1.0f + 2.0f * gamma(3);
+
 /// Slab test of a ray against a box, with precomputed reciprocal direction.
 /// Returns the entry distance or +inf when the box is missed within [0, tmax].
 /// The exit distance is rounded up by 2 gamma(3) so that rays touching a box
@@ -205,7 +214,7 @@ inline float intersect_box(const Vec3& lo, const Vec3& hi, const Vec3& origin, c
     if (tn > tnear) tnear = tn;
     if (tf < tfar) tfar = tf;
   }
-  tfar *= 1.0f + 2.0f * gamma(3);
+  tfar *= kBoxFarScale;
   return tnear <= tfar ? tnear : kInfinity;
 }
 

@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include "rayscope/bvh.h"
+#include "rayscope/bvh4.h"
 #include "rayscope/camera.h"
 #include "rayscope/intersect.h"
 #include "rayscope/light.h"
@@ -62,6 +63,17 @@ struct SurfaceHit {
   Color vertex_color{0.0f};
 };
 
+/// The closest hit of a ray without any shading data: what tracing needs to
+/// find, and no more (the same work as Embree's rtcIntersect1, which returns t,
+/// barycentrics and ids). Scene::surface_hit() turns it into a SurfaceHit.
+struct PrimHit {
+  float t = kInfinity;
+  float b0 = 0.0f, b1 = 0.0f, b2 = 0.0f;  ///< Barycentric weights (triangles).
+  uint32_t record = ~0u;  ///< Index into Scene::prim_records() (leaf order); ~0u for a plane.
+  uint32_t prim = ~0u;    ///< Global primitive index (triangles mesh by mesh, then spheres).
+  int plane = -1;         ///< Index into Scene::planes when a plane was hit, else -1.
+};
+
 /// What a scene contains, found once by commit() (used to skip unneeded work).
 struct SceneSummary {
   size_t triangles = 0, spheres = 0, planes = 0, lights = 0;
@@ -96,16 +108,42 @@ class Scene {
   /// (bad material index, non-finite sphere, zero plane normal, index out of range).
   void commit(const BvhBuildConfig& config = {});
 
-  /// Closest hit along the ray within (0, ray.tmax). Observer: see Bvh::traverse.
+  /// Closest hit along the ray within (0, ray.tmax): intersect(ray, PrimHit&)
+  /// followed by surface_hit(). Observer: see Bvh::traverse.
   template <class Observer = NullTraversalObserver>
   bool intersect(const Ray& ray, SurfaceHit& hit, Observer&& obs = Observer{}) const;
 
+  /// The closest hit without shading data (lean query for tracing only). When
+  /// several primitives are hit at exactly the same t, the result is the one a
+  /// brute-force loop over all triangles, then spheres, then planes reports:
+  /// the triangle with the highest global index, else the sphere with the
+  /// lowest, else the first plane. The answer therefore does not depend on the
+  /// order in which the hierarchy is walked.
+  ///
+  /// Without an observer (Observer::kActive == false) the query walks the
+  /// 4-wide hierarchy bvh4(); with one (ray-tree recording, statistics) it
+  /// walks the binary hierarchy bvh(), so that the observer sees the nodes and
+  /// box tests of the hierarchy RayScope builds, visualises and explains.
+  /// Both walks cull by the same criterion and break ties by the rule above,
+  /// so they return the same hit, bit for bit (recorded pixels replay exactly).
+  template <class Observer = NullTraversalObserver>
+  bool intersect(const Ray& ray, PrimHit& hit, Observer&& obs = Observer{}) const;
+
+  /// Hit point, error bound, normals, ids, material and vertex color of a hit
+  /// found by intersect(ray, PrimHit&) for the same ray.
+  SurfaceHit surface_hit(const Ray& ray, const PrimHit& hit) const;
+
   /// Any hit within (0, ray.tmax) (shadow rays). Stops at the first occluder and
-  /// reports it through `occluder` (object id) when not null.
+  /// reports it through `occluder` (object id) when not null. Walks bvh4()
+  /// without an observer and bvh() with one, like intersect().
   template <class Observer = NullTraversalObserver>
   bool occluded(const Ray& ray, Observer&& obs = Observer{}, uint32_t* occluder = nullptr) const;
 
+  /// The binary hierarchy (built by commit(); what statistics, recorded
+  /// traversals and visualisations refer to).
   const Bvh& bvh() const { return bvh_; }
+  /// Its 4-wide collapse, which unobserved queries walk (see intersect()).
+  const Bvh4& bvh4() const { return bvh4_; }
   const SceneSummary& summary() const { return summary_; }
   size_t object_count() const { return meshes.size() + spheres.size() + planes.size(); }
   ObjectType object_type(uint32_t object) const;
@@ -125,10 +163,15 @@ class Scene {
   const std::vector<PrimRecord>& prim_records() const { return prims_; }
 
  private:
-  void fill_hit(const Ray& ray, uint32_t prim, const TriangleHit& th, float t, int plane,
-                SurfaceHit& hit) const;
+  /// Whether primitive `a` wins an exact tie in t against primitive `b` (see
+  /// intersect(ray, PrimHit&)): triangles beat spheres, a higher triangle index
+  /// beats a lower one, a lower sphere index beats a higher one.
+  bool wins_tie(uint32_t a, uint32_t b) const {
+    return a < num_triangles_ ? (b >= num_triangles_ || a > b) : (b >= num_triangles_ && a < b);
+  }
 
   Bvh bvh_;
+  Bvh4 bvh4_;
   std::vector<PrimRecord> prims_;
   std::vector<uint32_t> tri_offsets_;  ///< Prefix sums of mesh triangle counts.
   uint32_t num_triangles_ = 0;
@@ -140,11 +183,21 @@ class Scene {
 
 template <class Observer>
 bool Scene::intersect(const Ray& ray, SurfaceHit& hit, Observer&& obs) const {
+  PrimHit ph;
+  if (!intersect(ray, ph, obs)) return false;
+  hit = surface_hit(ray, ph);
+  return true;
+}
+
+template <class Observer>
+bool Scene::intersect(const Ray& ray, PrimHit& hit, Observer&& obs) const {
   float tmax = ray.tmax;
-  uint32_t best = ~0u;
+  uint32_t best = ~0u, best_id = ~0u;
   TriangleHit best_tri{};
   const TrianglePrecomp pre(ray);
   const uint32_t ntri = num_triangles_;
+  // intersect_triangle accepts t == tmax, intersect_sphere only t < tmax; a hit
+  // at exactly the closest t so far replaces it only if it wins the tie.
   auto leaf = [&](uint32_t first, uint32_t count, float& t) {
     bool found = false;
     for (uint32_t i = first; i < first + count; ++i) {
@@ -152,26 +205,34 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit, Observer&& obs) const {
       if constexpr (std::decay_t<Observer>::kActive) obs.on_prim_test(r.id);
       if (r.id < ntri) {
         TriangleHit th;
-        if (intersect_triangle(pre, t, r.a, r.b, r.c, th)) {
+        if (intersect_triangle(pre, t, r.a, r.b, r.c, th) &&
+            (th.t < t || best == ~0u || wins_tie(r.id, best_id))) {
           t = th.t;
           best = i;
+          best_id = r.id;
           best_tri = th;
           found = true;
         }
       } else {
         float ts;
-        if (intersect_sphere(ray, r.a, r.b.x, t, ts)) {
+        if (intersect_sphere(ray, r.a, r.b.x, best == ~0u ? t : next_float_up(t), ts) &&
+            (ts < t || wins_tie(r.id, best_id))) {
           t = ts;
           best = i;
+          best_id = r.id;
+          best_tri = TriangleHit{ts, 0.0f, 0.0f, 0.0f};
           found = true;
         }
       }
     }
     return found;
   };
-  if (use_bvh_)
-    bvh_.traverse<false>(ray, tmax, leaf, obs);
-  else if (!prims_.empty())
+  if (use_bvh_) {
+    if constexpr (std::decay_t<Observer>::kActive)
+      bvh_.traverse<false>(ray, tmax, leaf, obs);
+    else
+      bvh4_.traverse<false>(ray, tmax, leaf, obs);
+  } else if (!prims_.empty())
     leaf(0, uint32_t(prims_.size()), tmax);
   int best_plane = -1;
   for (size_t k = 0; k < planes.size(); ++k) {
@@ -181,8 +242,20 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit, Observer&& obs) const {
       best_plane = int(k);
     }
   }
-  if (best_plane < 0 && best == ~0u) return false;
-  fill_hit(ray, best, best_tri, tmax, best_plane, hit);
+  if (best_plane >= 0) {
+    hit = PrimHit{};
+    hit.t = tmax;
+    hit.plane = best_plane;
+    return true;
+  }
+  if (best == ~0u) return false;
+  hit.t = tmax;
+  hit.b0 = best_tri.b0;
+  hit.b1 = best_tri.b1;
+  hit.b2 = best_tri.b2;
+  hit.record = best;
+  hit.prim = best_id;
+  hit.plane = -1;
   return true;
 }
 
@@ -218,8 +291,13 @@ bool Scene::occluded(const Ray& ray, Observer&& obs, uint32_t* occluder) const {
     }
     return false;
   };
-  bool h = use_bvh_ ? bvh_.traverse<true>(ray, tmax, leaf, obs)
-                    : (!prims_.empty() && leaf(0, uint32_t(prims_.size()), tmax));
+  bool h;
+  if (!use_bvh_)
+    h = !prims_.empty() && leaf(0, uint32_t(prims_.size()), tmax);
+  else if constexpr (std::decay_t<Observer>::kActive)
+    h = bvh_.traverse<true>(ray, tmax, leaf, obs);
+  else
+    h = bvh4_.traverse<true>(ray, tmax, leaf, obs);
   if (h && occluder) *occluder = prim_object(hit_prim);
   return h;
 }

@@ -1,0 +1,104 @@
+// Collapse of the binary hierarchy into the 4-wide one (bvh4.h): each wide node
+// takes a binary inner node's two children and, while it has fewer than four,
+// replaces its inner child of largest surface area by that child's two
+// children (the choice Embree's BVH4 builders make), so that the boxes a ray
+// is most likely to enter are tested together.
+#include "rayscope/bvh4.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace rayscope {
+
+void Bvh4::build(const Bvh& bvh) {
+  nodes.clear();
+  slot_source.clear();
+  root_child_ = kNone;
+  root_count_ = 0;
+  depth_ = 0;
+  root_lo_ = Vec3(kInfinity);
+  root_hi_ = Vec3(-kInfinity);
+  if (bvh.empty()) return;
+  const BvhNode& root = bvh.nodes[0];
+  root_lo_ = root.lo;
+  root_hi_ = root.hi;
+  if (root.is_leaf()) {
+    root_child_ = Bvh4Node::kLeaf | root.index;
+    root_count_ = root.count;
+  } else {
+    nodes.reserve(bvh.nodes.size() / 2 + 1);
+    slot_source.reserve(nodes.capacity() * 4);
+    root_child_ = collapse(bvh, 0, 1);
+    root_count_ = 0;
+  }
+  nodes.shrink_to_fit();
+  slot_source.shrink_to_fit();
+  if (3 * depth_ > uint32_t(kStackSize))
+    throw std::length_error("Bvh4: " + std::to_string(depth_) +
+                            " levels exceed the traversal stack");
+}
+
+uint32_t Bvh4::collapse(const Bvh& bvh, uint32_t binary_node, uint32_t level) {
+  depth_ = std::max(depth_, level);
+  const BvhNode& bn = bvh.nodes[binary_node];
+  uint32_t kids[4] = {bn.index, bn.index + 1, 0, 0};
+  int n = 2;
+  while (n < 4) {
+    int open = -1;
+    float area = -1.0f;
+    for (int k = 0; k < n; ++k) {
+      const BvhNode& c = bvh.nodes[kids[k]];
+      if (c.is_leaf()) continue;
+      const float a = c.bounds().half_area();
+      if (a > area) {
+        area = a;
+        open = k;
+      }
+    }
+    if (open < 0) break;
+    const uint32_t first = bvh.nodes[kids[open]].index;
+    kids[open] = first;  // keep the children in their spatial order
+    for (int k = n; k > open + 1; --k) kids[k] = kids[k - 1];
+    kids[open + 1] = first + 1;
+    ++n;
+  }
+
+  const uint32_t me = uint32_t(nodes.size());
+  nodes.emplace_back();
+  slot_source.insert(slot_source.end(), 4, ~0u);
+  {
+    Bvh4Node& w = nodes[me];
+    for (int k = 0; k < 4; ++k) {
+      w.lo_x[k] = w.lo_y[k] = w.lo_z[k] = kInfinity;
+      w.hi_x[k] = w.hi_y[k] = w.hi_z[k] = -kInfinity;
+      w.child[k] = Bvh4Node::kLeaf;
+      w.count[k] = 0;
+    }
+  }
+  for (int k = 0; k < n; ++k) {
+    const BvhNode& c = bvh.nodes[kids[k]];
+    uint32_t child, count;
+    if (c.is_leaf()) {
+      if (c.index & Bvh4Node::kLeaf) throw std::length_error("Bvh4: too many primitives");
+      child = Bvh4Node::kLeaf | c.index;
+      count = c.count;
+    } else {
+      child = collapse(bvh, kids[k], level + 1);  // may reallocate `nodes`
+      count = 0;
+    }
+    Bvh4Node& w = nodes[me];
+    w.lo_x[k] = c.lo.x;
+    w.lo_y[k] = c.lo.y;
+    w.lo_z[k] = c.lo.z;
+    w.hi_x[k] = c.hi.x;
+    w.hi_y[k] = c.hi.y;
+    w.hi_z[k] = c.hi.z;
+    w.child[k] = child;
+    w.count[k] = count;
+    slot_source[4 * size_t(me) + size_t(k)] = kids[k];
+  }
+  return me;
+}
+
+}  // namespace rayscope
