@@ -2,9 +2,9 @@
 //
 // For the Stanford bunny (69,666 triangles) and, unless --no-big, a version of it
 // subdivided twice (1,114,656 triangles) this measures
-//  - build time: Scene::commit() (validation + bounds + binned SAH build + leaf
-//    records), Bvh::build() alone, and rtcCommitScene() with Embree's builder
-//    limited to 1 and 2 threads (device config "threads=N");
+//  - build time: Scene::commit() (validation + bounds + binned SAH build + its
+//    4-wide collapse + leaf records), Bvh::build() alone, and rtcCommitScene()
+//    with Embree's builder limited to 1 and 2 threads (device config "threads=N");
 //  - primary rays (closest hit): Scene::intersect vs rtcIntersect1, one ray per
 //    pixel centre of a pinhole camera framing the mesh, traced in 16x16 tiles.
 //    Ours uses the lean query Scene::intersect(ray, PrimHit&), which returns t,
@@ -706,9 +706,9 @@ void print_tables(const Results& r, const Options& opt) {
                 b.quality.sah_cost);
   }
   std::printf(
-      "(commit = Scene::commit(): validation, bounds, Bvh::build, leaf records; bvh = "
-      "Bvh::build() alone;\n Embree N = rtcNewScene .. rtcCommitScene incl. buffer copy "
-      "with device \"threads=N\")\n");
+      "(commit = Scene::commit(): validation, bounds, Bvh::build, Bvh4 collapse, leaf "
+      "records;\n bvh = Bvh::build() alone; Embree N = rtcNewScene .. rtcCommitScene incl. "
+      "buffer copy with device \"threads=N\")\n");
 
   std::printf(
       "\nTrace throughput (Mrays/s, median of %d after 1 warm-up, ours and Embree passes "
