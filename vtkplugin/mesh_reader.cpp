@@ -18,7 +18,9 @@
 #include <vtkSmartPointer.h>
 #include <vtkTriangleFilter.h>
 #include <vtkUnsignedCharArray.h>
-#include <vtkXMLGenericDataObjectReader.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkXMLReader.h>
+#include <vtkXMLUnstructuredGridReader.h>
 
 #include "rayscope/vtk_mesh.h"
 
@@ -109,9 +111,16 @@ TriangleMesh read_mesh_file(const std::filesystem::path& path) {
     r->SetFileName(f.c_str());
     r->Update();
     data = r->GetOutput();
-  } else if (ext == ".vtp" || ext == ".vtu" || ext == ".vti" || ext == ".vts" || ext == ".vtr") {
-    vtkNew<vtkXMLGenericDataObjectReader> r;
-    if (!r->CanReadFile(f.c_str())) throw std::runtime_error(f + ": not a VTK XML file");
+  } else if (ext == ".vtp" || ext == ".vtu") {
+    // The format-specific XML readers: vtkXMLGenericDataObjectReader::CanReadFile
+    // rejects every file in VTK 9.1.
+    vtkSmartPointer<vtkXMLReader> r;
+    if (ext == ".vtp")
+      r = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+    else
+      r = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+    if (!r->CanReadFile(f.c_str()))
+      throw std::runtime_error(f + ": not a VTK XML " + ext + " file");
     r->SetFileName(f.c_str());
     r->Update();
     data = vtkDataSet::SafeDownCast(r->GetOutputDataObject(0));
