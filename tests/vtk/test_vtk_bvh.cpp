@@ -1,0 +1,232 @@
+// vtkRayScopeBVHSource: leaf boxes contain their triangles (and every triangle
+// is in exactly one leaf), levels, SAH terms and visit counts.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <set>
+#include <vector>
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkFieldData.h>
+#include <vtkIdList.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPlaneSource.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkSphereSource.h>
+#include <vtkSuperquadricSource.h>
+
+#include "rayscope/scene.h"
+#include "vtkRayScopeBVHSource.h"
+#include "vtkRayScopeImageAlgorithm.h"
+#include "vtkRayScopeMaterial.h"
+#include "vtkRayScopeMeshConverter.h"
+#include "vtkRayScopeRayTreeSource.h"
+#include "vtk_test_util.h"
+
+namespace {
+
+struct Box {
+  double lo[3], hi[3];
+  int node, offset, count;
+};
+
+// One box per node: its 8 corners are points 8b .. 8b+7 of the output, and
+// every cell of the box carries the node's data.
+std::vector<Box> boxes_of(vtkPolyData* pd, int cells_per_box) {
+  std::vector<Box> out;
+  vtkCellData* cd = pd->GetCellData();
+  for (vtkIdType c = 0; c < pd->GetNumberOfCells(); c += cells_per_box) {
+    Box b;
+    const vtkIdType first = (c / cells_per_box) * 8;
+    for (int k = 0; k < 3; ++k) {
+      b.lo[k] = pd->GetPoint(first)[k];
+      b.hi[k] = pd->GetPoint(first + 7)[k];
+    }
+    b.node = int(cd->GetArray("NodeId")->GetTuple1(c));
+    b.offset = int(cd->GetArray("PrimitiveOffset")->GetTuple1(c));
+    b.count = int(cd->GetArray("PrimitiveCount")->GetTuple1(c));
+    out.push_back(b);
+  }
+  return out;
+}
+
+struct Scene3 {
+  vtkNew<vtkSuperquadricSource> quad;
+  vtkNew<vtkSphereSource> sphere;
+  vtkNew<vtkPlaneSource> floor;
+  vtkNew<vtkRayScopeImageAlgorithm> alg;
+  Scene3() {
+    quad->SetThetaResolution(48);
+    quad->SetPhiResolution(48);
+    quad->SetThetaRoundness(0.3);
+    quad->SetPhiRoundness(1.5);
+    quad->ToroidalOn();
+    quad->SetCenter(-0.6, 0.2, 0);
+    quad->SetScale(0.6, 0.6, 0.6);
+    configure_sphere(sphere, 0.8, 0.1, -0.3, 0.5, 40);
+    configure_floor(floor, -0.6, 2.5);
+    floor->SetResolution(6, 6);
+    alg->AddInputConnection(quad->GetOutputPort());
+    alg->AddInputConnection(sphere->GetOutputPort());
+    alg->AddInputConnection(floor->GetOutputPort());
+    vtkNew<vtkRayScopeMaterial> mirror;
+    mirror->SetReflectivity(0.5);
+    alg->SetInputMaterial(1, mirror);
+    alg->AddPointLight(1, 3, 2, 1, 1, 1, 1);
+    alg->SetPosition(0, 1.2, 4);
+    alg->SetSize(48, 36);
+  }
+};
+
+}  // namespace
+
+// Every triangle lies in the box of the leaf that holds it (exactly: the boxes
+// are the float bounds of the very float vertices), and every triangle is in
+// exactly one leaf.
+TEST(VtkBVH, LeafBoxesContainAllTriangles) {
+  Scene3 s;
+  vtkNew<vtkRayScopeBVHSource> bvh;
+  bvh->SetSceneSource(s.alg);
+  bvh->OnlyLeavesOn();
+  bvh->Update();
+  vtkPolyData* pd = bvh->GetOutput();
+  ASSERT_GT(pd->GetNumberOfCells(), 0);
+  EXPECT_EQ(pd->GetNumberOfLines(), pd->GetNumberOfCells());
+  EXPECT_EQ(pd->GetNumberOfCells() % 12, 0);
+
+  // The triangles, converted independently from the same inputs, numbered
+  // input by input.
+  std::vector<std::array<double, 9>> tris;
+  vtkNew<vtkRayScopeMeshConverter> conv;
+  vtkNew<vtkIdList> ids;
+  for (vtkAlgorithm* a : std::initializer_list<vtkAlgorithm*>{s.quad, s.sphere, s.floor}) {
+    a->Update();
+    vtkNew<vtkPolyData> t;
+    ASSERT_EQ(conv->Convert(vtkDataSet::SafeDownCast(a->GetOutputDataObject(0)), t), 1);
+    for (t->GetPolys()->InitTraversal(); t->GetPolys()->GetNextCell(ids);) {
+      std::array<double, 9> tri;
+      for (int v = 0; v < 3; ++v)
+        for (int k = 0; k < 3; ++k) tri[size_t(3 * v + k)] = t->GetPoint(ids->GetId(v))[k];
+      tris.push_back(tri);
+    }
+  }
+  vtkDataArray* leaf_ids = pd->GetFieldData()->GetArray("LeafPrimitiveIds");
+  ASSERT_NE(leaf_ids, nullptr);
+  ASSERT_EQ(leaf_ids->GetNumberOfTuples(), vtkIdType(tris.size()));
+
+  std::vector<int> seen(tris.size(), 0);
+  const std::vector<Box> boxes = boxes_of(pd, 12);
+  for (const Box& b : boxes) {
+    ASSERT_GE(b.offset, 0);
+    ASSERT_GT(b.count, 0);
+    for (int slot = b.offset; slot < b.offset + b.count; ++slot) {
+      const int prim = int(leaf_ids->GetTuple1(slot));
+      ASSERT_GE(prim, 0);
+      ASSERT_LT(prim, int(tris.size()));
+      seen[size_t(prim)]++;
+      for (int v = 0; v < 3; ++v)
+        for (int k = 0; k < 3; ++k) {
+          const double x = tris[size_t(prim)][size_t(3 * v + k)];
+          EXPECT_GE(x, b.lo[k]) << "triangle " << prim << " leaf " << b.node;
+          EXPECT_LE(x, b.hi[k]) << "triangle " << prim << " leaf " << b.node;
+        }
+    }
+  }
+  for (size_t p = 0; p < seen.size(); ++p) ASSERT_EQ(seen[p], 1) << "triangle " << p;
+}
+
+// Levels, subtree counts, SAH terms summing to the hierarchy's SAH cost,
+// quads for faces.
+TEST(VtkBVH, LevelsCountsAndSAH) {
+  Scene3 s;
+  vtkNew<vtkRayScopeBVHSource> bvh;
+  bvh->SetSceneSource(s.alg);
+  bvh->Update();
+  vtkPolyData* all = bvh->GetOutput();
+  const rayscope::Scene* scene = s.alg->GetCoreScene();
+  ASSERT_NE(scene, nullptr);
+  const size_t nodes = scene->bvh().nodes.size();
+  EXPECT_EQ(all->GetNumberOfCells(), vtkIdType(12 * nodes));
+  double sah = 0.0;
+  vtkDataArray* sah_a = all->GetCellData()->GetArray("SAHCost");
+  for (vtkIdType c = 0; c < all->GetNumberOfCells(); c += 12) sah += sah_a->GetTuple1(c);
+  const double expected = scene->bvh().quality().sah_cost;
+  EXPECT_NEAR(sah, expected, 1e-9 * expected);
+  EXPECT_NEAR(all->GetFieldData()->GetArray("SAHCostTotal")->GetTuple1(0), expected,
+              1e-9 * expected);
+  EXPECT_EQ(all->GetFieldData()->GetArray("TreeDepth")->GetTuple1(0),
+            double(scene->bvh().quality().depth));
+  // The root holds every primitive.
+  const std::vector<Box> boxes = boxes_of(all, 12);
+  EXPECT_EQ(boxes[0].node, 0);
+  EXPECT_EQ(size_t(boxes[0].count), scene->prim_records().size());
+
+  bvh->SetLevelRange(2, 3);
+  bvh->GenerateFacesOn();
+  bvh->Update();
+  vtkPolyData* pd = bvh->GetOutput();
+  ASSERT_GT(pd->GetNumberOfCells(), 0);
+  EXPECT_EQ(pd->GetNumberOfPolys(), pd->GetNumberOfCells());
+  EXPECT_EQ(pd->GetNumberOfCells() % 6, 0);
+  vtkDataArray* level = pd->GetCellData()->GetArray("Level");
+  std::set<int> levels;
+  for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c) levels.insert(int(level->GetTuple1(c)));
+  EXPECT_EQ(levels, (std::set<int>{2, 3}));
+
+  bvh->SetLevelRange(3, 2);
+  vtkNew<ErrorCatcher> errors, pipeline_errors;
+  bvh->AddObserver(vtkCommand::ErrorEvent, errors);
+  bvh->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, pipeline_errors);
+  EXPECT_EQ(update(bvh), 0);
+  EXPECT_NE(errors->last.find("LevelRange"), std::string::npos);
+}
+
+// Visit counts: for a pixel, the node visits of its ray tree; for the frame,
+// the sum of the image's per-pixel Cost (nodes visited), exactly.
+TEST(VtkBVH, VisitCounts) {
+  Scene3 s;
+  s.alg->Update();
+  double cost = 0.0;
+  vtkDataArray* c = s.alg->GetOutput()->GetPointData()->GetArray("Cost");
+  for (vtkIdType k = 0; k < c->GetNumberOfTuples(); ++k) cost += c->GetTuple1(k);
+
+  vtkNew<vtkRayScopeBVHSource> bvh;
+  bvh->SetSceneSource(s.alg);
+  bvh->SetVisitModeToFrame();
+  bvh->Update();
+  auto visits = [&] {
+    double v = 0.0;
+    vtkDataArray* a = bvh->GetOutput()->GetCellData()->GetArray("VisitCount");
+    for (vtkIdType k = 0; k < a->GetNumberOfTuples(); k += 12) v += a->GetTuple1(k);
+    return v;
+  };
+  EXPECT_GT(cost, 0.0);
+  EXPECT_EQ(visits(), cost);
+
+  vtkNew<vtkRayScopeRayTreeSource> tree;
+  tree->SetSceneSource(s.alg);
+  tree->SetPixel(24, 14);
+  tree->Update();
+  double nodes = 0.0, first = -1.0;
+  vtkPolyData* t = tree->GetOutput();
+  for (vtkIdType k = t->GetNumberOfVerts(); k < t->GetNumberOfCells(); ++k) {
+    const double n = t->GetCellData()->GetArray("NodesVisited")->GetTuple1(k);
+    nodes += n;
+    if (first < 0.0) first = n;
+  }
+  bvh->SetVisitModeToPixel();
+  bvh->SetPixel(24, 14);
+  bvh->Update();
+  EXPECT_GT(nodes, 0.0);
+  EXPECT_EQ(visits(), nodes);
+  bvh->SetVisitRay(0);  // the primary ray only
+  bvh->Update();
+  EXPECT_EQ(visits(), first);
+  // It equals the pixel's Cost in the image too.
+  EXPECT_EQ(nodes, c->GetTuple1(14 * 48 + 24));
+}

@@ -1,0 +1,330 @@
+// vtkRayScopeImageAlgorithm: image layout, projection, progress, validation,
+// thread invariance.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <vtkCallbackCommand.h>
+#include <vtkCamera.h>
+#include <vtkDataArray.h>
+#include <vtkExecutive.h>
+#include <vtkFloatArray.h>
+#include <vtkImageData.h>
+#include <vtkIntArray.h>
+#include <vtkMath.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
+#include <vtkSphereSource.h>
+#include <vtkUnsignedCharArray.h>
+
+#include "vtkRayScopeImageAlgorithm.h"
+#include "vtkRayScopeMaterial.h"
+#include "vtk_test_util.h"
+
+namespace {
+
+int object_at(vtkImageData* img, int i, int j) {
+  int* dims = img->GetDimensions();
+  return vtkIntArray::SafeDownCast(img->GetPointData()->GetArray("ObjectId"))
+      ->GetValue(vtkIdType(j) * dims[0] + i);
+}
+
+int count_object(vtkImageData* img, int id) {
+  auto* a = vtkIntArray::SafeDownCast(img->GetPointData()->GetArray("ObjectId"));
+  int n = 0;
+  for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k) n += a->GetValue(k) == id;
+  return n;
+}
+
+}  // namespace
+
+// A sphere in front of a perspective camera: hit in the middle, background in
+// the corners, the silhouette as large as the analytic projection of the
+// sphere, the second (smaller, higher) sphere in the upper rows: VTK images
+// have row 0 at the bottom.
+TEST(VtkImage, SphereLayout) {
+  vtkNew<vtkSphereSource> big, small;
+  configure_sphere(big, 0, 0, 0, 0.5, 96);
+  configure_sphere(small, 0, 0.65, 0, 0.1, 32);
+  vtkNew<vtkRayScopeImageAlgorithm> alg;
+  alg->AddInputConnection(big->GetOutputPort());
+  alg->AddInputConnection(small->GetOutputPort());
+  alg->SetSize(96, 96);
+  alg->SetPosition(0, 0, 3);
+  alg->Update();
+  vtkImageData* img = alg->GetOutput();
+  int dims[3];
+  img->GetDimensions(dims);
+  ASSERT_EQ(dims[0], 96);
+  ASSERT_EQ(dims[1], 96);
+  ASSERT_EQ(dims[2], 1);
+  for (const char* name : {"Color", "LinearColor", "Depth", "Normal", "ObjectId", "Cost"})
+    ASSERT_NE(img->GetPointData()->GetAbstractArray(name), nullptr) << name;
+
+  EXPECT_EQ(object_at(img, 48, 48), 0);
+  EXPECT_EQ(object_at(img, 0, 0), -1);
+  EXPECT_EQ(object_at(img, 95, 0), -1);
+  EXPECT_EQ(object_at(img, 0, 95), -1);
+  EXPECT_EQ(object_at(img, 95, 95), -1);
+
+  // Silhouette radius of a sphere of radius r seen from distance d with a
+  // vertical view angle a: tan(asin(r / d)) / tan(a / 2) half-heights.
+  const double r_px =
+      std::tan(std::asin(0.5 / 3.0)) / std::tan(vtkMath::RadiansFromDegrees(15.0)) * 48.0;
+  const double expected = vtkMath::Pi() * r_px * r_px;
+  // The small sphere hides a sliver of the big one's silhouette; the polygonal
+  // sphere (96 x 48 facets) is ~0.1% smaller in area than the true one.
+  EXPECT_NEAR(count_object(img, 0), expected, 0.03 * expected);
+
+  // The small sphere sits above: in the upper rows (VTK row 0 is the bottom),
+  // centered in columns.
+  auto* ids = vtkIntArray::SafeDownCast(img->GetPointData()->GetArray("ObjectId"));
+  double sum_i = 0, sum_j = 0;
+  int n = 0;
+  for (int j = 0; j < 96; ++j)
+    for (int i = 0; i < 96; ++i)
+      if (ids->GetValue(j * 96 + i) == 1) {
+        sum_i += i + 0.5;
+        sum_j += j + 0.5;
+        ++n;
+      }
+  ASSERT_GT(n, 10);
+  EXPECT_NEAR(sum_i / n, 48.0, 1.0);
+  // Its silhouette is an ellipse centered halfway between the projections of
+  // the two tangent rays in the vertical plane.
+  const double a = std::atan(0.65 / 3.0), h = std::asin(0.1 / std::hypot(0.65, 3.0));
+  const double y_px = 48.0 + 0.5 * (std::tan(a + h) + std::tan(a - h)) /
+                                 std::tan(vtkMath::RadiansFromDegrees(15.0)) * 48.0;
+  EXPECT_NEAR(sum_j / n, y_px, 1.0);
+
+  // Depth along the primary ray, unit normals facing the camera, NaN depth on
+  // the background; the center is white (white material, headlight at 0 deg).
+  auto* depth = vtkFloatArray::SafeDownCast(img->GetPointData()->GetArray("Depth"));
+  auto* normal = vtkFloatArray::SafeDownCast(img->GetPointData()->GetArray("Normal"));
+  auto* color = vtkUnsignedCharArray::SafeDownCast(img->GetPointData()->GetArray("Color"));
+  const vtkIdType c = 48 * 96 + 48;
+  EXPECT_NEAR(depth->GetValue(c), 2.5, 0.01);
+  EXPECT_GT(normal->GetTypedComponent(c, 2), 0.99);
+  EXPECT_TRUE(std::isnan(depth->GetValue(0)));
+  EXPECT_GE(color->GetTypedComponent(c, 0), 250);
+  EXPECT_EQ(color->GetTypedComponent(0, 0), 0);
+  EXPECT_GT(img->GetPointData()->GetArray("Cost")->GetTuple1(c), 0.0);
+  EXPECT_NE(img->GetFieldData()->GetArray("RayCounts"), nullptr);
+}
+
+// Parallel projection: ParallelScale is half the image height in world units.
+TEST(VtkImage, ParallelProjectionScale) {
+  vtkNew<vtkSphereSource> s;
+  configure_sphere(s, 0, 0, 0, 0.5, 128);
+  vtkNew<vtkRayScopeImageAlgorithm> alg;
+  alg->AddInputConnection(s->GetOutputPort());
+  alg->SetSize(100, 100);
+  alg->SetPosition(0, 0, 10);
+  alg->ParallelProjectionOn();
+  alg->SetParallelScale(1.0);
+  alg->Update();
+  const double expected = vtkMath::Pi() * 25.0 * 25.0;
+  EXPECT_NEAR(count_object(alg->GetOutput(), 0), expected, 0.02 * expected);
+}
+
+// A vtkCamera's parameters give the same image as setting them by hand.
+TEST(VtkImage, CopyCameraAndResetCamera) {
+  vtkNew<vtkSphereSource> s;
+  configure_sphere(s, 2, 1, -3, 0.7);
+  vtkNew<vtkRayScopeImageAlgorithm> alg;
+  alg->AddInputConnection(s->GetOutputPort());
+  alg->SetSize(40, 30);
+  ASSERT_EQ(alg->ResetCamera(), 1);
+  alg->Update();
+  // The bounding sphere fills the view: the object is centered and visible.
+  EXPECT_EQ(object_at(alg->GetOutput(), 20, 15), 0);
+  EXPECT_EQ(object_at(alg->GetOutput(), 0, 0), -1);
+
+  vtkNew<vtkCamera> cam;
+  cam->SetPosition(alg->GetPosition());
+  cam->SetFocalPoint(alg->GetFocalPoint());
+  cam->SetViewUp(alg->GetViewUp());
+  cam->SetViewAngle(alg->GetViewAngle());
+  vtkNew<vtkRayScopeImageAlgorithm> alg2;
+  alg2->AddInputConnection(s->GetOutputPort());
+  alg2->SetSize(40, 30);
+  alg2->CopyCamera(cam);
+  alg2->Update();
+  auto* a = alg->GetOutput()->GetPointData()->GetArray("LinearColor");
+  auto* b = alg2->GetOutput()->GetPointData()->GetArray("LinearColor");
+  for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k)
+    ASSERT_EQ(a->GetTuple3(k)[0], b->GetTuple3(k)[0]) << k;
+}
+
+// ProgressEvent: non-decreasing, from 0 to 1, several steps for a many-tile image.
+TEST(VtkImage, ProgressEvents) {
+  vtkNew<vtkSphereSource> s;
+  configure_sphere(s, 0, 0, 0, 0.5);
+  vtkNew<vtkRayScopeImageAlgorithm> alg;
+  alg->AddInputConnection(s->GetOutputPort());
+  alg->SetSize(256, 256);
+  alg->SetPosition(0, 0, 3);
+  alg->SetSamples(2);
+  std::vector<double> progress;
+  vtkNew<vtkCallbackCommand> cb;
+  cb->SetClientData(&progress);
+  cb->SetCallback([](vtkObject* o, unsigned long, void* cd, void*) {
+    static_cast<std::vector<double>*>(cd)->push_back(vtkAlgorithm::SafeDownCast(o)->GetProgress());
+  });
+  alg->AddObserver(vtkCommand::ProgressEvent, cb);
+  alg->Update();
+  ASSERT_GE(progress.size(), 2u);
+  EXPECT_EQ(progress.front(), 0.0);
+  EXPECT_EQ(progress.back(), 1.0);
+  for (size_t i = 1; i < progress.size(); ++i) EXPECT_GE(progress[i], progress[i - 1]);
+}
+
+// The image does not depend on the number of threads (bit for bit).
+TEST(VtkImage, ThreadInvariance) {
+  vtkNew<vtkSphereSource> a, b;
+  configure_sphere(a, 0, 0, 0, 0.5);
+  configure_sphere(b, 0.6, 0.3, 0.4, 0.3);
+  auto render = [&](int threads) {
+    vtkNew<vtkRayScopeImageAlgorithm> alg;
+    alg->AddInputConnection(a->GetOutputPort());
+    alg->AddInputConnection(b->GetOutputPort());
+    alg->SetSize(64, 48);
+    alg->SetSamples(2);
+    alg->SetPosition(0, 0.5, 3);
+    alg->AddPointLight(2, 3, 2, 1, 1, 1, 1);
+    vtkNew<vtkRayScopeMaterial> mirror;
+    mirror->SetReflectivity(0.5);
+    alg->SetInputMaterial(0, mirror);
+    alg->SetThreads(threads);
+    alg->Update();
+    vtkSmartPointer<vtkDataArray> c = alg->GetOutput()->GetPointData()->GetArray("LinearColor");
+    return c;
+  };
+  auto c1 = render(1), c2 = render(2);
+  ASSERT_EQ(c1->GetNumberOfTuples(), c2->GetNumberOfTuples());
+  auto* f1 = vtkFloatArray::SafeDownCast(c1);
+  auto* f2 = vtkFloatArray::SafeDownCast(c2);
+  EXPECT_EQ(std::memcmp(f1->GetPointer(0), f2->GetPointer(0), size_t(f1->GetDataSize()) * 4), 0);
+}
+
+// Each bad parameter gives one clear error naming it, and Update fails.
+TEST(VtkImage, RejectsBadParameters) {
+  vtkNew<vtkSphereSource> s;
+  configure_sphere(s, 0, 0, 0, 0.5, 16);
+  struct Case {
+    const char* expect;
+    std::function<void(vtkRayScopeImageAlgorithm*)> breakit;
+  };
+  std::vector<Case> cases = {
+      {"image size 0x20", [](auto* a) { a->SetWidth(0); }},
+      {"image size 40x40000", [](auto* a) { a->SetHeight(40000); }},
+      {"Samples must be in 1..64", [](auto* a) { a->SetSamples(0); }},
+      {"MaxDepth must be in 0..64", [](auto* a) { a->SetMaxDepth(-1); }},
+      {"MinContribution", [](auto* a) { a->SetMinContribution(-1.0); }},
+      {"Position and FocalPoint coincide", [](auto* a) { a->SetPosition(0, 0, 0); }},
+      {"ViewUp is zero or parallel", [](auto* a) { a->SetViewUp(0, 0, 1); }},
+      {"ViewAngle must be in (0, 180)", [](auto* a) { a->SetViewAngle(180.0); }},
+      {"ParallelScale",
+       [](auto* a) {
+         a->ParallelProjectionOn();
+         a->SetParallelScale(0.0);
+       }},
+      {"Background components", [](auto* a) { a->SetBackground(2, 0, 0); }},
+      {"light 0: intensity", [](auto* a) { a->AddPointLight(0, 1, 1, 1, 1, 1, -1); }},
+      {"light 0: direction must be non-zero",
+       [](auto* a) { a->AddDirectionalLight(0, 0, 0, 1, 1, 1, 1); }},
+      {"default material: Reflectivity + Transparency must be <= 1",
+       [](auto* a) {
+         a->GetMaterial()->SetReflectivity(0.7);
+         a->GetMaterial()->SetTransparency(0.5);
+       }},
+      {"material of input 0: IndexOfRefraction",
+       [](auto* a) {
+         vtkNew<vtkRayScopeMaterial> m;
+         m->SetIndexOfRefraction(-1.0);
+         a->SetInputMaterial(0, m);
+       }},
+  };
+  for (const Case& c : cases) {
+    vtkNew<vtkRayScopeImageAlgorithm> alg;
+    alg->AddInputConnection(s->GetOutputPort());
+    alg->SetSize(40, 20);
+    c.breakit(alg);
+    vtkNew<ErrorCatcher> errors, pipeline_errors;
+    alg->AddObserver(vtkCommand::ErrorEvent, errors);
+    alg->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, pipeline_errors);
+    EXPECT_EQ(update(alg), 0) << c.expect;
+    EXPECT_EQ(errors->count, 1) << c.expect;
+    EXPECT_NE(errors->last.find(c.expect), std::string::npos)
+        << "expected '" << c.expect << "' in: " << errors->last;
+  }
+  // No input at all.
+  vtkNew<vtkRayScopeImageAlgorithm> alg;
+  vtkNew<ErrorCatcher> errors, pipeline_errors;
+  alg->AddObserver(vtkCommand::ErrorEvent, errors);
+  alg->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, pipeline_errors);
+  alg->Update();
+  EXPECT_GE(errors->count + pipeline_errors->count, 1);
+}
+
+// Changing only the camera re-renders without converting the geometry again;
+// changing the input re-converts it.
+TEST(VtkImage, FollowsPipelineChanges) {
+  vtkNew<vtkSphereSource> s;
+  configure_sphere(s, 0, 0, 0, 0.5);
+  vtkNew<vtkRayScopeImageAlgorithm> alg;
+  alg->AddInputConnection(s->GetOutputPort());
+  alg->SetSize(32, 32);
+  alg->SetPosition(0, 0, 3);
+  alg->Update();
+  const int before = count_object(alg->GetOutput(), 0);
+  alg->SetPosition(0, 0, 6);  // farther: smaller
+  alg->Update();
+  const int farther = count_object(alg->GetOutput(), 0);
+  EXPECT_LT(farther, before / 2);
+  s->SetRadius(1.0);  // upstream change
+  alg->Update();
+  EXPECT_GT(count_object(alg->GetOutput(), 0), 3 * farther);
+}
+
+// Updating a scene in place (camera with its headlight, material values,
+// light values: no BVH rebuild) gives the very image of a fresh algorithm.
+TEST(VtkImage, InPlaceUpdatesMatchFreshRender) {
+  vtkNew<vtkSphereSource> a, b;
+  configure_sphere(a, 0, 0, 0, 0.5);
+  configure_sphere(b, 0.7, 0.2, -0.3, 0.3);
+  auto setup = [&](vtkRayScopeImageAlgorithm* alg, double x, double color, double light_y) {
+    alg->RemoveAllInputConnections(0);
+    alg->AddInputConnection(a->GetOutputPort());
+    alg->AddInputConnection(b->GetOutputPort());
+    alg->SetSize(40, 30);
+    alg->SetPosition(x, 0.5, 3);
+    alg->GetMaterial()->SetColor(color, 0.5, 0.25);
+    alg->GetMaterial()->SetReflectivity(0.3);
+    alg->RemoveAllLights();
+    alg->AddPointLight(1, light_y, 2, 1, 1, 1, 0.7);
+  };
+  auto colors = [](vtkRayScopeImageAlgorithm* alg) {
+    vtkFloatArray* c =
+        vtkFloatArray::SafeDownCast(alg->GetOutput()->GetPointData()->GetArray("LinearColor"));
+    return std::vector<float>(c->GetPointer(0), c->GetPointer(0) + c->GetNumberOfValues());
+  };
+  vtkNew<vtkRayScopeImageAlgorithm> reused;
+  setup(reused, 0.0, 1.0, 3.0);
+  reused->Update();
+  for (auto [x, color, light_y] :
+       {std::tuple{0.4, 1.0, 3.0}, std::tuple{0.4, 0.2, 3.0}, std::tuple{-0.3, 0.6, 1.5}}) {
+    setup(reused, x, color, light_y);
+    reused->Update();
+    vtkNew<vtkRayScopeImageAlgorithm> fresh;
+    setup(fresh, x, color, light_y);
+    fresh->Update();
+    EXPECT_EQ(colors(reused), colors(fresh)) << x << " " << color << " " << light_y;
+  }
+}

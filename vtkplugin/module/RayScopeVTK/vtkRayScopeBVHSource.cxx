@@ -1,0 +1,315 @@
+#include "vtkRayScopeBVHSource.h"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <thread>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
+
+#include "rayscope/recorder.h"
+#include "rayscope/render.h"
+#include "rayscope/scene.h"
+#include "vtkRayScopeImageAlgorithm.h"
+
+vtkStandardNewMacro(vtkRayScopeBVHSource);
+vtkCxxSetObjectMacro(vtkRayScopeBVHSource, SceneSource, vtkRayScopeImageAlgorithm);
+
+vtkRayScopeBVHSource::vtkRayScopeBVHSource()
+    : SceneSource(nullptr),
+      LevelRange{0, VTK_INT_MAX},
+      OnlyLeaves(0),
+      GenerateFaces(0),
+      VisitMode(VISIT_NONE),
+      Pixel{0, 0},
+      VisitRay(-1) {
+  this->SetNumberOfInputPorts(0);
+}
+
+vtkRayScopeBVHSource::~vtkRayScopeBVHSource() {
+  this->SetSceneSource(nullptr);
+}
+
+vtkMTimeType vtkRayScopeBVHSource::GetMTime() {
+  vtkMTimeType t = this->Superclass::GetMTime();
+  if (this->SceneSource) t = std::max(t, this->SceneSource->GetMTime());
+  return t;
+}
+
+namespace {
+
+// Integrator policy that counts node visits per BVH node (whole-frame counts).
+struct NodeVisitRecorder {
+  static constexpr bool kActive = true;
+  std::vector<uint32_t>* counts;
+
+  struct Observer {
+    static constexpr bool kActive = true;
+    std::vector<uint32_t>* c;
+    void on_node(uint32_t node) { (*c)[node]++; }
+    void on_box_test() {}
+    void on_cull(uint32_t) {}
+    void on_prim_test(uint32_t) {}
+  };
+  void begin_sample(int) {}
+  int begin_ray(rayscope::RayKind, const rayscope::Ray&, int, const rayscope::Color&, int) {
+    return 0;
+  }
+  Observer traversal(int) { return Observer{counts}; }
+  void on_hit(int, const rayscope::SurfaceHit&) {}
+  void on_shadow(int, uint32_t, bool, uint32_t) {}
+  void on_refraction(int, const rayscope::RefractionEvent&) {}
+  void end_ray(int, const rayscope::Color&) {}
+};
+
+// Node visits of every ray of the image, rendered exactly like render() (same
+// samples, same rays), counted per thread and summed.
+std::vector<uint32_t> frame_visits(const rayscope::Scene& scene,
+                                   const rayscope::RenderSettings& settings,
+                                   vtkRayScopeBVHSource* self) {
+  const size_t nnodes = scene.bvh().nodes.size();
+  tbb::enumerable_thread_specific<std::vector<uint32_t>> local(
+      [&] { return std::vector<uint32_t>(nnodes, 0u); });
+  const int threads =
+      settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<int> rows_done{0};
+  arena.execute([&] {
+    rayscope::with_scene_features(scene, [&]<bool kShadows, bool kSecondary>() {
+      tbb::parallel_for(tbb::blocked_range<int>(0, settings.height), [&](const auto& r) {
+        std::vector<uint32_t>& counts = local.local();
+        NodeVisitRecorder rec{&counts};
+        rayscope::RayCounters counters;
+        for (int y = r.begin(); y != r.end(); ++y) {
+          for (int x = 0; x < settings.width; ++x)
+            rayscope::render_pixel<NodeVisitRecorder, kShadows, kSecondary>(scene, settings, x, y,
+                                                                            counters, rec);
+          const int d = ++rows_done;
+          if (std::this_thread::get_id() == caller)
+            self->UpdateProgress(0.9 * double(d) / double(settings.height));
+        }
+      });
+    });
+  });
+  std::vector<uint32_t> total(nnodes, 0u);
+  for (const auto& counts : local)
+    for (size_t i = 0; i < nnodes; ++i) total[i] += counts[i];
+  return total;
+}
+
+template <class A>
+vtkSmartPointer<A> make(const char* name, vtkIdType n) {
+  auto a = vtkSmartPointer<A>::New();
+  a->SetName(name);
+  a->SetNumberOfTuples(n);
+  return a;
+}
+
+}  // namespace
+
+int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector**,
+                                      vtkInformationVector* outputVector) {
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  if (!this->SceneSource) {
+    vtkErrorMacro(<< "no scene: call SetSceneSource(vtkRayScopeImageAlgorithm)");
+    return 0;
+  }
+  if (this->LevelRange[0] < 0 || this->LevelRange[1] < this->LevelRange[0]) {
+    vtkErrorMacro(<< "LevelRange (" << this->LevelRange[0] << ", " << this->LevelRange[1]
+                  << ") must satisfy 0 <= min <= max");
+    return 0;
+  }
+  this->UpdateProgress(0.0);
+  if (!this->SceneSource->UpdateScene()) {
+    vtkErrorMacro(<< "the scene source could not build its scene (see its error)");
+    return 0;
+  }
+  const rayscope::Scene& scene = *this->SceneSource->GetCoreScene();
+  const rayscope::RenderSettings settings = this->SceneSource->GetRenderSettings();
+  const rayscope::Bvh& bvh = scene.bvh();
+  const std::vector<rayscope::BvhNode>& nodes = bvh.nodes;
+  const size_t nn = nodes.size();
+
+  // Visit counts.
+  std::vector<uint32_t> visits(nn, 0u);
+  if (this->VisitMode == VISIT_PIXEL) {
+    const int i = this->Pixel[0], j = this->Pixel[1];
+    if (i < 0 || j < 0 || i >= settings.width || j >= settings.height) {
+      vtkErrorMacro(<< "Pixel (" << i << ", " << j << ") is outside the " << settings.width << "x"
+                    << settings.height << " image");
+      return 0;
+    }
+    rayscope::PixelRecord rec;
+    try {
+      rec = rayscope::record_pixel(scene, settings, i, settings.height - 1 - j);
+    } catch (const std::exception& e) {
+      vtkErrorMacro(<< "recording the pixel failed: " << e.what());
+      return 0;
+    }
+    if (this->VisitRay < -1 || this->VisitRay >= int(rec.rays.size())) {
+      vtkErrorMacro(<< "VisitRay " << this->VisitRay << " is outside -1.."
+                    << int(rec.rays.size()) - 1 << " (the pixel's ray tree has " << rec.rays.size()
+                    << " rays)");
+      return 0;
+    }
+    for (const rayscope::RayRecord& r : rec.rays)
+      if (this->VisitRay < 0 || r.id == this->VisitRay)
+        for (uint32_t n : r.traversal.nodes) visits[n]++;
+  } else if (this->VisitMode == VISIT_FRAME && nn > 0) {
+    try {
+      visits = frame_visits(scene, settings, this);
+    } catch (const std::exception& e) {
+      vtkErrorMacro(<< "counting the frame's node visits failed: " << e.what());
+      return 0;
+    }
+  }
+
+  // Levels, parents and subtree primitive counts (depth-first order, children
+  // after their parent; processed backwards for the counts).
+  std::vector<int> level(nn, 0), parent(nn, -1);
+  std::vector<uint32_t> subtree(nn, 0u), order;
+  order.reserve(nn);
+  if (nn > 0) {
+    std::vector<uint32_t> stack{0u};
+    while (!stack.empty()) {
+      uint32_t i = stack.back();
+      stack.pop_back();
+      order.push_back(i);
+      if (!nodes[i].is_leaf())
+        for (uint32_t c : {nodes[i].index, nodes[i].index + 1}) {
+          level[c] = level[i] + 1;
+          parent[c] = int(i);
+          stack.push_back(c);
+        }
+    }
+    for (auto it = order.rbegin(); it != order.rend(); ++it) {
+      const rayscope::BvhNode& n = nodes[*it];
+      subtree[*it] = n.is_leaf() ? n.count : subtree[n.index] + subtree[n.index + 1];
+    }
+  }
+  const double root_area = nn ? std::max(1e-30, double(nodes[0].bounds().half_area())) : 1.0;
+  double sah_total = 0.0;
+  std::vector<double> sah(nn, 0.0);
+  int tree_depth = 0;
+  for (size_t i = 0; i < nn; ++i) {
+    const rayscope::BvhNode& n = nodes[i];
+    const double rel = double(n.bounds().half_area()) / root_area;
+    sah[i] =
+        rel * (n.is_leaf() ? bvh.config.intersection_cost * n.count : bvh.config.traversal_cost);
+    sah_total += sah[i];
+    tree_depth = std::max(tree_depth, level[i] + 1);
+  }
+
+  std::vector<uint32_t> shown;
+  for (uint32_t i : order)
+    if (level[i] >= this->LevelRange[0] && level[i] <= this->LevelRange[1] &&
+        (!this->OnlyLeaves || nodes[i].is_leaf()))
+      shown.push_back(i);
+  std::sort(shown.begin(), shown.end());
+
+  static const int kEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                                    {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  static const int kFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                   {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  const int per_box = this->GenerateFaces ? 6 : 12;
+  const vtkIdType nboxes = vtkIdType(shown.size());
+  const vtkIdType ncells = nboxes * per_box;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToFloat();
+  points->SetNumberOfPoints(8 * nboxes);
+  vtkNew<vtkCellArray> cells;
+  cells->AllocateExact(ncells, ncells * (this->GenerateFaces ? 4 : 2));
+  auto a_level = make<vtkIntArray>("Level", ncells);
+  auto a_node = make<vtkIntArray>("NodeId", ncells);
+  auto a_parent = make<vtkIntArray>("ParentId", ncells);
+  auto a_leaf = make<vtkUnsignedCharArray>("IsLeaf", ncells);
+  auto a_count = make<vtkIntArray>("PrimitiveCount", ncells);
+  auto a_offset = make<vtkIntArray>("PrimitiveOffset", ncells);
+  auto a_sah = make<vtkDoubleArray>("SAHCost", ncells);
+  auto a_visits = make<vtkIntArray>("VisitCount", ncells);
+  vtkIdType cell = 0;
+  for (vtkIdType b = 0; b < nboxes; ++b) {
+    const uint32_t i = shown[size_t(b)];
+    const rayscope::BvhNode& n = nodes[i];
+    for (int c = 0; c < 8; ++c)
+      points->SetPoint(8 * b + c, (c & 1) ? n.hi.x : n.lo.x, (c & 2) ? n.hi.y : n.lo.y,
+                       (c & 4) ? n.hi.z : n.lo.z);
+    for (int k = 0; k < per_box; ++k, ++cell) {
+      if (this->GenerateFaces) {
+        vtkIdType q[4];
+        for (int v = 0; v < 4; ++v) q[v] = 8 * b + kFaces[k][v];
+        cells->InsertNextCell(4, q);
+      } else {
+        vtkIdType e[2] = {8 * b + kEdges[k][0], 8 * b + kEdges[k][1]};
+        cells->InsertNextCell(2, e);
+      }
+      a_level->SetValue(cell, level[i]);
+      a_node->SetValue(cell, int(i));
+      a_parent->SetValue(cell, parent[i]);
+      a_leaf->SetValue(cell, n.is_leaf() ? 1 : 0);
+      a_count->SetValue(cell, int(subtree[i]));
+      a_offset->SetValue(cell, n.is_leaf() ? int(n.index) : -1);
+      a_sah->SetValue(cell, sah[i]);
+      a_visits->SetValue(cell, int(visits[i]));
+    }
+  }
+
+  output->Initialize();
+  output->SetPoints(points);
+  if (this->GenerateFaces)
+    output->SetPolys(cells);
+  else
+    output->SetLines(cells);
+  vtkCellData* cd = output->GetCellData();
+  for (vtkAbstractArray* a : std::initializer_list<vtkAbstractArray*>{
+           a_level, a_node, a_parent, a_leaf, a_count, a_offset, a_sah, a_visits})
+    cd->AddArray(a);
+  cd->SetActiveScalars("Level");
+
+  vtkFieldData* fd = output->GetFieldData();
+  const auto& prims = scene.prim_records();
+  auto leaf_ids = make<vtkIntArray>("LeafPrimitiveIds", vtkIdType(prims.size()));
+  for (size_t k = 0; k < prims.size(); ++k) leaf_ids->SetValue(vtkIdType(k), int(prims[k].id));
+  fd->AddArray(leaf_ids);
+  auto total = make<vtkDoubleArray>("SAHCostTotal", 1);
+  total->SetValue(0, sah_total);
+  fd->AddArray(total);
+  auto used = make<vtkIntArray>("BVHUsed", 1);
+  used->SetValue(0, scene.summary().bvh_used ? 1 : 0);
+  fd->AddArray(used);
+  auto depth = make<vtkIntArray>("TreeDepth", 1);
+  depth->SetValue(0, tree_depth);
+  fd->AddArray(depth);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkRayScopeBVHSource::PrintSelf(ostream& os, vtkIndent indent) {
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "SceneSource: " << this->SceneSource << "\n";
+  os << indent << "LevelRange: " << this->LevelRange[0] << " " << this->LevelRange[1] << "\n";
+  os << indent << "OnlyLeaves: " << this->OnlyLeaves << "\n";
+  os << indent << "GenerateFaces: " << this->GenerateFaces << "\n";
+  os << indent << "VisitMode: " << this->VisitMode << "\n";
+  os << indent << "Pixel: " << this->Pixel[0] << " " << this->Pixel[1] << "\n";
+  os << indent << "VisitRay: " << this->VisitRay << "\n";
+}

@@ -1,0 +1,111 @@
+/**
+ * @class   vtkRayScopeBVHSource
+ * @brief   The bounding volume hierarchy of a scene as vtkPolyData boxes.
+ *
+ * Takes the scene of a vtkRayScopeImageAlgorithm (SetSceneSource) and outputs
+ * one box per BVH node whose level (root = 0) lies in LevelRange (and, with
+ * OnlyLeaves, that is a leaf): 12 line cells per box, or 6 outward-facing quads
+ * with GenerateFaces. Every cell of a box carries the node's data:
+ *
+ * - "Level", "NodeId", "ParentId" (-1 for the root), "IsLeaf";
+ * - "PrimitiveCount": primitives in the node's subtree (a leaf's own count);
+ * - "PrimitiveOffset": a leaf's first slot in the field array
+ *   "LeafPrimitiveIds" (-1 for inner nodes); slots offset .. offset+count-1 of
+ *   that array hold the leaf's global primitive ids (triangles numbered input
+ *   by input, in the order of the converted meshes);
+ * - "SAHCost": the node's term of the surface area heuristic, its area
+ *   relative to the root's times the traversal cost (inner nodes) or the
+ *   intersection cost times its primitive count (leaves); the terms of all
+ *   nodes sum to the hierarchy's SAH cost (field data "SAHCostTotal");
+ * - "VisitCount": how often rays visited the node: with VisitModeToPixel the
+ *   rays of pixel Pixel (VTK image coordinates; all samples, or only the ray
+ *   VisitRay of the recorded ray tree, as numbered by vtkRayScopeRayTreeSource),
+ *   with VisitModeToFrame every ray of the whole image, 0 with VisitModeToNone.
+ *
+ * Field data also holds "BVHUsed" (0 when the scene is so small that the
+ * tracer tests every primitive instead, in which case no ray visits a node)
+ * and "TreeDepth".
+ */
+#ifndef vtkRayScopeBVHSource_h
+#define vtkRayScopeBVHSource_h
+
+#include "RayScopeVTKModule.h"  // export macro
+#include "vtkPolyDataAlgorithm.h"
+
+class vtkRayScopeImageAlgorithm;
+
+class RAYSCOPEVTK_EXPORT vtkRayScopeBVHSource : public vtkPolyDataAlgorithm {
+ public:
+  static vtkRayScopeBVHSource* New();
+  vtkTypeMacro(vtkRayScopeBVHSource, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// The image algorithm whose scene is shown.
+  virtual void SetSceneSource(vtkRayScopeImageAlgorithm*);
+  vtkGetObjectMacro(SceneSource, vtkRayScopeImageAlgorithm);
+  ///@}
+
+  ///@{
+  /// Levels shown, inclusive (default 0 .. VTK_INT_MAX: all).
+  vtkSetVector2Macro(LevelRange, int);
+  vtkGetVector2Macro(LevelRange, int);
+  ///@}
+
+  ///@{
+  /// Show leaves only (default off).
+  vtkSetMacro(OnlyLeaves, vtkTypeBool);
+  vtkGetMacro(OnlyLeaves, vtkTypeBool);
+  vtkBooleanMacro(OnlyLeaves, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /// Quads (6 per box) instead of lines (12 per box).
+  vtkSetMacro(GenerateFaces, vtkTypeBool);
+  vtkGetMacro(GenerateFaces, vtkTypeBool);
+  vtkBooleanMacro(GenerateFaces, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /// What "VisitCount" counts.
+  enum VisitModes { VISIT_NONE = 0, VISIT_PIXEL = 1, VISIT_FRAME = 2 };
+  vtkSetClampMacro(VisitMode, int, VISIT_NONE, VISIT_FRAME);
+  vtkGetMacro(VisitMode, int);
+  void SetVisitModeToNone() { this->SetVisitMode(VISIT_NONE); }
+  void SetVisitModeToPixel() { this->SetVisitMode(VISIT_PIXEL); }
+  void SetVisitModeToFrame() { this->SetVisitMode(VISIT_FRAME); }
+  ///@}
+
+  ///@{
+  /// The pixel of VisitModeToPixel (VTK image coordinates) and the ray of its
+  /// ray tree to count (-1: every ray of every sample, default).
+  vtkSetVector2Macro(Pixel, int);
+  vtkGetVector2Macro(Pixel, int);
+  vtkSetMacro(VisitRay, int);
+  vtkGetMacro(VisitRay, int);
+  ///@}
+
+  /// Includes the scene source's modification time.
+  vtkMTimeType GetMTime() override;
+
+ protected:
+  vtkRayScopeBVHSource();
+  ~vtkRayScopeBVHSource() override;
+
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+                  vtkInformationVector* outputVector) override;
+
+  vtkRayScopeImageAlgorithm* SceneSource;
+  int LevelRange[2];
+  vtkTypeBool OnlyLeaves;
+  vtkTypeBool GenerateFaces;
+  int VisitMode;
+  int Pixel[2];
+  int VisitRay;
+
+ private:
+  vtkRayScopeBVHSource(const vtkRayScopeBVHSource&) = delete;
+  void operator=(const vtkRayScopeBVHSource&) = delete;
+};
+
+#endif

@@ -1,0 +1,255 @@
+/**
+ * @class   vtkRayScopeImageAlgorithm
+ * @brief   Ray-traces VTK datasets (Whitted: shadows, reflection, refraction)
+ *          into vtkImageData.
+ *
+ * Input port 0 takes one or more vtkDataSet connections (AddInputConnection /
+ * AddInputData). Input k becomes scene object k: its surface triangles as
+ * vtkRayScopeMeshConverter makes them (colored through the converter's mapper
+ * settings), with material k (SetInputMaterial) or the default material
+ * (GetMaterial()).
+ *
+ * The camera follows vtkCamera (Position, FocalPoint, ViewUp, vertical
+ * ViewAngle in degrees, ParallelProjection with ParallelScale = half the image
+ * height in world units; CopyCamera() takes them from a vtkCamera). Lights are
+ * a headlight (a white directional light shining from the camera along the
+ * view direction, as VTK's headlight; on by default) plus any point and
+ * directional lights added. Colors are sRGB display values as everywhere in
+ * VTK (see vtkRayScopeMeshConverter); shading is computed in linear RGB.
+ *
+ * The output has extent [0, Width-1] x [0, Height-1] x [0, 0], spacing 1 and
+ * origin 0. As in VTK images, row 0 is the bottom row (the core's row
+ * Height-1-j). Point data:
+ *
+ * - "Color": unsigned char RGB, sRGB-encoded exactly as `rayscope render`
+ *   writes PNG files (the active scalars).
+ * - "LinearColor": float RGB, the linear radiance of the pixel.
+ * - "Depth": float distance along the primary ray of sample 0 to the first
+ *   hit, NaN on the background.
+ * - "Normal": float unit shading normal at that hit, 0 on the background.
+ * - "ObjectId": int, the input index hit by sample 0, -1 on the background.
+ * - "Cost": int, BVH nodes visited by every ray of the pixel (all samples,
+ *   secondary and shadow rays included); with "CostRays", "CostBoxes",
+ *   "CostPrimitives". Only when ComputeCost is on (default; it renders with the
+ *   core's counting integrator, slightly slower).
+ *
+ * Field data: "RayCounts" (primary, shadow, reflection, refraction rays),
+ * "ShadowRaysOccluded", "NodesVisited", "BoxesTested", "PrimitivesTested".
+ *
+ * Progress is reported per finished tile through UpdateProgress (ProgressEvent
+ * observers run on the calling thread). Parameters are checked before
+ * rendering; a bad value gives a vtkErrorMacro naming it and no output.
+ *
+ * vtkRayScopeRayTreeSource and vtkRayScopeBVHSource take this algorithm as
+ * their scene (SetSceneSource): they see the same scene, camera and sampling.
+ */
+#ifndef vtkRayScopeImageAlgorithm_h
+#define vtkRayScopeImageAlgorithm_h
+
+#include "RayScopeVTKModule.h"  // export macro
+#include "vtkImageAlgorithm.h"
+
+#include <string>  // std::string
+
+class vtkCamera;
+class vtkDataSet;
+class vtkRayScopeMaterial;
+class vtkRayScopeMeshConverter;
+
+#ifndef __VTK_WRAP__
+namespace rayscope {
+class Scene;
+struct RenderSettings;
+}  // namespace rayscope
+#endif
+
+class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
+ public:
+  static vtkRayScopeImageAlgorithm* New();
+  vtkTypeMacro(vtkRayScopeImageAlgorithm, vtkImageAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// Image size in pixels (default 300 x 300), each in 1..32768.
+  vtkSetMacro(Width, int);
+  vtkGetMacro(Width, int);
+  vtkSetMacro(Height, int);
+  vtkGetMacro(Height, int);
+  void SetSize(int width, int height);
+  ///@}
+
+  ///@{
+  /// N: each pixel takes N x N stratified samples (1..64, default 1).
+  vtkSetMacro(Samples, int);
+  vtkGetMacro(Samples, int);
+  ///@}
+
+  ///@{
+  /// Maximum recursion depth of reflection and refraction rays (0..64, default 5).
+  vtkSetMacro(MaxDepth, int);
+  vtkGetMacro(MaxDepth, int);
+  ///@}
+
+  ///@{
+  /// Secondary rays whose weight in the pixel is smaller are skipped (default 1e-3).
+  vtkSetMacro(MinContribution, double);
+  vtkGetMacro(MinContribution, double);
+  ///@}
+
+  ///@{
+  /// Render threads (0: all hardware threads) and the jitter seed.
+  vtkSetMacro(Threads, int);
+  vtkGetMacro(Threads, int);
+  vtkSetMacro(Seed, int);
+  vtkGetMacro(Seed, int);
+  ///@}
+
+  ///@{
+  /// Produce the "Cost" arrays (default on).
+  vtkSetMacro(ComputeCost, vtkTypeBool);
+  vtkGetMacro(ComputeCost, vtkTypeBool);
+  vtkBooleanMacro(ComputeCost, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /// Camera, as vtkCamera (defaults: position (0, 0, 1), focal point 0, view
+  /// up (0, 1, 0), view angle 30 degrees, perspective, parallel scale 1).
+  vtkSetVector3Macro(Position, double);
+  vtkGetVector3Macro(Position, double);
+  vtkSetVector3Macro(FocalPoint, double);
+  vtkGetVector3Macro(FocalPoint, double);
+  vtkSetVector3Macro(ViewUp, double);
+  vtkGetVector3Macro(ViewUp, double);
+  vtkSetMacro(ViewAngle, double);
+  vtkGetMacro(ViewAngle, double);
+  vtkSetMacro(ParallelProjection, vtkTypeBool);
+  vtkGetMacro(ParallelProjection, vtkTypeBool);
+  vtkBooleanMacro(ParallelProjection, vtkTypeBool);
+  vtkSetMacro(ParallelScale, double);
+  vtkGetMacro(ParallelScale, double);
+  ///@}
+
+  /// Takes position, focal point, view up, view angle and the projection from
+  /// a vtkCamera.
+  void CopyCamera(vtkCamera* camera);
+
+  /// Points the camera at the bounds of all inputs, as vtkRenderer::ResetCamera
+  /// does (looking down -z with +y up, or along the current view direction
+  /// when the camera is valid). Updates the inputs. Returns 0 without inputs.
+  int ResetCamera();
+
+  ///@{
+  /// Background color (sRGB, default black).
+  vtkSetVector3Macro(Background, double);
+  vtkGetVector3Macro(Background, double);
+  ///@}
+
+  ///@{
+  /// Ambient light color (sRGB, default white); multiplies every material's
+  /// ambient term.
+  vtkSetVector3Macro(AmbientLight, double);
+  vtkGetVector3Macro(AmbientLight, double);
+  ///@}
+
+  ///@{
+  /// VTK-style headlight: directional, from the camera toward the focal point
+  /// (default on, intensity 1).
+  vtkSetMacro(Headlight, vtkTypeBool);
+  vtkGetMacro(Headlight, vtkTypeBool);
+  vtkBooleanMacro(Headlight, vtkTypeBool);
+  vtkSetMacro(HeadlightIntensity, double);
+  vtkGetMacro(HeadlightIntensity, double);
+  ///@}
+
+  ///@{
+  /// Lights besides the headlight. Colors are sRGB, intensity >= 0. A point
+  /// light is not attenuated (VTK's default). Directional lights give the
+  /// direction the light travels. Each returns the light's index.
+  int AddPointLight(double x, double y, double z, double r, double g, double b, double intensity);
+  int AddDirectionalLight(double dx, double dy, double dz, double r, double g, double b,
+                          double intensity);
+  void RemoveAllLights();
+  int GetNumberOfLights();
+  ///@}
+
+  ///@{
+  /// Shadow rays toward every light (default on).
+  vtkSetMacro(Shadows, vtkTypeBool);
+  vtkGetMacro(Shadows, vtkTypeBool);
+  vtkBooleanMacro(Shadows, vtkTypeBool);
+  ///@}
+
+  /// The material of inputs without their own (never null).
+  vtkRayScopeMaterial* GetMaterial();
+  /// Gives input `index` its own material (null: back to the default).
+  void SetInputMaterial(int index, vtkRayScopeMaterial* material);
+  vtkRayScopeMaterial* GetInputMaterial(int index);
+
+  /// How datasets become triangles, normals and colors (never null).
+  vtkRayScopeMeshConverter* GetConverter();
+
+  /// Includes the materials', converter's and mapper's modification times.
+  vtkMTimeType GetMTime() override;
+
+  /// Updates the inputs and builds (or reuses) the scene without rendering,
+  /// preparing the camera for the image size. Returns 1 on success, 0 after an
+  /// error. Used by the ray-tree and BVH sources.
+  int UpdateScene();
+
+  /// Name of scene object k (the input index, "input k").
+  std::string GetObjectName(int object);
+
+  /// Empty when every parameter is valid, else the message of the first bad one.
+  std::string ValidateParameters();
+
+#ifndef __VTK_WRAP__
+  /// The scene built by the last successful UpdateScene() or render (null
+  /// before). Owned by this algorithm; valid until the next update.
+  rayscope::Scene* GetCoreScene();
+  /// The core settings of a render with the current parameters.
+  rayscope::RenderSettings GetRenderSettings();
+#endif
+
+ protected:
+  vtkRayScopeImageAlgorithm();
+  ~vtkRayScopeImageAlgorithm() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
+                         vtkInformationVector* outputVector) override;
+  int RequestUpdateExtent(vtkInformation* request, vtkInformationVector** inputVector,
+                          vtkInformationVector* outputVector) override;
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+                  vtkInformationVector* outputVector) override;
+
+  int Width;
+  int Height;
+  int Samples;
+  int MaxDepth;
+  double MinContribution;
+  int Threads;
+  int Seed;
+  vtkTypeBool ComputeCost;
+  double Position[3];
+  double FocalPoint[3];
+  double ViewUp[3];
+  double ViewAngle;
+  vtkTypeBool ParallelProjection;
+  double ParallelScale;
+  double Background[3];
+  double AmbientLight[3];
+  vtkTypeBool Headlight;
+  double HeadlightIntensity;
+  vtkTypeBool Shadows;
+
+ private:
+  vtkRayScopeImageAlgorithm(const vtkRayScopeImageAlgorithm&) = delete;
+  void operator=(const vtkRayScopeImageAlgorithm&) = delete;
+
+  struct Internals;
+  Internals* Internal;
+
+  int BuildScene();
+};
+
+#endif

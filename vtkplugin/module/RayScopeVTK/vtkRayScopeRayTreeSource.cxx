@@ -1,0 +1,309 @@
+#include "vtkRayScopeRayTreeSource.h"
+
+#include <cmath>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+#include "vtkStringArray.h"
+#include "vtkUnsignedCharArray.h"
+
+#include "rayscope/recorder.h"
+#include "rayscope/render.h"
+#include "rayscope/scene.h"
+#include "vtkRayScopeImageAlgorithm.h"
+
+vtkStandardNewMacro(vtkRayScopeRayTreeSource);
+vtkCxxSetObjectMacro(vtkRayScopeRayTreeSource, SceneSource, vtkRayScopeImageAlgorithm);
+
+struct vtkRayScopeRayTreeSource::Internals {
+  std::vector<std::pair<int, int>> pixels;
+};
+
+vtkRayScopeRayTreeSource::vtkRayScopeRayTreeSource()
+    : SceneSource(nullptr), Sample(-1), MissLength(0.0), Internal(new Internals) {
+  this->SetNumberOfInputPorts(0);
+}
+
+vtkRayScopeRayTreeSource::~vtkRayScopeRayTreeSource() {
+  this->SetSceneSource(nullptr);
+  delete this->Internal;
+}
+
+void vtkRayScopeRayTreeSource::SetPixel(int i, int j) {
+  auto& p = this->Internal->pixels;
+  if (p.size() == 1 && p[0] == std::make_pair(i, j)) return;
+  p.assign(1, {i, j});
+  this->Modified();
+}
+
+void vtkRayScopeRayTreeSource::AddPixel(int i, int j) {
+  this->Internal->pixels.emplace_back(i, j);
+  this->Modified();
+}
+
+void vtkRayScopeRayTreeSource::RemoveAllPixels() {
+  if (this->Internal->pixels.empty()) return;
+  this->Internal->pixels.clear();
+  this->Modified();
+}
+
+int vtkRayScopeRayTreeSource::GetNumberOfPixels() {
+  return int(this->Internal->pixels.size());
+}
+
+vtkMTimeType vtkRayScopeRayTreeSource::GetMTime() {
+  vtkMTimeType t = this->Superclass::GetMTime();
+  if (this->SceneSource) t = std::max(t, this->SceneSource->GetMTime());
+  return t;
+}
+
+namespace {
+
+enum EndKind { kMiss = 0, kHit = 1, kLight = 2, kOccluder = 3 };
+
+struct Row {
+  int pixel;
+  const rayscope::RayRecord* ray;
+  rayscope::Vec3 end;
+  float t;
+  int end_kind;
+  int end_object;  // object at the end point, -1 for none
+};
+
+template <class A>
+vtkSmartPointer<A> make(const char* name, int comps, vtkIdType n) {
+  auto a = vtkSmartPointer<A>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(comps);
+  a->SetNumberOfTuples(n);
+  return a;
+}
+
+}  // namespace
+
+int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector**,
+                                          vtkInformationVector* outputVector) {
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  if (!this->SceneSource) {
+    vtkErrorMacro(<< "no scene: call SetSceneSource(vtkRayScopeImageAlgorithm)");
+    return 0;
+  }
+  const auto& pixels = this->Internal->pixels;
+  if (pixels.empty()) {
+    vtkErrorMacro(<< "no pixel to record: call SetPixel(i, j) or AddPixel(i, j)");
+    return 0;
+  }
+  this->UpdateProgress(0.0);
+  if (!this->SceneSource->UpdateScene()) {
+    vtkErrorMacro(<< "the scene source could not build its scene (see its error)");
+    return 0;
+  }
+  const rayscope::Scene& scene = *this->SceneSource->GetCoreScene();
+  const rayscope::RenderSettings settings = this->SceneSource->GetRenderSettings();
+  const int n2 = settings.samples * settings.samples;
+  if (this->Sample < -1 || this->Sample >= n2) {
+    vtkErrorMacro(<< "Sample " << this->Sample << " is outside -1.." << n2 - 1 << " ("
+                  << settings.samples << "x" << settings.samples << " samples per pixel)");
+    return 0;
+  }
+  for (auto [i, j] : pixels)
+    if (i < 0 || j < 0 || i >= settings.width || j >= settings.height) {
+      vtkErrorMacro(<< "pixel (" << i << ", " << j << ") is outside the " << settings.width << "x"
+                    << settings.height << " image");
+      return 0;
+    }
+
+  // Rays that end nowhere are drawn to just past the scene's bounds.
+  rayscope::Bounds3 bounds = scene.bvh().bounds();
+  if (bounds.empty()) bounds = rayscope::Bounds3(scene.camera.eye);
+  const rayscope::Vec3 center = bounds.center();
+  const float radius = 0.5f * glm::length(bounds.extent());
+  auto far_t = [&](const rayscope::RayRecord& r) {
+    const float len = glm::length(r.dir);
+    const float world = this->MissLength > 0.0
+                            ? float(this->MissLength)
+                            : 1.1f * (glm::length(r.origin - center) + radius) + 1e-3f;
+    return len > 0.0f ? world / len : 0.0f;
+  };
+
+  std::vector<rayscope::PixelRecord> records;
+  records.reserve(pixels.size());
+  std::vector<Row> rows;
+  for (size_t p = 0; p < pixels.size(); ++p) {
+    const int x = pixels[p].first, y = settings.height - 1 - pixels[p].second;
+    try {
+      records.push_back(rayscope::record_pixel(scene, settings, x, y, this->Sample));
+    } catch (const std::exception& e) {
+      vtkErrorMacro(<< "recording pixel failed: " << e.what());
+      return 0;
+    }
+    this->UpdateProgress(0.9 * double(p + 1) / double(pixels.size()));
+  }
+  for (size_t p = 0; p < records.size(); ++p)
+    for (const rayscope::RayRecord& r : records[p].rays) {
+      Row row{int(p), &r, r.origin, 0.0f, kMiss, -1};
+      if (r.kind != rayscope::RayKind::Shadow) {
+        if (r.hit) {
+          row.end = r.point;
+          row.t = r.t;
+          row.end_kind = kHit;
+          row.end_object = int(r.object);
+        } else {
+          row.t = far_t(r);
+        }
+      } else if (r.occluded) {
+        // The core records which object occluded the ray, not where: the
+        // nearest surface along the shadow ray is found again here.
+        rayscope::SurfaceHit h;
+        rayscope::Ray ray{r.origin, r.dir, r.tmax};
+        if (scene.intersect(ray, h)) {
+          row.end = h.p;
+          row.t = h.t;
+          row.end_kind = kOccluder;
+          row.end_object = int(h.object);
+        } else {
+          row.t = std::isfinite(r.tmax) ? r.tmax : far_t(r);
+          row.end_kind = kLight;
+        }
+      } else {
+        row.t = std::isfinite(r.tmax) ? r.tmax : far_t(r);
+        row.end_kind = kLight;
+      }
+      if (row.end_kind != kHit && row.end_kind != kOccluder) row.end = r.origin + row.t * r.dir;
+      rows.push_back(row);
+    }
+
+  const vtkIdType nrays = vtkIdType(rows.size());
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToFloat();
+  points->SetNumberOfPoints(2 * nrays);
+  auto normals = make<vtkFloatArray>("Normals", 3, 2 * nrays);
+  auto gnormals = make<vtkFloatArray>("GeometricNormals", 3, 2 * nrays);
+  normals->Fill(0.0);
+  gnormals->Fill(0.0);
+  vtkNew<vtkCellArray> lines, verts;
+  std::vector<vtkIdType> hit_rows;
+  for (vtkIdType k = 0; k < nrays; ++k) {
+    const Row& row = rows[size_t(k)];
+    const rayscope::RayRecord& r = *row.ray;
+    points->SetPoint(2 * k, r.origin.x, r.origin.y, r.origin.z);
+    points->SetPoint(2 * k + 1, row.end.x, row.end.y, row.end.z);
+    vtkIdType line[2] = {2 * k, 2 * k + 1};
+    lines->InsertNextCell(2, line);
+    if (row.end_kind == kHit) {
+      for (int c = 0; c < 3; ++c) {
+        normals->SetTypedComponent(2 * k + 1, c, r.ns[c]);
+        gnormals->SetTypedComponent(2 * k + 1, c, r.ng[c]);
+      }
+      vtkIdType v = 2 * k + 1;
+      verts->InsertNextCell(1, &v);
+      hit_rows.push_back(k);
+    }
+  }
+
+  // Cell data: vertex cells first (as vtkPolyData numbers them), then lines.
+  const vtkIdType ncells = vtkIdType(hit_rows.size()) + nrays;
+  auto ray_id = make<vtkIntArray>("RayId", 1, ncells);
+  auto parent = make<vtkIntArray>("ParentId", 1, ncells);
+  auto pixel = make<vtkIntArray>("Pixel", 2, ncells);
+  auto pixel_index = make<vtkIntArray>("PixelIndex", 1, ncells);
+  auto sample = make<vtkIntArray>("Sample", 1, ncells);
+  auto kind = make<vtkIntArray>("Kind", 1, ncells);
+  vtkNew<vtkStringArray> kind_name;
+  kind_name->SetName("KindName");
+  kind_name->SetNumberOfValues(ncells);
+  auto depth = make<vtkIntArray>("Depth", 1, ncells);
+  auto hit = make<vtkUnsignedCharArray>("Hit", 1, ncells);
+  auto occluded = make<vtkUnsignedCharArray>("Occluded", 1, ncells);
+  auto object = make<vtkIntArray>("ObjectId", 1, ncells);
+  auto light = make<vtkIntArray>("LightId", 1, ncells);
+  auto tarr = make<vtkFloatArray>("T", 1, ncells);
+  auto end_kind = make<vtkIntArray>("EndKind", 1, ncells);
+  auto end_object = make<vtkIntArray>("EndObjectId", 1, ncells);
+  auto weight = make<vtkFloatArray>("Weight", 3, ncells);
+  auto color = make<vtkFloatArray>("Color", 3, ncells);
+  auto nodes = make<vtkIntArray>("NodesVisited", 1, ncells);
+  auto boxes = make<vtkIntArray>("BoxesTested", 1, ncells);
+  auto prims = make<vtkIntArray>("PrimitivesTested", 1, ncells);
+  auto culled = make<vtkIntArray>("NodesCulled", 1, ncells);
+  auto is_hit_point = make<vtkUnsignedCharArray>("IsHitPoint", 1, ncells);
+  auto fill = [&](vtkIdType cell, vtkIdType k, bool vertex) {
+    const Row& row = rows[size_t(k)];
+    const rayscope::RayRecord& r = *row.ray;
+    const bool shadow = r.kind == rayscope::RayKind::Shadow;
+    ray_id->SetValue(cell, r.id);
+    parent->SetValue(cell, r.parent);
+    pixel->SetTypedComponent(cell, 0, pixels[size_t(row.pixel)].first);
+    pixel->SetTypedComponent(cell, 1, pixels[size_t(row.pixel)].second);
+    pixel_index->SetValue(cell, row.pixel);
+    sample->SetValue(cell, r.sample);
+    kind->SetValue(cell, int(r.kind));
+    kind_name->SetValue(cell, rayscope::to_string(r.kind));
+    depth->SetValue(cell, r.depth);
+    hit->SetValue(cell, shadow ? r.occluded : r.hit);
+    occluded->SetValue(cell, r.occluded);
+    const uint32_t obj = shadow ? (r.occluded ? r.occluder : ~0u) : (r.hit ? r.object : ~0u);
+    object->SetValue(cell, obj == ~0u ? -1 : int(obj));
+    light->SetValue(cell, r.light);
+    tarr->SetValue(cell, row.t);
+    end_kind->SetValue(cell, row.end_kind);
+    end_object->SetValue(cell, row.end_object);
+    for (int c = 0; c < 3; ++c) {
+      weight->SetTypedComponent(cell, c, r.weight[c]);
+      color->SetTypedComponent(cell, c, r.color[c]);
+    }
+    nodes->SetValue(cell, int(r.traversal.nodes.size()));
+    boxes->SetValue(cell, int(r.traversal.boxes_tested));
+    prims->SetValue(cell, int(r.traversal.prims_tested));
+    culled->SetValue(cell, int(r.traversal.culled));
+    is_hit_point->SetValue(cell, vertex ? 1 : 0);
+  };
+  vtkIdType cell = 0;
+  for (vtkIdType k : hit_rows) fill(cell++, k, true);
+  for (vtkIdType k = 0; k < nrays; ++k) fill(cell++, k, false);
+
+  output->Initialize();
+  output->SetPoints(points);
+  output->SetVerts(verts);
+  output->SetLines(lines);
+  output->GetPointData()->SetNormals(normals);
+  output->GetPointData()->AddArray(gnormals);
+  vtkCellData* cd = output->GetCellData();
+  for (vtkAbstractArray* a : std::initializer_list<vtkAbstractArray*>{
+           ray_id, parent,   pixel,  pixel_index, sample, kind,        kind_name,  depth,
+           hit,    occluded, object, light,       tarr,   end_kind,    end_object, weight,
+           color,  nodes,    boxes,  prims,       culled, is_hit_point})
+    cd->AddArray(a);
+  cd->SetActiveScalars("Kind");
+  auto pixel_color = make<vtkFloatArray>("PixelColor", 3, vtkIdType(records.size()));
+  for (size_t p = 0; p < records.size(); ++p)
+    for (int c = 0; c < 3; ++c)
+      pixel_color->SetTypedComponent(vtkIdType(p), c, records[p].color[c]);
+  output->GetFieldData()->AddArray(pixel_color);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkRayScopeRayTreeSource::PrintSelf(ostream& os, vtkIndent indent) {
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "SceneSource: " << this->SceneSource << "\n";
+  os << indent << "Pixels:";
+  for (auto [i, j] : this->Internal->pixels) os << " (" << i << ", " << j << ")";
+  os << "\n";
+  os << indent << "Sample: " << this->Sample << "\n";
+  os << indent << "MissLength: " << this->MissLength << "\n";
+}

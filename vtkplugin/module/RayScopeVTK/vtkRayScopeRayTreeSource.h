@@ -1,0 +1,102 @@
+/**
+ * @class   vtkRayScopeRayTreeSource
+ * @brief   The ray tree of one or more pixels as vtkPolyData.
+ *
+ * Replays pixels of the render of a vtkRayScopeImageAlgorithm (SetSceneSource:
+ * same inputs, camera, lights, materials, size, samples and depth) with the
+ * core's ray-tree recorder (rayscope::record_pixel), which is exact: the
+ * replayed pixel has the very color of the full render. Pixels are given in
+ * VTK image coordinates, (0, 0) at the bottom-left as in the image algorithm's
+ * output and in display coordinates.
+ *
+ * Output:
+ * - one line cell per ray, from its origin to where it ends: its hit point,
+ *   for a miss a point MissLength beyond the origin (automatic by default:
+ *   past the scene's bounds), for a shadow ray that reaches its light the
+ *   light (point lights) or MissLength along it (directional lights), for an
+ *   occluded shadow ray the nearest occluding surface along it;
+ * - one vertex cell per closest hit (primary, reflection and refraction rays
+ *   that hit), at the hit point.
+ * As in any vtkPolyData the vertex cells come first, then the lines; each cell
+ * carries the data of its ray:
+ *   "RayId", "ParentId" (-1 for primary rays), "Pixel" (2 components, VTK
+ *   image coordinates), "PixelIndex" (index in the pixel list), "Sample",
+ *   "Kind" (0 primary, 1 shadow, 2 reflection, 3 refraction), "KindName",
+ *   "Depth", "Hit" (1 if the ray hit a surface; for shadow rays: occluded),
+ *   "Occluded", "ObjectId" (object hit, or the occluder the shadow query
+ *   found, -1), "LightId" (-1), "T" (distance along the ray direction to its
+ *   end), "EndKind" (0 miss, 1 hit, 2 light, 3 occluder), "EndObjectId" (the
+ *   object at the end point: for occluded shadow rays the nearest occluding
+ *   surface, which may differ from the first occluder the any-hit query
+ *   stopped at), "Weight" (RGB weight in the pixel),
+ *   "Color" (the linear RGB it returned; for shadow rays the light arriving),
+ *   "NodesVisited", "BoxesTested", "PrimitivesTested", "NodesCulled",
+ *   "IsHitPoint" (1 for the vertex cells).
+ * Point data "Normals" holds the shading normal at hit points and
+ * "GeometricNormals" the geometric normal (0 elsewhere). Field data
+ * "PixelColor" holds each pixel's linear color.
+ */
+#ifndef vtkRayScopeRayTreeSource_h
+#define vtkRayScopeRayTreeSource_h
+
+#include "RayScopeVTKModule.h"  // export macro
+#include "vtkPolyDataAlgorithm.h"
+
+class vtkRayScopeImageAlgorithm;
+
+class RAYSCOPEVTK_EXPORT vtkRayScopeRayTreeSource : public vtkPolyDataAlgorithm {
+ public:
+  static vtkRayScopeRayTreeSource* New();
+  vtkTypeMacro(vtkRayScopeRayTreeSource, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// The image algorithm whose scene and render settings are replayed.
+  virtual void SetSceneSource(vtkRayScopeImageAlgorithm*);
+  vtkGetObjectMacro(SceneSource, vtkRayScopeImageAlgorithm);
+  ///@}
+
+  ///@{
+  /// Pixels to record, in VTK image coordinates. SetPixel replaces the list.
+  void SetPixel(int i, int j);
+  void AddPixel(int i, int j);
+  void RemoveAllPixels();
+  int GetNumberOfPixels();
+  ///@}
+
+  ///@{
+  /// The sample to record (0 .. N*N-1), or -1 for every sample (default).
+  vtkSetMacro(Sample, int);
+  vtkGetMacro(Sample, int);
+  ///@}
+
+  ///@{
+  /// Length drawn for rays that end nowhere (misses, directional shadow rays),
+  /// in units of world length. <= 0 (default): past the scene's bounding box.
+  vtkSetMacro(MissLength, double);
+  vtkGetMacro(MissLength, double);
+  ///@}
+
+  /// Includes the scene source's modification time.
+  vtkMTimeType GetMTime() override;
+
+ protected:
+  vtkRayScopeRayTreeSource();
+  ~vtkRayScopeRayTreeSource() override;
+
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+                  vtkInformationVector* outputVector) override;
+
+  vtkRayScopeImageAlgorithm* SceneSource;
+  int Sample;
+  double MissLength;
+
+ private:
+  vtkRayScopeRayTreeSource(const vtkRayScopeRayTreeSource&) = delete;
+  void operator=(const vtkRayScopeRayTreeSource&) = delete;
+
+  struct Internals;
+  Internals* Internal;
+};
+
+#endif
