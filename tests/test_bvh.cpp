@@ -18,6 +18,7 @@ namespace {
 
 using namespace rayscope;
 using rstest::DVec3;
+using rstest::random_ray;
 using rstest::Rng;
 using rstest::to_d;
 using rstest::to_f;
@@ -243,37 +244,6 @@ TEST(BvhBuild, AdversarialDepthFitsTheTraversalStack) {
 
 // ---------------------------------------------------------------------------
 // Traversal against brute force
-
-// Random rays for a scene with bounds `world`: origins inside and outside,
-// random directions, some with zero components, some lying exactly in the
-// plane of a primitive box face (origin coordinate on the plane, zero
-// direction component).
-Ray random_ray(Rng& rng, const Bounds3& world, const std::vector<Bounds3>& boxes) {
-  DVec3 lo = to_d(world.lo), hi = to_d(world.hi), ext = hi - lo;
-  DVec3 o = lo - 0.5 * ext + 2.0 * ext * DVec3(rng.uniform(), rng.uniform(), rng.uniform());
-  DVec3 target = lo + ext * DVec3(rng.uniform(), rng.uniform(), rng.uniform());
-  if (!boxes.empty() && rng.coin())  // aim at a primitive
-    target = to_d(boxes[size_t(rng.integer(0, int(boxes.size()) - 1))].center());
-  DVec3 d = rng.integer(0, 3) ? target - o : rng.unit_vector();
-  Ray ray{to_f(o), to_f(d * rng.log_uniform(0.01, 100)), kInfinity};
-  int mode = rng.integer(0, 5);
-  if (mode == 1) ray.dir[rng.integer(0, 2)] = 0.0f;
-  if (mode == 2) {
-    int a = rng.integer(0, 2);
-    ray.dir[a] = 0.0f;
-    ray.dir[(a + 1) % 3] = 0.0f;
-  }
-  if (mode == 3 && !boxes.empty()) {
-    const Bounds3& b = boxes[size_t(rng.integer(0, int(boxes.size()) - 1))];
-    int a = rng.integer(0, 2);
-    ray.origin[a] = rng.coin() ? b.lo[a] : b.hi[a];
-    ray.dir[a] = rng.coin() ? 0.0f : -0.0f;
-  }
-  if (ray.dir == Vec3(0.0f)) ray.dir.z = 1.0f;
-  if (rng.integer(0, 3) == 0)
-    ray.tmax = rstest::round_f(rng.uniform(0, 3) * glm::length(ext) / glm::length(to_d(ray.dir)));
-  return ray;
-}
 
 TEST(BvhTraversal, ClosestAndAnyHitBoxesMatchBruteForce) {
   // Primitives are the boxes themselves; a primitive's hit distance is its

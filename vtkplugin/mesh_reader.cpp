@@ -3,12 +3,9 @@
 #include <stdexcept>
 #include <string>
 
-#include <vtkCellArray.h>
-#include <vtkDataArray.h>
 #include <vtkDataSet.h>
 #include <vtkDataSetReader.h>
 #include <vtkDataSetSurfaceFilter.h>
-#include <vtkIdList.h>
 #include <vtkNew.h>
 #include <vtkOBJReader.h>
 #include <vtkPLYReader.h>
@@ -23,6 +20,7 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include "rayscope/vtk_mesh.h"
+#include "rayscope/vtk_polydata.h"
 
 namespace rayscope {
 
@@ -39,44 +37,18 @@ TriangleMesh mesh_from_vtk(vtkDataSet* data, const std::string& name) {
   vtkPolyData* pd = tri->GetOutput();
 
   TriangleMesh m;
+  polydata_geometry(pd, m);
   m.name = name;
   const vtkIdType np = pd->GetNumberOfPoints();
-  m.positions.resize(size_t(np));
-  for (vtkIdType i = 0; i < np; ++i) {
-    double p[3];
-    pd->GetPoint(i, p);
-    m.positions[size_t(i)] = Vec3(float(p[0]), float(p[1]), float(p[2]));
-  }
-  vtkCellArray* polys = pd->GetPolys();
-  m.triangles.reserve(size_t(polys->GetNumberOfCells()));
-  vtkNew<vtkIdList> ids;
-  for (polys->InitTraversal(); polys->GetNextCell(ids);) {
-    if (ids->GetNumberOfIds() != 3) continue;
-    m.triangles.emplace_back(uint32_t(ids->GetId(0)), uint32_t(ids->GetId(1)),
-                             uint32_t(ids->GetId(2)));
-  }
-  if (vtkDataArray* n = pd->GetPointData()->GetNormals();
-      n && n->GetNumberOfComponents() == 3 && n->GetNumberOfTuples() == np) {
-    m.normals.resize(size_t(np));
-    for (vtkIdType i = 0; i < np; ++i) {
-      double v[3];
-      n->GetTuple(i, v);
-      m.normals[size_t(i)] = Vec3(float(v[0]), float(v[1]), float(v[2]));
-    }
-  }
   // Direct RGB(A) colors, as VTK's mappers show them with ColorModeToDirectScalars.
   if (auto* c = vtkUnsignedCharArray::SafeDownCast(pd->GetPointData()->GetScalars());
       c && (c->GetNumberOfComponents() == 3 || c->GetNumberOfComponents() == 4) &&
       c->GetNumberOfTuples() == np) {
+    const std::array<float, 256>& lin = srgb_byte_table();
     m.colors.resize(size_t(np));
-    for (vtkIdType i = 0; i < np; ++i) {
-      Color col;
-      for (int k = 0; k < 3; ++k) {
-        float s = float(c->GetTypedComponent(i, k)) / 255.0f;
-        col[k] = s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
-      }
-      m.colors[size_t(i)] = col;
-    }
+    for (vtkIdType i = 0; i < np; ++i)
+      m.colors[size_t(i)] = Color(lin[c->GetTypedComponent(i, 0)], lin[c->GetTypedComponent(i, 1)],
+                                  lin[c->GetTypedComponent(i, 2)]);
   }
   return m;
 }

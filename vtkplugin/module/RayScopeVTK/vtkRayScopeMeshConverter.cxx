@@ -20,6 +20,7 @@
 #include "vtkUnsignedCharArray.h"
 
 #include "rayscope/scene.h"
+#include "rayscope/vtk_polydata.h"
 #include "vtkRayScopeColor.h"
 
 vtkStandardNewMacro(vtkRayScopeMeshConverter);
@@ -230,34 +231,9 @@ int vtkRayScopeMeshConverter::Convert(vtkDataSet* input, vtkPolyData* output) {
 }
 
 void vtkRayScopeMeshConverter::MeshFromPolyData(vtkPolyData* pd, rayscope::TriangleMesh& m) {
-  m.positions.clear();
-  m.triangles.clear();
-  m.normals.clear();
-  m.colors.clear();
+  rayscope::polydata_geometry(pd, m);
   if (!pd) return;
   const vtkIdType np = pd->GetNumberOfPoints();
-  m.positions.resize(size_t(np));
-  for (vtkIdType i = 0; i < np; ++i) {
-    double p[3];
-    pd->GetPoint(i, p);
-    m.positions[size_t(i)] = rayscope::Vec3(float(p[0]), float(p[1]), float(p[2]));
-  }
-  vtkCellArray* polys = pd->GetPolys();
-  m.triangles.reserve(size_t(polys->GetNumberOfCells()));
-  vtkNew<vtkIdList> ids;
-  for (polys->InitTraversal(); polys->GetNextCell(ids);)
-    if (ids->GetNumberOfIds() == 3)
-      m.triangles.emplace_back(uint32_t(ids->GetId(0)), uint32_t(ids->GetId(1)),
-                               uint32_t(ids->GetId(2)));
-  if (vtkDataArray* n = pd->GetPointData()->GetNormals();
-      n && n->GetNumberOfComponents() == 3 && n->GetNumberOfTuples() == np) {
-    m.normals.resize(size_t(np));
-    for (vtkIdType i = 0; i < np; ++i) {
-      double v[3];
-      n->GetTuple(i, v);
-      m.normals[size_t(i)] = rayscope::Vec3(float(v[0]), float(v[1]), float(v[2]));
-    }
-  }
   if (vtkDataArray* c = pd->GetPointData()->GetArray("LinearColors");
       c && c->GetNumberOfComponents() == 3 && c->GetNumberOfTuples() == np) {
     m.colors.resize(size_t(np));
