@@ -1,5 +1,6 @@
 #include "vtkRayScopeImageAlgorithm.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -13,6 +14,8 @@
 #include <thread>
 #include <vector>
 
+#include "vtkActor.h"
+#include "vtkActorCollection.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkCamera.h"
 #include "vtkDataObject.h"
@@ -23,14 +26,22 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkMapper.h"
 #include "vtkMath.h"
+#include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
+#include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkTransform.h"
+#include "vtkTransformFilter.h"
 #include "vtkTypeInt64Array.h"
 #include "vtkUnsignedCharArray.h"
+#include "vtkWeakPointer.h"
 
 #include "rayscope/image.h"
 #include "rayscope/recorder.h"
@@ -49,6 +60,22 @@ struct UserLight {
   double v[3] = {0.0, 0.0, 0.0};  // position or direction
   double color[3] = {1.0, 1.0, 1.0};
   double intensity = 1.0;
+  double attenuation[3] = {1.0, 0.0, 0.0};
+
+  bool operator==(const UserLight& o) const {
+    return point == o.point && std::equal(v, v + 3, o.v) && std::equal(color, color + 3, o.color) &&
+           intensity == o.intensity && std::equal(attenuation, attenuation + 3, o.attenuation);
+  }
+};
+
+// What CopyRenderer() keeps per actor between calls, so that an unchanged
+// actor keeps the same input (no new geometry, no BVH rebuild).
+struct ActorEntry {
+  vtkWeakPointer<vtkActor> actor;
+  vtkSmartPointer<vtkTransformFilter> transform;  // null while the matrix is the identity
+  vtkSmartPointer<vtkRayScopeMeshConverter> converter;
+  vtkSmartPointer<vtkRayScopeMaterial> material;
+  bool used = false;
 };
 
 bool same_material(const rayscope::Material& a, const rayscope::Material& b) {
@@ -93,6 +120,8 @@ struct vtkRayScopeImageAlgorithm::Internals {
   std::map<int, vtkSmartPointer<vtkRayScopeMaterial>> input_materials;
   vtkNew<vtkRayScopeMeshConverter> converter;
   std::vector<UserLight> lights;
+  std::map<int, vtkSmartPointer<vtkRayScopeMeshConverter>> input_converters;
+  std::vector<ActorEntry> actors;  // CopyRenderer()'s cache
 
   rayscope::Scene scene;
   bool has_scene = false;
@@ -229,6 +258,20 @@ int vtkRayScopeImageAlgorithm::AddDirectionalLight(double dx, double dy, double 
   return i;
 }
 
+void vtkRayScopeImageAlgorithm::SetLightAttenuation(int index, double constant, double linear,
+                                                    double quadratic) {
+  if (index < 0 || size_t(index) >= this->Internal->lights.size()) {
+    vtkErrorMacro(<< "SetLightAttenuation: no light " << index);
+    return;
+  }
+  double* a = this->Internal->lights[size_t(index)].attenuation;
+  if (a[0] == constant && a[1] == linear && a[2] == quadratic) return;
+  a[0] = constant;
+  a[1] = linear;
+  a[2] = quadratic;
+  this->Modified();
+}
+
 void vtkRayScopeImageAlgorithm::RemoveAllLights() {
   if (this->Internal->lights.empty()) return;
   this->Internal->lights.clear();
@@ -265,11 +308,186 @@ vtkRayScopeMeshConverter* vtkRayScopeImageAlgorithm::GetConverter() {
   return this->Internal->converter;
 }
 
+void vtkRayScopeImageAlgorithm::SetInputConverter(int index, vtkRayScopeMeshConverter* converter) {
+  auto& m = this->Internal->input_converters;
+  auto it = m.find(index);
+  if (!converter) {
+    if (it == m.end()) return;
+    m.erase(it);
+  } else {
+    if (it != m.end() && it->second == converter) return;
+    m[index] = converter;
+  }
+  this->Modified();
+}
+
+vtkRayScopeMeshConverter* vtkRayScopeImageAlgorithm::GetInputConverter(int index) {
+  auto it = this->Internal->input_converters.find(index);
+  return it == this->Internal->input_converters.end() ? nullptr : it->second.Get();
+}
+
+namespace {
+
+bool is_identity(vtkMatrix4x4* m) {
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      if (m->GetElement(i, j) != (i == j ? 1.0 : 0.0)) return false;
+  return true;
+}
+
+void copy_converter_settings(vtkRayScopeMeshConverter* from, vtkRayScopeMeshConverter* to) {
+  to->SetComputeNormals(from->GetComputeNormals());
+  to->SetSplitting(from->GetSplitting());
+  to->SetFeatureAngle(from->GetFeatureAngle());
+  to->SetNonlinearSubdivisionLevel(from->GetNonlinearSubdivisionLevel());
+}
+
+}  // namespace
+
+int vtkRayScopeImageAlgorithm::CopyRenderer(vtkRenderer* ren) {
+  if (!ren) {
+    vtkErrorMacro(<< "CopyRenderer: the renderer is null");
+    return -1;
+  }
+  Internals& in = *this->Internal;
+
+  // Camera and image.
+  vtkCamera* camera = ren->GetActiveCamera();
+  const int* size = ren->GetSize();
+  const int w = std::max(1, size[0]), h = std::max(1, size[1]);
+  this->SetSize(w, h);
+  this->CopyCamera(camera);
+  if (camera->GetUseHorizontalViewAngle()) {
+    const double half = 0.5 * vtkMath::RadiansFromDegrees(camera->GetViewAngle());
+    this->SetViewAngle(
+        vtkMath::DegreesFromRadians(2.0 * std::atan(std::tan(half) * double(h) / double(w))));
+  }
+  this->SetBackground(ren->GetBackground());
+  this->SetAmbientLight(ren->GetAmbient());
+
+  // Lights, placed where the OpenGL render would place them.
+  ren->UpdateLightsGeometryToFollowCamera();
+  std::vector<UserLight> lights;
+  auto headlight = [&](double intensity, const double* color) {
+    UserLight l;
+    l.point = false;
+    for (int k = 0; k < 3; ++k) {
+      l.v[k] = camera->GetFocalPoint()[k] - camera->GetPosition()[k];
+      l.color[k] = color[k];
+    }
+    l.intensity = intensity;
+    lights.push_back(l);
+  };
+  vtkLightCollection* lc = ren->GetLights();
+  if (lc->GetNumberOfItems() == 0 && ren->GetAutomaticLightCreation()) {
+    const double white[3] = {1.0, 1.0, 1.0};
+    headlight(1.0, white);
+  }
+  vtkCollectionSimpleIterator lit;
+  lc->InitTraversal(lit);
+  while (vtkLight* light = lc->GetNextLight(lit)) {
+    if (!light->GetSwitch()) continue;
+    if (light->LightTypeIsHeadlight() && !light->GetPositional()) {
+      headlight(light->GetIntensity(), light->GetDiffuseColor());
+      continue;
+    }
+    double p[3], f[3];
+    light->GetTransformedPosition(p);
+    light->GetTransformedFocalPoint(f);
+    UserLight l;
+    l.point = light->GetPositional() != 0;
+    for (int k = 0; k < 3; ++k) {
+      l.v[k] = l.point ? p[k] : f[k] - p[k];
+      l.color[k] = light->GetDiffuseColor()[k];
+    }
+    if (l.point)
+      std::copy(light->GetAttenuationValues(), light->GetAttenuationValues() + 3, l.attenuation);
+    l.intensity = light->GetIntensity();
+    lights.push_back(l);
+  }
+  this->SetHeadlight(0);
+  if (lights != in.lights) {
+    in.lights = std::move(lights);
+    this->Modified();
+  }
+
+  // Actors.
+  for (ActorEntry& e : in.actors) e.used = false;
+  std::vector<vtkAlgorithmOutput*> connections;
+  std::vector<size_t> entries;  // indices into in.actors (which may grow meanwhile)
+  vtkActorCollection* actors = ren->GetActors();
+  vtkCollectionSimpleIterator ait;
+  actors->InitTraversal(ait);
+  while (vtkActor* actor = actors->GetNextActor(ait)) {
+    vtkMapper* mapper = actor->GetMapper();
+    if (!actor->GetVisibility() || !mapper || mapper->GetNumberOfInputConnections(0) < 1) continue;
+    vtkAlgorithmOutput* source = mapper->GetInputConnection(0, 0);
+    if (!source) continue;
+    auto it = std::find_if(in.actors.begin(), in.actors.end(),
+                           [&](const ActorEntry& e) { return e.actor == actor; });
+    if (it == in.actors.end()) {
+      ActorEntry e;
+      e.actor = actor;
+      e.converter = vtkSmartPointer<vtkRayScopeMeshConverter>::New();
+      e.material = vtkSmartPointer<vtkRayScopeMaterial>::New();
+      in.actors.push_back(e);
+      it = in.actors.end() - 1;
+    }
+    ActorEntry& e = *it;
+    e.used = true;
+    vtkMatrix4x4* matrix = actor->GetMatrix();
+    vtkAlgorithmOutput* connection = source;
+    if (!is_identity(matrix)) {
+      if (!e.transform) {
+        e.transform = vtkSmartPointer<vtkTransformFilter>::New();
+        vtkNew<vtkTransform> t;
+        e.transform->SetTransform(t);
+      }
+      auto* t = static_cast<vtkTransform*>(e.transform->GetTransform());
+      vtkMatrix4x4* current = t->GetMatrix();
+      bool same = true;
+      for (int i = 0; i < 16 && same; ++i) same = current->GetData()[i] == matrix->GetData()[i];
+      if (!same) t->SetMatrix(matrix);
+      if (e.transform->GetInputConnection(0, 0) != source) e.transform->SetInputConnection(source);
+      connection = e.transform->GetOutputPort();
+    } else {
+      e.transform = nullptr;
+    }
+    copy_converter_settings(in.converter, e.converter);
+    e.converter->SetMapper(mapper);
+    e.material->CopyProperty(actor->GetProperty());
+    connections.push_back(connection);
+    entries.push_back(size_t(it - in.actors.begin()));
+  }
+
+  bool same_inputs = int(connections.size()) == this->GetNumberOfInputConnections(0);
+  for (size_t i = 0; same_inputs && i < connections.size(); ++i)
+    same_inputs = this->GetInputConnection(0, int(i)) == connections[i];
+  if (!same_inputs) {
+    this->RemoveAllInputConnections(0);
+    for (vtkAlgorithmOutput* c : connections) this->AddInputConnection(0, c);
+  }
+  for (size_t i = 0; i < entries.size(); ++i) {
+    this->SetInputConverter(int(i), in.actors[entries[i]].converter);
+    this->SetInputMaterial(int(i), in.actors[entries[i]].material);
+  }
+  // Inputs that are gone lose their converters and materials; so do actors.
+  for (auto it = in.input_converters.begin(); it != in.input_converters.end();)
+    it = it->first >= int(entries.size()) ? in.input_converters.erase(it) : std::next(it);
+  for (auto it = in.input_materials.begin(); it != in.input_materials.end();)
+    it = it->first >= int(entries.size()) ? in.input_materials.erase(it) : std::next(it);
+  in.actors.erase(std::remove_if(in.actors.begin(), in.actors.end(),
+                                 [](const ActorEntry& e) { return !e.used; }),
+                  in.actors.end());
+  return int(connections.size());
+}
+
 vtkMTimeType vtkRayScopeImageAlgorithm::GetMTime() {
   vtkMTimeType t = this->Superclass::GetMTime();
   t = std::max(t, this->Internal->material->GetMTime());
   t = std::max(t, this->Internal->converter->GetMTime());
   for (auto& [index, m] : this->Internal->input_materials) t = std::max(t, m->GetMTime());
+  for (auto& [index, c] : this->Internal->input_converters) t = std::max(t, c->GetMTime());
   return t;
 }
 
@@ -327,6 +545,9 @@ std::string vtkRayScopeImageAlgorithm::ValidateParameters() {
     if (!unit3(l.color)) return name + ": color components must be in [0, 1]";
     if (!(std::isfinite(l.intensity) && l.intensity >= 0.0))
       return name + ": intensity must be finite and >= 0";
+    for (double a : l.attenuation)
+      if (!(std::isfinite(a) && a >= 0.0))
+        return name + ": attenuation values must be finite and >= 0";
   }
   if (std::string m = this->Internal->material->Validate(); !m.empty())
     return "default material: " + m;
@@ -374,14 +595,19 @@ int vtkRayScopeImageAlgorithm::BuildScene() {
   }
 
   // Geometry is converted again only when an input or the converter changed.
-  bool regeometry = !in.has_scene || inputs != in.geometry_inputs ||
-                    in.converter->GetMTime() > in.geometry_time.GetMTime();
-  for (vtkDataSet* ds : inputs) regeometry |= ds->GetMTime() > in.geometry_time.GetMTime();
+  auto converter_of = [&](int i) {
+    vtkRayScopeMeshConverter* c = this->GetInputConverter(i);
+    return c ? c : in.converter.Get();
+  };
+  bool regeometry = !in.has_scene || inputs != in.geometry_inputs;
+  for (int i = 0; i < n; ++i)
+    regeometry |= inputs[size_t(i)]->GetMTime() > in.geometry_time.GetMTime() ||
+                  converter_of(i)->GetMTime() > in.geometry_time.GetMTime();
   std::vector<rayscope::TriangleMesh> meshes;
   if (regeometry) {
     meshes.resize(size_t(n));
     for (int i = 0; i < n; ++i) {
-      if (!in.converter->ConvertToMesh(inputs[size_t(i)], meshes[size_t(i)])) {
+      if (!converter_of(i)->ConvertToMesh(inputs[size_t(i)], meshes[size_t(i)])) {
         vtkErrorMacro(<< "input " << i << " could not be converted to triangles");
         return 0;
       }
@@ -420,6 +646,8 @@ int vtkRayScopeImageAlgorithm::BuildScene() {
     (u.point ? l.position : l.direction) = vec3(u.v);
     l.color = linear_color(u.color);
     l.intensity = float(u.intensity);
+    l.attenuation =
+        rayscope::Vec3(float(u.attenuation[0]), float(u.attenuation[1]), float(u.attenuation[2]));
     l.casts_shadows = this->Shadows != 0;
     lights.push_back(l);
   }

@@ -14,7 +14,8 @@
  * height in world units; CopyCamera() takes them from a vtkCamera). Lights are
  * a headlight (a white directional light shining from the camera along the
  * view direction, as VTK's headlight; on by default) plus any point and
- * directional lights added. Colors are sRGB display values as everywhere in
+ * directional lights added (CopyRenderer() takes all of this, and the
+ * datasets, from a vtkRenderer). Colors are sRGB display values as everywhere in
  * VTK (see vtkRayScopeMeshConverter); shading is computed in linear RGB.
  *
  * The output has extent [0, Width-1] x [0, Height-1] x [0, 0], spacing 1 and
@@ -55,6 +56,7 @@ class vtkCamera;
 class vtkDataSet;
 class vtkRayScopeMaterial;
 class vtkRayScopeMeshConverter;
+class vtkRenderer;
 
 #ifndef __VTK_WRAP__
 namespace rayscope {
@@ -170,6 +172,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
                           double intensity);
   void RemoveAllLights();
   int GetNumberOfLights();
+  /// Attenuation 1 / (constant + linear d + quadratic d^2) of point light
+  /// `index` (vtkLight::SetAttenuationValues; default (1, 0, 0), none).
+  void SetLightAttenuation(int index, double constant, double linear, double quadratic);
   ///@}
 
   ///@{
@@ -187,6 +192,47 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
 
   /// How datasets become triangles, normals and colors (never null).
   vtkRayScopeMeshConverter* GetConverter();
+  /// Gives input `index` its own converter, e.g. with the mapper that colors it
+  /// in a renderer (null: back to GetConverter()).
+  void SetInputConverter(int index, vtkRayScopeMeshConverter* converter);
+  vtkRayScopeMeshConverter* GetInputConverter(int index);
+
+  /**
+   * Makes this algorithm's scene the scene of a vtkRenderer, as VTK would draw
+   * it:
+   *
+   * - Inputs: every visible vtkActor with a mapper that has an input, in the
+   *   order of vtkRenderer::GetActors(); input k is the k-th such actor. Its
+   *   mapper's input connection is used, moved by the actor's matrix
+   *   (position, orientation, scale, user matrix) through a vtkTransformFilter
+   *   when that is not the identity. Each input gets its own converter, whose
+   *   mapper is the actor's mapper (so scalars are colored as that mapper
+   *   colors them), and its own material copied from the actor's vtkProperty
+   *   (vtkRayScopeMaterial::CopyProperty(): diffuse color, ambient, diffuse,
+   *   specular, specular color and power, 1 - opacity as transparency, and the
+   *   REFLECTIVITY / INDEX_OF_REFRACTION keys). The converter settings
+   *   (normals, feature angle, subdivision) are those of GetConverter().
+   * - Lights: every switched-on vtkLight. Headlights and camera lights are
+   *   placed as vtkRenderer::UpdateLightsGeometryToFollowCamera() places them
+   *   (this method calls it). Positional lights become point lights with
+   *   their attenuation; the spot cone is not modelled (a spot light shines
+   *   in every direction). Others are directional, shining from position to
+   *   focal point. Light color is the vtkLight's diffuse color times its
+   *   intensity. A renderer without lights gets the headlight VTK would
+   *   create for it (AutomaticLightCreation). The Headlight option is
+   *   switched off, since the renderer's own headlight is among its lights.
+   * - Camera: the active vtkCamera (CopyCamera(), with a horizontal view
+   *   angle converted to the vertical one); size: the renderer's size in
+   *   pixels; Background: the renderer's background (not gradients or
+   *   textures); AmbientLight: vtkRenderer::GetAmbient().
+   *
+   * Props that are not vtkActors (2D actors, volumes) are ignored, and so are
+   * textures, representation (points/wireframe actors are ray-traced as
+   * surfaces) and backface properties. Returns the number of inputs (actors),
+   * or -1 for a null renderer. Calling it again reuses what did not change:
+   * moving the camera does not rebuild the BVH.
+   */
+  int CopyRenderer(vtkRenderer* renderer);
 
   /// Includes the materials', converter's and mapper's modification times.
   vtkMTimeType GetMTime() override;

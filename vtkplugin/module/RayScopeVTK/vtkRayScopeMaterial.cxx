@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include "vtkInformation.h"
+#include "vtkInformationDoubleKey.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkProperty.h"
 
@@ -24,15 +27,59 @@ vtkRayScopeMaterial::vtkRayScopeMaterial()
 
 vtkRayScopeMaterial::~vtkRayScopeMaterial() = default;
 
+vtkInformationKeyMacro(vtkRayScopeMaterial, REFLECTIVITY, Double);
+vtkInformationKeyMacro(vtkRayScopeMaterial, INDEX_OF_REFRACTION, Double);
+
+namespace {
+
+vtkInformation* property_info(vtkProperty* p) {
+  if (!p->GetInformation()) {
+    vtkNew<vtkInformation> info;
+    p->SetInformation(info);
+  }
+  return p->GetInformation();
+}
+
+double property_value(vtkProperty* p, vtkInformationDoubleKey* key, double fallback) {
+  vtkInformation* info = p ? p->GetInformation() : nullptr;
+  return info && info->Has(key) ? info->Get(key) : fallback;
+}
+
+}  // namespace
+
+void vtkRayScopeMaterial::SetPropertyReflectivity(vtkProperty* p, double value) {
+  if (!p) return;
+  property_info(p)->Set(REFLECTIVITY(), value);
+  p->Modified();
+}
+
+double vtkRayScopeMaterial::GetPropertyReflectivity(vtkProperty* p, double fallback) {
+  return property_value(p, REFLECTIVITY(), fallback);
+}
+
+void vtkRayScopeMaterial::SetPropertyIndexOfRefraction(vtkProperty* p, double value) {
+  if (!p) return;
+  property_info(p)->Set(INDEX_OF_REFRACTION(), value);
+  p->Modified();
+}
+
+double vtkRayScopeMaterial::GetPropertyIndexOfRefraction(vtkProperty* p, double fallback) {
+  return property_value(p, INDEX_OF_REFRACTION(), fallback);
+}
+
 void vtkRayScopeMaterial::CopyProperty(vtkProperty* p) {
   if (!p) return;
-  this->SetColor(p->GetColor());
+  // vtkProperty::GetColor() is a blend of the ambient, diffuse and specular
+  // colors; VTK's shaders use the diffuse color for the diffuse term.
+  this->SetColor(p->GetDiffuseColor());
   this->SetAmbient(p->GetAmbient());
   this->SetDiffuse(p->GetDiffuse());
   this->SetSpecular(p->GetSpecular());
   this->SetSpecularColor(p->GetSpecularColor());
   this->SetSpecularPower(p->GetSpecularPower());
   this->SetTransparency(1.0 - p->GetOpacity());
+  this->SetReflectivity(GetPropertyReflectivity(p, this->Reflectivity));
+  this->SetIndexOfRefraction(GetPropertyIndexOfRefraction(p, this->IndexOfRefraction));
 }
 
 void vtkRayScopeMaterial::DeepCopy(vtkRayScopeMaterial* o) {

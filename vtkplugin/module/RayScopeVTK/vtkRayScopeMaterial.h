@@ -25,6 +25,7 @@
 
 #include <string>  // std::string
 
+class vtkInformationDoubleKey;
 class vtkProperty;
 
 #ifndef __VTK_WRAP__
@@ -90,10 +91,26 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeMaterial : public vtkObject {
   vtkBooleanMacro(BlinnPhong, vtkTypeBool);
   ///@}
 
-  /// Takes color, ambient, diffuse, specular (color, power) from a vtkProperty
-  /// and Transparency = 1 - opacity. Reflectivity and the index of refraction
-  /// are kept.
+  /// Takes color (the diffuse color), ambient, diffuse, specular (color,
+  /// power) from a vtkProperty and Transparency = 1 - opacity. Reflectivity
+  /// and the index of refraction come from the property's information keys
+  /// REFLECTIVITY() and INDEX_OF_REFRACTION() when it has them (see
+  /// SetPropertyReflectivity()); otherwise this material's values are kept.
   void CopyProperty(vtkProperty* property);
+
+  ///@{
+  /// What vtkProperty lacks for ray tracing, stored in its information
+  /// (vtkProperty::GetInformation()) so that a renderer's actors carry it:
+  /// vtkRayScopeRenderPass and vtkRayScopeImageAlgorithm::CopyRenderer() read
+  /// it. The setters create the information object when needed; the getters
+  /// return `fallback` for a property without the key.
+  static vtkInformationDoubleKey* REFLECTIVITY();
+  static vtkInformationDoubleKey* INDEX_OF_REFRACTION();
+  static void SetPropertyReflectivity(vtkProperty* property, double reflectivity);
+  static double GetPropertyReflectivity(vtkProperty* property, double fallback = 0.0);
+  static void SetPropertyIndexOfRefraction(vtkProperty* property, double ior);
+  static double GetPropertyIndexOfRefraction(vtkProperty* property, double fallback = 1.5);
+  ///@}
 
   /// Copies every value of another material.
   void DeepCopy(vtkRayScopeMaterial* other);

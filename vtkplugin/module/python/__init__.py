@@ -3,6 +3,8 @@
     import vtk, rayscope
     tracer = rayscope.vtkRayScopeImageAlgorithm()
 
-Every class of the wrapped C++ module RayScopeVTK is available here.
+Every class of the wrapped C++ modules RayScopeVTK (algorithms and sources)
+and RayScopeRendering (vtkRayScopePass, a vtkRenderPass) is available here.
 """
 from .RayScopeVTK import *  # noqa: F401,F403
+from .RayScopeRendering import *  # noqa: F401,F403

@@ -1,0 +1,307 @@
+// vtkRayScopePass and vtkRayScopeImageAlgorithm::CopyRenderer: a renderer made
+// of ordinary VTK actors, lights and a camera, ray-traced by the render pass,
+// shows in its window exactly the image the image algorithm produces for the
+// same scene described by hand (datasets, materials, lights, camera). Needs
+// an X display (run under xvfb-run).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include <vtkActor.h>
+#include <vtkCamera.h>
+#include <vtkElevationFilter.h>
+#include <vtkExecutive.h>
+#include <vtkFieldData.h>
+#include <vtkImageData.h>
+#include <vtkIntArray.h>
+#include <vtkLight.h>
+#include <vtkNew.h>
+#include <vtkPlaneSource.h>
+#include <vtkPointData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkProperty.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkSphereSource.h>
+#include <vtkTransform.h>
+#include <vtkTransformFilter.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkWindowToImageFilter.h>
+
+#include "vtkRayScopeImageAlgorithm.h"
+#include "vtkRayScopeMaterial.h"
+#include "vtkRayScopeMeshConverter.h"
+#include "vtkRayScopePass.h"
+#include "vtk_test_util.h"
+
+namespace {
+
+constexpr int kWidth = 160, kHeight = 120;
+
+// An elevation-colored sphere (point scalars through the mapper's lookup
+// table), a reflective floor, and a glass sphere moved by its actor's
+// position; a point light with attenuation and a directional light.
+struct RendererScene {
+  vtkNew<vtkSphereSource> ball, glass;
+  vtkNew<vtkElevationFilter> elevation;
+  vtkNew<vtkPlaneSource> floor;
+  vtkNew<vtkPolyDataMapper> ball_mapper, floor_mapper, glass_mapper;
+  vtkNew<vtkActor> ball_actor, floor_actor, glass_actor;
+  vtkNew<vtkLight> point, sun;
+  vtkNew<vtkRenderer> renderer;
+  vtkNew<vtkRenderWindow> window;
+  vtkNew<vtkRayScopePass> pass;
+
+  RendererScene() {
+    configure_sphere(ball, 0.0, 0.0, 0.0, 0.5, 48);
+    elevation->SetInputConnection(ball->GetOutputPort());
+    elevation->SetLowPoint(0, -0.5, 0);
+    elevation->SetHighPoint(0, 0.5, 0);
+    ball_mapper->SetInputConnection(elevation->GetOutputPort());
+    ball_actor->SetMapper(ball_mapper);
+    ball_actor->GetProperty()->SetSpecular(0.4);
+    ball_actor->GetProperty()->SetSpecularPower(30);
+
+    configure_floor(floor, -0.5, 3.0);
+    floor_mapper->SetInputConnection(floor->GetOutputPort());
+    floor_actor->SetMapper(floor_mapper);
+    floor_actor->GetProperty()->SetColor(0.8, 0.7, 0.5);
+    vtkRayScopeMaterial::SetPropertyReflectivity(floor_actor->GetProperty(), 0.4);
+
+    configure_sphere(glass, 0.0, 0.0, 0.0, 0.3, 40);
+    glass_mapper->SetInputConnection(glass->GetOutputPort());
+    glass_actor->SetMapper(glass_mapper);
+    glass_actor->SetPosition(0.75, -0.2, 0.6);
+    glass_actor->GetProperty()->SetOpacity(0.1);
+    vtkRayScopeMaterial::SetPropertyIndexOfRefraction(glass_actor->GetProperty(), 1.33);
+
+    renderer->AddActor(ball_actor);
+    renderer->AddActor(floor_actor);
+    renderer->AddActor(glass_actor);
+
+    point->SetLightTypeToSceneLight();
+    point->SetPositional(true);
+    point->SetPosition(2.0, 3.0, 2.5);
+    point->SetConeAngle(90.0);
+    point->SetAttenuationValues(1.0, 0.05, 0.0);
+    point->SetDiffuseColor(1.0, 0.9, 0.8);
+    point->SetIntensity(0.9);
+    sun->SetLightTypeToSceneLight();
+    sun->SetPosition(-1.0, 2.0, 1.0);
+    sun->SetFocalPoint(0.0, 0.0, 0.0);
+    sun->SetIntensity(0.5);
+    renderer->AddLight(point);
+    renderer->AddLight(sun);
+    renderer->SetBackground(0.1, 0.2, 0.3);
+
+    vtkCamera* c = renderer->GetActiveCamera();
+    c->SetPosition(0.5, 1.2, 4.0);
+    c->SetFocalPoint(0.1, -0.1, 0.0);
+    c->SetViewUp(0.0, 1.0, 0.0);
+    c->SetViewAngle(35.0);
+
+    window->SetSize(kWidth, kHeight);
+    window->SetOffScreenRendering(1);
+    window->AddRenderer(renderer);
+    renderer->SetPass(pass);
+  }
+
+  // Renders through the pass and reads back what the window shows.
+  vtkSmartPointer<vtkImageData> render_and_read() {
+    window->Render();
+    vtkNew<vtkWindowToImageFilter> grab;
+    grab->SetInput(window);
+    grab->ReadFrontBufferOff();
+    grab->ShouldRerenderOff();
+    grab->Update();
+    vtkSmartPointer<vtkImageData> out = vtkSmartPointer<vtkImageData>::New();
+    out->DeepCopy(grab->GetOutput());
+    return out;
+  }
+};
+
+// The same scene, described to the image algorithm by hand.
+struct HandScene {
+  vtkNew<vtkTransformFilter> moved_glass;
+  vtkNew<vtkTransform> translation;
+  vtkNew<vtkRayScopeMaterial> ball_material, floor_material, glass_material;
+  vtkNew<vtkRayScopeImageAlgorithm> alg;
+
+  explicit HandScene(RendererScene& r) {
+    translation->Translate(0.75, -0.2, 0.6);
+    moved_glass->SetTransform(translation);
+    moved_glass->SetInputConnection(r.glass->GetOutputPort());
+    alg->AddInputConnection(r.elevation->GetOutputPort());
+    alg->AddInputConnection(r.floor->GetOutputPort());
+    alg->AddInputConnection(moved_glass->GetOutputPort());
+    // vtkProperty defaults: white, ambient 0, diffuse 1, specular color white.
+    ball_material->SetSpecular(0.4);
+    ball_material->SetSpecularPower(30);
+    floor_material->SetColor(0.8, 0.7, 0.5);
+    floor_material->SetReflectivity(0.4);
+    glass_material->SetTransparency(1.0 - 0.1);
+    glass_material->SetIndexOfRefraction(1.33);
+    alg->SetInputMaterial(0, ball_material);
+    alg->SetInputMaterial(1, floor_material);
+    alg->SetInputMaterial(2, glass_material);
+    alg->SetHeadlight(0);
+    int p = alg->AddPointLight(2.0, 3.0, 2.5, 1.0, 0.9, 0.8, 0.9);
+    alg->SetLightAttenuation(p, 1.0, 0.05, 0.0);
+    alg->AddDirectionalLight(1.0, -2.0, -1.0, 1.0, 1.0, 1.0, 0.5);
+    alg->SetBackground(0.1, 0.2, 0.3);
+    alg->SetSize(kWidth, kHeight);
+    alg->SetPosition(0.5, 1.2, 4.0);
+    alg->SetFocalPoint(0.1, -0.1, 0.0);
+    alg->SetViewUp(0.0, 1.0, 0.0);
+    alg->SetViewAngle(35.0);
+    alg->ComputeCostOff();
+  }
+};
+
+// Largest difference of any RGB byte between the window and a traced image.
+int max_byte_difference(vtkImageData* shown, vtkImageData* traced) {
+  int ds[3], dt[3];
+  shown->GetDimensions(ds);
+  traced->GetDimensions(dt);
+  if (ds[0] != dt[0] || ds[1] != dt[1]) return 1000;
+  auto* a = vtkUnsignedCharArray::SafeDownCast(shown->GetPointData()->GetScalars());
+  auto* b = vtkUnsignedCharArray::SafeDownCast(traced->GetPointData()->GetScalars());
+  if (!a || !b) return 1000;
+  int m = 0;
+  for (vtkIdType i = 0; i < b->GetNumberOfTuples(); ++i)
+    for (int k = 0; k < 3; ++k)
+      m = std::max(m, std::abs(int(a->GetTypedComponent(i, k)) - int(b->GetTypedComponent(i, k))));
+  return m;
+}
+
+// Pixels of each object id (ObjectId array) in a traced image.
+int count_object(vtkImageData* img, int id) {
+  auto* a = vtkIntArray::SafeDownCast(img->GetPointData()->GetArray("ObjectId"));
+  int n = 0;
+  for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k) n += a->GetValue(k) == id;
+  return n;
+}
+
+}  // namespace
+
+// The window shows, byte for byte, what the image algorithm renders for the
+// hand-made description of the renderer's scene.
+TEST(VtkPass, WindowEqualsImageAlgorithm) {
+  RendererScene r;
+  vtkSmartPointer<vtkImageData> shown = r.render_and_read();
+  EXPECT_EQ(r.pass->GetNumberOfRenderedProps(), 3);
+
+  HandScene h(r);
+  ASSERT_EQ(update(h.alg), 1);
+  vtkImageData* traced = h.alg->GetOutput();
+  EXPECT_EQ(max_byte_difference(shown, traced), 0);
+  // Every object is visible, and the image is not background only.
+  for (int id = 0; id < 3; ++id) EXPECT_GT(count_object(traced, id), 50) << "object " << id;
+  // The last image of the pass is the same image.
+  ASSERT_NE(r.pass->GetLastImage(), nullptr);
+  EXPECT_EQ(max_byte_difference(r.pass->GetLastImage(), traced), 0);
+}
+
+// Moving the camera, changing a property and hiding an actor between renders
+// give the image of the changed scene (the pass keeps its scene between renders
+// and must notice every change).
+TEST(VtkPass, FollowsChanges) {
+  RendererScene r;
+  r.render_and_read();
+  HandScene h(r);
+
+  r.renderer->GetActiveCamera()->Azimuth(25.0);
+  r.renderer->GetActiveCamera()->OrthogonalizeViewUp();
+  r.floor_actor->GetProperty()->SetColor(0.3, 0.6, 0.9);
+  vtkSmartPointer<vtkImageData> shown = r.render_and_read();
+  h.alg->CopyCamera(r.renderer->GetActiveCamera());
+  h.floor_material->SetColor(0.3, 0.6, 0.9);
+  ASSERT_EQ(update(h.alg), 1);
+  EXPECT_EQ(max_byte_difference(shown, h.alg->GetOutput()), 0);
+
+  r.glass_actor->VisibilityOff();
+  shown = r.render_and_read();
+  EXPECT_EQ(r.pass->GetNumberOfRenderedProps(), 2);
+  h.alg->RemoveInputConnection(0, 2);
+  ASSERT_EQ(update(h.alg), 1);
+  EXPECT_EQ(count_object(h.alg->GetOutput(), 2), 0);
+  EXPECT_EQ(max_byte_difference(shown, h.alg->GetOutput()), 0);
+}
+
+// A parallel camera, the renderer's automatic headlight and a camera light.
+TEST(VtkPass, ParallelCameraHeadlightAndCameraLight) {
+  RendererScene r;
+  r.renderer->RemoveAllLights();
+  vtkNew<vtkLight> head, cam;
+  head->SetLightTypeToHeadlight();
+  head->SetIntensity(0.7);
+  cam->SetLightTypeToCameraLight();
+  cam->SetPosition(1.0, 1.0, 1.0);  // camera coordinates: up-right of the camera
+  cam->SetFocalPoint(0.0, 0.0, 0.0);
+  cam->SetIntensity(0.4);
+  r.renderer->AddLight(head);
+  r.renderer->AddLight(cam);
+  vtkCamera* c = r.renderer->GetActiveCamera();
+  c->ParallelProjectionOn();
+  c->SetParallelScale(1.3);
+  vtkSmartPointer<vtkImageData> shown = r.render_and_read();
+
+  HandScene h(r);
+  h.alg->RemoveAllLights();
+  h.alg->CopyCamera(c);
+  double view[3];
+  for (int k = 0; k < 3; ++k) view[k] = c->GetFocalPoint()[k] - c->GetPosition()[k];
+  h.alg->AddDirectionalLight(view[0], view[1], view[2], 1, 1, 1, 0.7);
+  // The camera light, in world coordinates: where vtkLight puts it.
+  double p[3], f[3];
+  cam->GetTransformedPosition(p);
+  cam->GetTransformedFocalPoint(f);
+  h.alg->AddDirectionalLight(f[0] - p[0], f[1] - p[1], f[2] - p[2], 1, 1, 1, 0.4);
+  ASSERT_EQ(update(h.alg), 1);
+  EXPECT_EQ(max_byte_difference(shown, h.alg->GetOutput()), 0);
+
+  // Without any light, the renderer gets VTK's automatic headlight.
+  vtkNew<vtkRenderer> bare;
+  bare->AddActor(r.ball_actor);
+  bare->SetActiveCamera(c);
+  vtkNew<vtkRayScopeImageAlgorithm> copy;
+  EXPECT_EQ(copy->CopyRenderer(bare), 1);
+  EXPECT_EQ(copy->GetNumberOfLights(), 1);
+  EXPECT_FALSE(copy->GetHeadlight());
+}
+
+// Statistics and the cost display: the traced image carries the cost arrays,
+// the window shows the heat map instead of the colors.
+TEST(VtkPass, StatisticsAndCostDisplay) {
+  RendererScene r;
+  r.pass->ComputeStatisticsOn();
+  vtkSmartPointer<vtkImageData> colors = r.render_and_read();
+  vtkImageData* last = r.pass->GetLastImage();
+  ASSERT_NE(last, nullptr);
+  ASSERT_NE(last->GetPointData()->GetArray("Cost"), nullptr);
+  ASSERT_NE(last->GetFieldData()->GetArray("RayCounts"), nullptr);
+  EXPECT_GT(last->GetFieldData()->GetArray("NodesVisited")->GetComponent(0, 0), 0.0);
+  EXPECT_EQ(max_byte_difference(colors, last), 0);
+
+  r.pass->SetDisplayModeToCost();
+  vtkSmartPointer<vtkImageData> heat = r.render_and_read();
+  EXPECT_GT(max_byte_difference(heat, r.pass->GetLastImage()), 50);
+}
+
+// Bad settings: one error from the algorithm, no crash, the background shows.
+TEST(VtkPass, BadSettingsReportAnError) {
+  RendererScene r;
+  vtkNew<ErrorCatcher> errors;
+  r.pass->GetImageAlgorithm()->AddObserver(vtkCommand::ErrorEvent, errors);
+  r.pass->AddObserver(vtkCommand::ErrorEvent, errors);
+  r.pass->SetSamples(0);
+  vtkSmartPointer<vtkImageData> shown = r.render_and_read();
+  EXPECT_GE(errors->count, 1);
+  EXPECT_NE(errors->last.find("ray tracing failed"), std::string::npos) << errors->last;
+  EXPECT_EQ(r.pass->GetLastImage(), nullptr);
+  auto* px = vtkUnsignedCharArray::SafeDownCast(shown->GetPointData()->GetScalars());
+  // Background 0.1, 0.2, 0.3 -> bytes 26, 51, 77 (VTK clears in display values).
+  EXPECT_NEAR(px->GetTypedComponent(0, 0), 26, 1);
+  EXPECT_NEAR(px->GetTypedComponent(0, 2), 77, 1);
+}

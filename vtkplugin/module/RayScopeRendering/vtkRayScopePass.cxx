@@ -1,0 +1,129 @@
+#include "vtkRayScopePass.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <vector>
+
+#include "vtkExecutive.h"
+#include "vtkImageData.h"
+#include "vtkIntArray.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkPointData.h"
+#include "vtkRenderState.h"
+#include "vtkRenderer.h"
+#include "vtkUnsignedCharArray.h"
+
+#include "rayscope/image.h"
+#include "vtkRayScopeImageAlgorithm.h"
+
+vtkStandardNewMacro(vtkRayScopePass);
+
+vtkRayScopePass::vtkRayScopePass()
+    : Samples(1),
+      MaxDepth(5),
+      MinContribution(1e-3),
+      Shadows(1),
+      Threads(0),
+      ComputeStatistics(0),
+      DisplayMode(COLOR),
+      LastRenderTime(0.0),
+      Algorithm(vtkRayScopeImageAlgorithm::New()),
+      HasImage(false) {}
+
+vtkRayScopePass::~vtkRayScopePass() {
+  this->Algorithm->Delete();
+}
+
+vtkRayScopeImageAlgorithm* vtkRayScopePass::GetImageAlgorithm() {
+  return this->Algorithm;
+}
+
+vtkImageData* vtkRayScopePass::GetLastImage() {
+  return this->HasImage ? this->Algorithm->GetOutput() : nullptr;
+}
+
+namespace {
+
+// The per-pixel BVH cost as RGB bytes, 0 .. the image's maximum on the
+// heat-map scale of `rayscope render --aov cost`.
+std::vector<unsigned char> cost_heat_map(vtkImageData* image) {
+  auto* cost = vtkIntArray::SafeDownCast(image->GetPointData()->GetArray("Cost"));
+  if (!cost) return {};
+  const vtkIdType n = cost->GetNumberOfTuples();
+  int max_cost = 1;
+  for (vtkIdType i = 0; i < n; ++i) max_cost = std::max(max_cost, cost->GetValue(i));
+  std::vector<unsigned char> rgb(size_t(n) * 3);
+  for (vtkIdType i = 0; i < n; ++i) {
+    const rayscope::Color c = rayscope::heat_color(float(cost->GetValue(i)) / float(max_cost));
+    for (int k = 0; k < 3; ++k)
+      rgb[size_t(i) * 3 + size_t(k)] = (unsigned char)std::lround(
+          255.0f * rayscope::linear_to_srgb(std::clamp(c[k], 0.0f, 1.0f)));
+  }
+  return rgb;
+}
+
+}  // namespace
+
+void vtkRayScopePass::Render(const vtkRenderState* s) {
+  this->NumberOfRenderedProps = 0;
+  vtkRenderer* ren = s->GetRenderer();
+  auto* window = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  if (!window) {
+    vtkErrorMacro(<< "vtkRayScopePass needs an OpenGL render window");
+    return;
+  }
+  ren->Clear();  // background color and depth, as the OpenGL passes start
+  const auto start = std::chrono::steady_clock::now();
+
+  vtkRayScopeImageAlgorithm* alg = this->Algorithm;
+  const int inputs = alg->CopyRenderer(ren);
+  if (inputs <= 0) return;  // nothing to trace: the cleared background is the image
+  alg->SetSamples(this->Samples);
+  alg->SetMaxDepth(this->MaxDepth);
+  alg->SetMinContribution(this->MinContribution);
+  alg->SetShadows(this->Shadows);
+  alg->SetThreads(this->Threads);
+  alg->SetComputeCost(this->ComputeStatistics || this->DisplayMode == COST);
+  this->HasImage = false;
+  if (!alg->GetExecutive()->Update()) {
+    vtkErrorMacro(<< "ray tracing failed (see the vtkRayScopeImageAlgorithm error)");
+    return;
+  }
+  vtkImageData* image = alg->GetOutput();
+  this->HasImage = true;
+  int dims[3];
+  image->GetDimensions(dims);
+
+  std::vector<unsigned char> heat;
+  void* pixels = nullptr;
+  if (this->DisplayMode == COST) {
+    heat = cost_heat_map(image);
+    pixels = heat.data();
+  } else if (auto* color = vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetScalars()))
+    pixels = color->GetVoidPointer(0);
+  if (!pixels) {
+    vtkErrorMacro(<< "the ray-traced image has no color array");
+    return;
+  }
+  // The image is as large as the renderer; draw it 1:1 over its viewport.
+  int width, height, x0, y0;
+  ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
+  window->DrawPixels(x0, y0, x0 + dims[0] - 1, y0 + dims[1] - 1, 3, VTK_UNSIGNED_CHAR, pixels);
+  this->LastRenderTime =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  this->NumberOfRenderedProps = inputs;
+}
+
+void vtkRayScopePass::PrintSelf(ostream& os, vtkIndent indent) {
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Samples: " << this->Samples << "\n";
+  os << indent << "MaxDepth: " << this->MaxDepth << "\n";
+  os << indent << "MinContribution: " << this->MinContribution << "\n";
+  os << indent << "Shadows: " << this->Shadows << "\n";
+  os << indent << "Threads: " << this->Threads << "\n";
+  os << indent << "ComputeStatistics: " << this->ComputeStatistics << "\n";
+  os << indent << "DisplayMode: " << (this->DisplayMode == COST ? "COST" : "COLOR") << "\n";
+  os << indent << "LastRenderTime: " << this->LastRenderTime << "\n";
+}

@@ -1,0 +1,139 @@
+/**
+ * @class   vtkRayScopePass
+ * @brief   A vtkRenderPass that ray-traces the renderer's scene with RayScope
+ *          (Whitted: hard shadows, reflection, refraction) and shows the image
+ *          in the render window.
+ *
+ * Any VTK application switches a renderer to ray tracing with
+ *
+ * @code
+ *   vtkNew<vtkRayScopePass> pass;
+ *   renderer->SetPass(pass);
+ * @endcode
+ *
+ * as with VTK's own vtkOSPRayPass. Each render converts the renderer with
+ * vtkRayScopeImageAlgorithm::CopyRenderer() (visible actors with their mappers'
+ * colors and vtkProperty materials, lights, the active camera; see there for
+ * what is and is not taken), ray-traces it at the renderer's size and draws the
+ * image into the renderer's viewport. The scene is kept between renders: only
+ * new or modified geometry is converted again and the BVH is rebuilt only then,
+ * so moving the camera or changing colors, lights or materials costs one ray
+ * traced image.
+ *
+ * Reflectivity and index of refraction, which vtkProperty lacks, are set on an
+ * actor's property with vtkRayScopeMaterial::SetPropertyReflectivity() and
+ * SetPropertyIndexOfRefraction(); opacity < 1 makes a dielectric (glass).
+ *
+ * Sampling (Samples: N x N per pixel), MaxDepth, MinContribution, Shadows and
+ * Threads are settable; ComputeStatistics makes every render count rays, BVH
+ * nodes, boxes and primitives (per pixel in the image's "Cost" arrays, totals
+ * in its field data, see vtkRayScopeImageAlgorithm); DisplayMode COST shows
+ * the per-pixel BVH cost as a heat map instead of the colors. GetLastImage()
+ * is the last ray-traced image with all its arrays. GetImageAlgorithm() is the
+ * algorithm holding the scene: vtkRayScopeRayTreeSource and
+ * vtkRayScopeBVHSource take it as their scene source to show the ray tree of a
+ * pixel of this very view, or its BVH.
+ *
+ * The pass draws colors only: the depth buffer is cleared, not written, and
+ * OpenGL props of the same renderer are not drawn. Draw overlays (a ray tree,
+ * BVH boxes) in a second renderer on a higher layer of the window.
+ */
+#ifndef vtkRayScopePass_h
+#define vtkRayScopePass_h
+
+#include "RayScopeRenderingModule.h"  // export macro
+#include "vtkRenderPass.h"
+
+class vtkImageData;
+class vtkRayScopeImageAlgorithm;
+
+class RAYSCOPERENDERING_EXPORT vtkRayScopePass : public vtkRenderPass {
+ public:
+  static vtkRayScopePass* New();
+  vtkTypeMacro(vtkRayScopePass, vtkRenderPass);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// Ray-traces the renderer of `s` and draws the image into its viewport.
+  void Render(const vtkRenderState* s) override;
+
+  ///@{
+  /// N: each pixel takes N x N stratified samples (1..64, default 1).
+  vtkSetMacro(Samples, int);
+  vtkGetMacro(Samples, int);
+  ///@}
+
+  ///@{
+  /// Maximum recursion depth of reflection and refraction rays (0..64, default 5).
+  vtkSetMacro(MaxDepth, int);
+  vtkGetMacro(MaxDepth, int);
+  ///@}
+
+  ///@{
+  /// Secondary rays whose weight in the pixel is smaller are skipped (default 1e-3).
+  vtkSetMacro(MinContribution, double);
+  vtkGetMacro(MinContribution, double);
+  ///@}
+
+  ///@{
+  /// Shadow rays toward every light (default on).
+  vtkSetMacro(Shadows, vtkTypeBool);
+  vtkGetMacro(Shadows, vtkTypeBool);
+  vtkBooleanMacro(Shadows, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /// Render threads (0: all hardware threads, the default).
+  vtkSetMacro(Threads, int);
+  vtkGetMacro(Threads, int);
+  ///@}
+
+  ///@{
+  /// Count rays and BVH work per pixel ("Cost" arrays of GetLastImage(),
+  /// totals in its field data). Off by default: the counting tracer is a few
+  /// percent slower.
+  vtkSetMacro(ComputeStatistics, vtkTypeBool);
+  vtkGetMacro(ComputeStatistics, vtkTypeBool);
+  vtkBooleanMacro(ComputeStatistics, vtkTypeBool);
+  ///@}
+
+  /// What the window shows.
+  enum DisplayModes {
+    COLOR = 0,  ///< the ray-traced colors (default)
+    COST = 1    ///< BVH nodes visited per pixel as a heat map (turns statistics on)
+  };
+  vtkSetClampMacro(DisplayMode, int, COLOR, COST);
+  vtkGetMacro(DisplayMode, int);
+  void SetDisplayModeToColor() { this->SetDisplayMode(COLOR); }
+  void SetDisplayModeToCost() { this->SetDisplayMode(COST); }
+
+  /// The algorithm that holds the scene of the last render (never null).
+  vtkRayScopeImageAlgorithm* GetImageAlgorithm();
+
+  /// The last ray-traced image (null before the first successful render).
+  vtkImageData* GetLastImage();
+
+  /// Wall-clock seconds of the last ray-traced image (conversion included).
+  vtkGetMacro(LastRenderTime, double);
+
+ protected:
+  vtkRayScopePass();
+  ~vtkRayScopePass() override;
+
+  int Samples;
+  int MaxDepth;
+  double MinContribution;
+  vtkTypeBool Shadows;
+  int Threads;
+  vtkTypeBool ComputeStatistics;
+  int DisplayMode;
+  double LastRenderTime;
+
+ private:
+  vtkRayScopePass(const vtkRayScopePass&) = delete;
+  void operator=(const vtkRayScopePass&) = delete;
+
+  vtkRayScopeImageAlgorithm* Algorithm;
+  bool HasImage;
+};
+
+#endif
