@@ -1,9 +1,10 @@
-"""`import vtk, rayscope` works from the build tree and exposes every class."""
+"""`import vtk, rayscope` works (from the build tree, or from an install when
+PYTHONPATH points there) and exposes every class."""
 import vtk  # noqa: F401
 import rayscope
 
 for name in ("vtkRayScopeImageAlgorithm", "vtkRayScopeRayTreeSource", "vtkRayScopeBVHSource",
-             "vtkRayScopeMeshConverter", "vtkRayScopeMaterial"):
+             "vtkRayScopeMeshConverter", "vtkRayScopeMaterial", "vtkRayScopePass"):
     cls = getattr(rayscope, name)
     obj = cls()
     assert obj.GetClassName() == name, obj.GetClassName()
@@ -13,4 +14,6 @@ alg = rayscope.vtkRayScopeImageAlgorithm()
 assert alg.IsA("vtkImageAlgorithm")
 assert rayscope.vtkRayScopeRayTreeSource().IsA("vtkPolyDataAlgorithm")
 assert alg.GetConverter().GetMapper().IsA("vtkMapper")
+assert rayscope.vtkRayScopePass().IsA("vtkRenderPass")
+assert rayscope.vtkRayScopePass().GetImageAlgorithm().IsA("vtkRayScopeImageAlgorithm")
 print("rayscope", rayscope.__file__)
