@@ -305,3 +305,46 @@ TEST(VtkPass, BadSettingsReportAnError) {
   EXPECT_NEAR(px->GetTypedComponent(0, 0), 26, 1);
   EXPECT_NEAR(px->GetTypedComponent(0, 2), 77, 1);
 }
+
+// The pass draws into its own viewport only: an OpenGL renderer beside it in
+// the same window keeps its image, and the pass's half is the traced image.
+TEST(VtkPass, DrawsIntoItsViewportOnly) {
+  RendererScene r;
+  r.window->SetSize(2 * kWidth, kHeight);
+  r.renderer->SetViewport(0.5, 0.0, 1.0, 1.0);
+  vtkNew<vtkRenderer> opengl;
+  opengl->SetViewport(0.0, 0.0, 0.5, 1.0);
+  opengl->AddActor(r.ball_actor);
+  opengl->SetActiveCamera(r.renderer->GetActiveCamera());
+  opengl->SetBackground(0.0, 0.0, 0.0);
+  // OpenGL first, so that a pass clearing more than its viewport would erase it.
+  r.window->RemoveRenderer(r.renderer);
+  r.window->AddRenderer(opengl);
+  r.window->AddRenderer(r.renderer);
+  r.window->Render();  // the second frame starts with the first one's GL state
+  vtkSmartPointer<vtkImageData> shown = r.render_and_read();
+
+  HandScene h(r);
+  ASSERT_EQ(update(h.alg), 1);
+  auto* px = vtkUnsignedCharArray::SafeDownCast(shown->GetPointData()->GetScalars());
+  auto* traced =
+      vtkUnsignedCharArray::SafeDownCast(h.alg->GetOutput()->GetPointData()->GetScalars());
+  int max_diff = 0, left_lit = 0, left_cleared = 0;
+  for (int j = 0; j < kHeight; ++j)
+    for (int i = 0; i < kWidth; ++i) {
+      const vtkIdType left = vtkIdType(j) * 2 * kWidth + i, right = left + kWidth;
+      for (int k = 0; k < 3; ++k)
+        max_diff = std::max(max_diff,
+                            std::abs(int(px->GetTypedComponent(right, k)) -
+                                     int(traced->GetTypedComponent(vtkIdType(j) * kWidth + i, k))));
+      const int r0 = px->GetTypedComponent(left, 0), g0 = px->GetTypedComponent(left, 1),
+                b0 = px->GetTypedComponent(left, 2);
+      left_lit += r0 + g0 + b0 > 0;
+      // The pass's background (0.1, 0.2, 0.3) must not show on the left.
+      left_cleared += std::abs(r0 - 26) <= 1 && std::abs(g0 - 51) <= 1 && std::abs(b0 - 77) <= 1;
+    }
+  EXPECT_EQ(max_diff, 0);
+  // The OpenGL ball covers a few thousand pixels of the black left half.
+  EXPECT_GT(left_lit, 1000);
+  EXPECT_EQ(left_cleared, 0);
+}

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <vector>
 
+#include "vtkCamera.h"
 #include "vtkExecutive.h"
 #include "vtkImageData.h"
 #include "vtkIntArray.h"
@@ -74,7 +75,10 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
     vtkErrorMacro(<< "vtkRayScopePass needs an OpenGL render window");
     return;
   }
-  ren->Clear();  // background color and depth, as the OpenGL passes start
+  // Viewport and scissor box of this renderer (what vtkCameraPass sets up for
+  // the OpenGL passes), then its background color and depth.
+  ren->GetActiveCamera()->UpdateViewport(ren);
+  ren->Clear();
   const auto start = std::chrono::steady_clock::now();
 
   vtkRayScopeImageAlgorithm* alg = this->Algorithm;
