@@ -35,13 +35,6 @@ int object_at(vtkImageData* img, int i, int j) {
       ->GetValue(vtkIdType(j) * dims[0] + i);
 }
 
-int count_object(vtkImageData* img, int id) {
-  auto* a = vtkIntArray::SafeDownCast(img->GetPointData()->GetArray("ObjectId"));
-  int n = 0;
-  for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k) n += a->GetValue(k) == id;
-  return n;
-}
-
 }  // namespace
 
 // A sphere in front of a perspective camera: hit in the middle, background in

@@ -175,14 +175,6 @@ int max_byte_difference(vtkImageData* shown, vtkImageData* traced) {
   return m;
 }
 
-// Pixels of each object id (ObjectId array) in a traced image.
-int count_object(vtkImageData* img, int id) {
-  auto* a = vtkIntArray::SafeDownCast(img->GetPointData()->GetArray("ObjectId"));
-  int n = 0;
-  for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k) n += a->GetValue(k) == id;
-  return n;
-}
-
 }  // namespace
 
 // The window shows, byte for byte, what the image algorithm renders for the

@@ -7,9 +7,12 @@
 #include <vtkAlgorithm.h>
 #include <vtkCommand.h>
 #include <vtkExecutive.h>
+#include <vtkImageData.h>
+#include <vtkIntArray.h>
 #include <vtkNew.h>
 #include <vtkObject.h>
 #include <vtkPlaneSource.h>
+#include <vtkPointData.h>
 #include <vtkSphereSource.h>
 
 /// Collects ErrorEvent messages of the objects it observes.
@@ -42,4 +45,12 @@ inline void configure_floor(vtkPlaneSource* p, double height, double half) {
 /// Runs the pipeline; 1 on success, 0 when an algorithm failed.
 inline int update(vtkAlgorithm* a) {
   return a->GetExecutive()->Update();
+}
+
+/// Pixels showing object `id` in a traced image (its "ObjectId" array).
+inline int count_object(vtkImageData* img, int id) {
+  auto* a = vtkIntArray::SafeDownCast(img->GetPointData()->GetArray("ObjectId"));
+  int n = 0;
+  for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k) n += a->GetValue(k) == id;
+  return n;
 }
