@@ -41,6 +41,9 @@ int run_inspect(const InspectOptions& o) {
   if (pixels.empty())
     throw std::invalid_argument("give --pixel X,Y (repeatable) or --rect X,Y,W,H");
   LoadedScene loaded = o.scene.load();
+  for (const std::string& w : loaded.scene.summary().warnings)
+    std::fprintf(stderr, "rayscope: warning: %s: %s\n",
+                 o.scene.scene.empty() ? "default scene" : o.scene.scene.c_str(), w.c_str());
   prepare_for_replay(loaded.scene, loaded.settings);
   std::vector<PixelRecord> records;
   for (const glm::ivec2& p : pixels)

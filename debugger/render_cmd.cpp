@@ -122,6 +122,10 @@ void print_explain(const Scene& scene, const RenderSettings& rs, const RayCounte
         "cheaper than walking a hierarchy\n",
         bounded, Scene::kBruteForceMax);
   if (s.planes) std::printf("- planes: %zu unbounded, tested outside the BVH\n", s.planes);
+  if (s.degenerate_triangles || s.skipped_triangles)
+    std::printf(
+        "- triangles: %zu zero-area (kept, never hit); %zu with non-finite vertices left out\n",
+        s.degenerate_triangles, s.skipped_triangles);
   if (rs.samples == 1)
     std::printf(
         "- sampling: 1 sample per pixel at the pixel center (%llu primary rays = "
@@ -163,9 +167,10 @@ int run_render(const RenderOptions& o) {
   const bool cost_aov = !o.aovs.empty();
   rs.statistics = o.stats || cost_aov;
   Scene& scene = loaded.scene;
-  if (scene.summary().skipped_triangles)
-    std::fprintf(stderr, "rayscope: warning: %s: %zu triangles with non-finite vertices skipped\n",
-                 o.scene.scene.c_str(), scene.summary().skipped_triangles);
+  // What commit() worked around in the input (non-finite mesh data), one line each.
+  for (const std::string& w : scene.summary().warnings)
+    std::fprintf(stderr, "rayscope: warning: %s: %s\n",
+                 o.scene.scene.empty() ? "default scene" : o.scene.scene.c_str(), w.c_str());
   RayCounters counters;
   ProgressFn progress;
   if (!o.quiet && ::isatty(STDERR_FILENO)) progress = print_progress;

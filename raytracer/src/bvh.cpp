@@ -43,6 +43,15 @@ struct Builder {
     for (uint32_t i = begin; i < end; ++i) cbox.extend(centroids[idx[i]]);
     const Vec3 ext = cbox.extent();
     const int nb = std::clamp(cfg.bins, 2, 256);
+    // Bin of a centroid from its scaled offset, clamped to [0, nb - 1] before
+    // converting: centroids spanning more than the float range (e.g. spheres
+    // at -3e38 and 3e38) give ext = inf, scale = 0 and inf * 0 = NaN, and
+    // converting NaN to int is undefined (tests/fuzz regression
+    // bvh_centroids_span_beyond_float_range.json).
+    auto bin_of = [nb](float scaled) {
+      if (!(scaled > 0.0f)) return 0;  // also NaN
+      return scaled < float(nb - 1) ? int(scaled) : nb - 1;
+    };
 
     auto median_split = [&]() -> uint32_t {
       uint32_t mid = begin + count / 2;
@@ -73,8 +82,7 @@ struct Builder {
       for (int b = 0; b < nb; ++b) bins[b] = Bin{};
       for (uint32_t i = begin; i < end; ++i) {
         uint32_t p = idx[i];
-        int b = std::min(nb - 1, int((centroids[p][axis] - cbox.lo[axis]) * scale));
-        b = std::max(b, 0);
+        int b = bin_of((centroids[p][axis] - cbox.lo[axis]) * scale);
         bins[b].box.extend(bounds[p]);
         bins[b].count++;
       }
@@ -114,8 +122,7 @@ struct Builder {
     const float scale = float(nb) / ext[best_axis];
     const float lo = cbox.lo[best_axis];
     auto mid_it = std::partition(idx.begin() + begin, idx.begin() + end, [&](uint32_t p) {
-      int b = std::min(nb - 1, int((centroids[p][best_axis] - lo) * scale));
-      return std::max(b, 0) <= best_bin;
+      return bin_of((centroids[p][best_axis] - lo) * scale) <= best_bin;
     });
     uint32_t mid = uint32_t(mid_it - idx.begin());
     if (mid == begin || mid == end) return median_split();

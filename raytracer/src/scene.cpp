@@ -1,6 +1,7 @@
 #include "rayscope/scene.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -40,6 +41,11 @@ void Scene::commit(const BvhBuildConfig& config) {
     if (!all_finite(p.point) || !all_finite(p.normal) || glm::dot(p.normal, p.normal) == 0.0f)
       throw std::invalid_argument("plane '" + p.name +
                                   "': point and normal must be finite, normal non-zero");
+    // A normal whose squared length overflows (components above ~1.8e19) or is
+    // subnormal would normalise to zero or lose its precision: scale it to a
+    // largest component of 1 first (found by fuzz_scene_parser).
+    if (!std::isnormal(glm::dot(p.normal, p.normal)))
+      p.normal /= std::max({std::abs(p.normal.x), std::abs(p.normal.y), std::abs(p.normal.z)});
     p.normal = glm::normalize(p.normal);
   }
   for (const Light& l : lights)
@@ -54,15 +60,20 @@ void Scene::commit(const BvhBuildConfig& config) {
   bounds.reserve(ntri + spheres.size());
   centroids.reserve(ntri + spheres.size());
   ids.reserve(ntri + spheres.size());
+  auto warn = [&](const TriangleMesh& m, size_t n, const std::string& what) {
+    if (n) summary_.warnings.push_back("mesh '" + m.name + "': " + std::to_string(n) + " " + what);
+  };
   for (size_t mi = 0; mi < meshes.size(); ++mi) {
     const TriangleMesh& m = meshes[mi];
+    size_t skipped = 0, degenerate = 0;
     for (size_t ti = 0; ti < m.triangles.size(); ++ti) {
       const glm::uvec3& t = m.triangles[ti];
       const Vec3 &a = m.positions[t.x], &b = m.positions[t.y], &c = m.positions[t.z];
       if (!all_finite(a) || !all_finite(b) || !all_finite(c)) {
-        summary_.skipped_triangles++;
+        skipped++;
         continue;
       }
+      if (glm::cross(b - a, c - a) == Vec3(0.0f)) degenerate++;
       Bounds3 box(a);
       box.extend(b);
       box.extend(c);
@@ -70,6 +81,18 @@ void Scene::commit(const BvhBuildConfig& config) {
       centroids.push_back(box.center());
       ids.push_back(tri_offsets_[mi] + uint32_t(ti));
     }
+    size_t bad_normals = size_t(std::count_if(m.normals.begin(), m.normals.end(),
+                                              [](const Vec3& n) { return !all_finite(n); }));
+    size_t bad_colors = size_t(std::count_if(m.colors.begin(), m.colors.end(),
+                                             [](const Color& c) { return !all_finite(c); }));
+    warn(m, skipped, "triangles with non-finite vertex coordinates skipped");
+    warn(m, bad_normals,
+         "vertex normals are not finite (their triangles are shaded with the geometric normal)");
+    warn(m, bad_colors, "vertex colors are not finite (their triangles get the material color)");
+    summary_.skipped_triangles += skipped;
+    summary_.degenerate_triangles += degenerate;
+    summary_.nonfinite_normals += bad_normals;
+    summary_.nonfinite_colors += bad_colors;
   }
   for (size_t si = 0; si < spheres.size(); ++si) {
     const Sphere& s = spheres[si];
@@ -178,9 +201,11 @@ SurfaceHit Scene::surface_hit(const Ray& ray, const PrimHit& ph) const {
       }
     }
     if (!m.colors.empty()) {
-      hit.has_vertex_color = true;
       hit.vertex_color =
           th.b0 * m.colors[tri.x] + th.b1 * m.colors[tri.y] + th.b2 * m.colors[tri.z];
+      // A non-finite vertex color (reported by commit()) would make the pixel
+      // NaN: the material color is used instead.
+      hit.has_vertex_color = all_finite(hit.vertex_color);
     }
     hit.object = mi;
     hit.prim = ti;

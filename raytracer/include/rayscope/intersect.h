@@ -74,7 +74,7 @@ struct TriangleHit {
   if (det == 0.0f) return false;
 
   // Largest translated z in world units, before scaling: the error of the
-  // sheared x and y is bounded in terms of it (|sx|, |sy| <= 1).
+  // sheared x and y is bounded in terms of it (see delta_x below).
   const float max_z_world = max_component(glm::abs(Vec3(p0t.z, p1t.z, p2t.z)));
 
   // Scaled hit distance; its sign is checked without dividing.
@@ -89,21 +89,31 @@ struct TriangleHit {
   float t = t_scaled * inv_det;
   // The range test is on t itself: comparing t_scaled with tmax * det rounds
   // differently, let hits up to an ulp beyond tmax through and made the
-  // closest hit depend on the order in which triangles were tested.
-  if (t > tmax) return false;
+  // closest hit depend on the order in which triangles were tested. Written
+  // as !(t <= tmax) so that a NaN t (a ray with NaN or infinite components)
+  // is rejected rather than reported as a hit.
+  if (!(t <= tmax)) return false;
 
   // Reject hits whose t could be <= 0 within the rounding error of the test.
   float max_zt = max_component(glm::abs(Vec3(p0t.z, p1t.z, p2t.z)));
   float delta_z = gamma(3) * max_zt;
   float max_xt = max_component(glm::abs(Vec3(p0t.x, p1t.x, p2t.x)));
   float max_yt = max_component(glm::abs(Vec3(p0t.y, p1t.y, p2t.y)));
-  float delta_x = gamma(5) * (max_xt + max_z_world);
-  float delta_y = gamma(5) * (max_yt + max_z_world);
+  // x' = (p.x - o.x) + sx (p.z - o.z) in float has an error of at most
+  // gamma(2) |p.x - o.x| + gamma(4) |sx (p.z - o.z)|, and |p.x - o.x| <=
+  // |x'| + |sx (p.z - o.z)|: with the rounding of sx and of the bound itself,
+  // gamma(7) (|x'| + |sx| max|z|) covers it (likewise for y'). Bounding |sx|
+  // by 1 instead, as pbrt does, overestimates the error by 1/|sx| for rays
+  // nearly in the triangle's plane (sx ~ the grazing angle): the t bound then
+  // exceeded t and such hits were rejected; rays at ~1e-5 rad slipped through
+  // flat meshes (test_stress, Grazing.*).
+  float delta_x = gamma(7) * (max_xt + std::abs(pre.sx) * max_z_world);
+  float delta_y = gamma(7) * (max_yt + std::abs(pre.sy) * max_z_world);
   float delta_e = 2.0f * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
   float max_e = max_component(glm::abs(Vec3(e0, e1, e2)));
   float delta_t =
       3.0f * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * std::abs(inv_det);
-  if (t <= delta_t) return false;
+  if (!(t > delta_t)) return false;  // also rejects a NaN bound
 
   hit.t = t;
   hit.b0 = e0 * inv_det;

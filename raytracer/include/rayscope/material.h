@@ -75,8 +75,11 @@ inline float critical_angle(float n1, float n2) {
 inline Color material_color(const Material& m, const Vec3& p) {
   if (!m.checker) return m.color;
   Vec3 c = glm::floor(p / m.checker_size);
-  long long s = (long long)c.x + (long long)c.y + (long long)c.z;
-  return (s & 1) ? m.checker_color : m.color;
+  // The parity of each cell index. Converting c to an integer type instead is
+  // undefined beyond the type's range and for NaN (found by fuzz_scene_parser:
+  // a checker size of 1e-30); floats of magnitude >= 2^24 are even integers.
+  auto odd = [](float f) { return std::abs(f) < 16777216.0f && (int32_t(f) & 1) != 0; };
+  return (odd(c.x) != odd(c.y)) != odd(c.z) ? m.checker_color : m.color;
 }
 
 /// Phong / Blinn-Phong factors for light arriving from unit direction l, seen

@@ -77,7 +77,14 @@ struct PrimHit {
 /// What a scene contains, found once by commit() (used to skip unneeded work).
 struct SceneSummary {
   size_t triangles = 0, spheres = 0, planes = 0, lights = 0;
-  size_t skipped_triangles = 0;  ///< Triangles with non-finite vertices, left out.
+  size_t skipped_triangles = 0;     ///< Triangles with non-finite vertices, left out.
+  size_t degenerate_triangles = 0;  ///< Zero-area triangles (edge cross product 0; never hit).
+  size_t nonfinite_normals = 0;     ///< Vertex normals with a non-finite component.
+  size_t nonfinite_colors = 0;      ///< Vertex colors with a non-finite component.
+  /// What commit() worked around in invalid input, one sentence per problem
+  /// and mesh (e.g. "mesh 'bunny': 3 triangles with non-finite vertex
+  /// coordinates skipped"). Front ends print each as a warning.
+  std::vector<std::string> warnings;
   /// False when the scene has so few bounded primitives (<= kBruteForceMax) that
   /// testing them all is cheaper than walking a hierarchy.
   bool bvh_used = true;
@@ -106,6 +113,9 @@ class Scene {
   /// Validates the scene and builds the BVH. Must be called after any change to
   /// the geometry and before tracing. Throws std::invalid_argument on bad data
   /// (bad material index, non-finite sphere, zero plane normal, index out of range).
+  /// Mesh data it can work around is reported in summary().warnings: triangles
+  /// with non-finite vertices are left out, non-finite vertex normals and
+  /// colors are not used (the geometric normal and the material color are).
   void commit(const BvhBuildConfig& config = {});
 
   /// Closest hit along the ray within (0, ray.tmax): intersect(ray, PrimHit&)
