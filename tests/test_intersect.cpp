@@ -221,6 +221,48 @@ TEST(Triangle, GrazingHitsAndNearEdgeRays) {
   EXPECT_GT(decided - hits, kCases / 5);
 }
 
+TEST(Triangle, TinyDistantTrianglesAreHitWhereTheExactHitIsInside) {
+  // Triangles of size 1 seen from 1e4 to 1e6 away (apparent size 1e-6 to
+  // 1e-4 rad), rays at |cos| >= 0.3 aimed at the inner part of the triangle
+  // (barycentrics >= 0.25). Float resolves the direction to ~1e-7 relative,
+  // i.e. at most ~0.1 triangle sizes here, so the exact answer (checked in
+  // double) is a hit for nearly all of them; the watertight test must report
+  // it. Its float bound on t's error alone rejected 495 of these 4115
+  // before the double-precision fallback (docs/accuracy.md). Rays whose exact
+  // hit is within 0.15 (barycentric) of an edge are left out: at 1e6 the float
+  // inside test itself resolves only ~0.06.
+  Rng rng(2026);
+  const int kCases = 5000;
+  int exact_hits = 0, missed = 0;
+  for (int i = 0; i < kCases; ++i) {
+    Vec3 p0, p1, p2;
+    random_triangle(rng, DVec3(0.0), 1.0, p0, p1, p2);
+    DVec3 a = to_d(p0), b = to_d(p1), c = to_d(p2);
+    DVec3 n = glm::normalize(glm::cross(b - a, c - a));
+    double u = rng.uniform(0.25, 0.5), v = rng.uniform(0.25, 0.5);
+    DVec3 q = (1.0 - u - v) * a + u * b + v * c;
+    double cs = rng.uniform(0.3, 1.0), phi = rng.uniform(0, 2 * kPi);
+    DVec3 t1 = glm::normalize(b - a), t2 = glm::cross(n, t1);
+    DVec3 w = cs * n + std::sqrt(1 - cs * cs) * (std::cos(phi) * t1 + std::sin(phi) * t2);
+    if (rng.coin()) w = -w;
+    Vec3 o = to_f(q + rng.log_uniform(1e4, 1e6) * w);
+    Vec3 d = to_f(glm::normalize(q - to_d(o)));
+    rstest::RefTriHit ref;
+    ASSERT_TRUE(rstest::ref_ray_plane_of_triangle(to_d(o), to_d(d), a, b, c, ref));
+    if (!(ref.min_bary > 0.15 && ref.t > 0)) continue;  // float could not aim it well inside
+    ++exact_hits;
+    TriangleHit h;
+    if (!intersect_triangle(Ray{o, d, kInfinity}, p0, p1, p2, h)) {
+      ++missed;
+      continue;
+    }
+    // The hit distance is as accurate as the exact t of the float ray allows.
+    EXPECT_NEAR(double(h.t), ref.t, 8.0 * kEps * ref.t / cs) << "case " << i;
+  }
+  EXPECT_GT(exact_hits, kCases / 2);
+  EXPECT_EQ(missed, 0) << "of " << exact_hits << " rays whose exact hit is inside";
+}
+
 TEST(Triangle, ResultDoesNotDependOnDirectionLength) {
   // Scaling the direction by a power of two scales every quantity of the
   // watertight test that depends on it exactly (sz, the scaled z, t and its
