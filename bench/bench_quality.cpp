@@ -7,9 +7,8 @@
 //  1. A converged reference: N x N stratified samples per pixel (--ref-spp,
 //     default 16, i.e. 256 spp), maximum depth --ref-depth (16) and cutoff
 //     --ref-cutoff (1e-4; a cutoff of 0 at depth 16 would trace up to 2^17 rays
-//     per sample in glass). The reference cutoff is per sample: the renderer's
-//     min_contribution is a ray's weight in the pixel, which includes its
-//     sample's share 1 / N^2, so the reference uses 1e-4 / N^2. Cached as EXR in OUT/refs/, keyed
+//     per sample in glass; the cutoff, like RenderSettings::min_contribution,
+//     is a ray's weight within its sample). Cached as EXR in OUT/refs/, keyed
 //     by scene, image size, reference settings and a hash of the scene file, so reruns skip it. How
 //     far the reference's own cutoff moves the image is measured and printed (1 spp renders at
 //     --ref-cutoff and at --ref-cutoff / 100).
@@ -24,10 +23,9 @@
 //     from step 2) or until the RMSE falls by less than --min-gain (10%) from
 //     the previous N: the depth or cutoff error then dominates and larger N
 //     only costs time (those configurations could not be on the Pareto front).
-//     The cutoffs are RenderSettings::min_contribution as the renderer
-//     defines it, a ray's weight in the pixel: with N x N samples, a cutoff c
-//     drops secondary rays that carry less than c N^2 of their sample's weight
-//     (so the error it causes grows with N).
+//     The cutoffs are RenderSettings::min_contribution: a secondary ray is
+//     dropped when its weight within its sample is below the cutoff, whatever
+//     N is.
 //     Each configuration is rendered --runs times; the configurations take
 //     turns (one render of each per round), so slow drifts of the machine hit
 //     all alike; the median time is reported. The image of the first round is
@@ -374,17 +372,11 @@ Rgb reference_image(const Options& o, SceneCase& sc) {
       std::printf("  reference: cache unreadable (%s), rendering again\n", e.what());
     }
   }
-  // RenderSettings::min_contribution is a ray's weight in the pixel, which
-  // includes its sample's share 1 / N^2; --ref-cutoff is per sample.
-  RenderSettings rs =
-      settings_for(o, o.ref_spp, o.ref_depth, o.ref_cutoff / float(o.ref_spp * o.ref_spp));
+  RenderSettings rs = settings_for(o, o.ref_spp, o.ref_depth, o.ref_cutoff);
   RayCounters c;
   Framebuffer fb;
-  std::printf(
-      "  reference: rendering %d spp, depth %d, cutoff %s per sample (%g in the pixel) "
-      "...\n",
-      o.ref_spp * o.ref_spp, o.ref_depth, cutoff_str(o.ref_cutoff).c_str(),
-      double(rs.min_contribution));
+  std::printf("  reference: rendering %d spp, depth %d, cutoff %s ...\n", o.ref_spp * o.ref_spp,
+              o.ref_depth, cutoff_str(o.ref_cutoff).c_str());
   std::fflush(stdout);
   double t = timed_render(sc.loaded.scene, rs, &c, &fb);
   write_image(exr, fb);
@@ -696,10 +688,9 @@ std::string peer_comparison(const Options& o, const SceneCase& sc) {
 
   std::ostringstream csv;
   for (const PeerConfig& pc : configs) {
-    // RayScope's cutoff applies to a ray's weight in the pixel, which includes
-    // its sample's share 1 / N^2; POV-Ray's adc_bailout applies to the ray's
-    // own weight whatever the antialiasing. Same threshold per ray: divide.
-    RenderSettings prs = settings_for(o, pc.n, o.peer_depth, o.peer_cutoff / float(pc.n * pc.n));
+    // RayScope's cutoff, like POV-Ray's adc_bailout, applies to a ray's weight
+    // within its sample, whatever the antialiasing: the same threshold.
+    RenderSettings prs = settings_for(o, pc.n, o.peer_depth, o.peer_cutoff);
     const std::string our_png = sc.name + "_rayscope_" + pc.name + ".png";
     const std::string cli_png = sc.name + "_rayscope_cli_" + pc.name + ".png";
     const std::string pov_png = sc.name + "_povray_" + pc.name + ".png";
@@ -756,10 +747,10 @@ std::string peer_comparison(const Options& o, const SceneCase& sc) {
         double(our_c.rays[int(RayKind::Primary)] + our_c.rays[int(RayKind::Reflection)] +
                our_c.rays[int(RayKind::Refraction)]);
     std::printf(
-        "  %s: RayScope %dx%d samples per pixel, cutoff %g in the pixel (%g per sample); "
+        "  %s: RayScope %dx%d samples per pixel, cutoff %g per sample; "
         "POV-Ray %s, adc_bailout %g\n",
-        pc.name.c_str(), pc.n, pc.n, double(prs.min_contribution), double(o.peer_cutoff),
-        pc.pov_aa_desc.c_str(), double(o.peer_cutoff));
+        pc.name.c_str(), pc.n, pc.n, double(prs.min_contribution), pc.pov_aa_desc.c_str(),
+        double(o.peer_cutoff));
     std::printf(
         "    render only    RayScope %7.3f s   POV-Ray %7.3f s   POV-Ray/RayScope %.2f"
         "   (render(); POV-Ray's Trace Time)\n",
@@ -901,8 +892,7 @@ int run(Options& o) {
 
     const Rgb ref = reference_image(o, sc);
     {
-      // The reference's own cutoff error: 1 spp (where the cutoff per sample is
-      // the cutoff in the pixel) at its cutoff and at 1/100 of it.
+      // The reference's own cutoff error: 1 spp at its cutoff and at 1/100 of it.
       RayCounters c1, c2;
       Framebuffer a, b;
       timed_render(scene, settings_for(o, 1, o.ref_depth, o.ref_cutoff), &c1, &a);
@@ -1086,7 +1076,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 64))
       ->capture_default_str();
   app.add_option("--cutoffs", cutoffs,
-                 "Minimum contributions (a ray's weight in the pixel); default 0,0.001,0.01");
+                 "Minimum contributions (a ray's weight within its sample); default 0,0.001,0.01");
   app.add_option("--rays-max-depth", o.rays_max_depth, "Rays-against-depth sweep: 0..this")
       ->check(CLI::Range(0, 24))
       ->capture_default_str();

@@ -48,7 +48,7 @@ void SceneOptions::add_to(CLI::App* cmd) {
       ->check(CLI::Range(1, 64));
   cmd->add_option("-d,--max-depth", max_depth, "Maximum recursion depth")->check(CLI::Range(0, 64));
   cmd->add_option("--min-contribution", min_contribution,
-                  "Skip secondary rays whose weight is below this")
+                  "Skip secondary rays whose weight within their sample is below this")
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--seed", seed, "Seed of the sample jitter")->check(CLI::Range(0, 2147483647));
   cmd->add_option("-t,--threads", threads, "Threads (0: all)")->check(CLI::Range(0, 1024));

@@ -1,8 +1,8 @@
 // The Whitted integrator (lecture: "Recursive ray tracing"): at each hit, Phong
 // local illumination from every light whose shadow ray is unobstructed, plus
 // mirror reflection and Fresnel-weighted refraction traced recursively up to a
-// maximum depth, skipping secondary rays whose weight in the pixel is below a
-// cutoff.
+// maximum depth, skipping secondary rays whose weight within their sample is
+// below a cutoff.
 //
 // The integrator is a template on a Recorder policy. NullRecorder (kActive ==
 // false) compiles every recording hook away; a recording policy receives the
@@ -20,11 +20,16 @@ namespace rayscope {
 struct RenderSettings {
   int width = 640;
   int height = 480;
-  int samples = 1;                 ///< N: each pixel takes N x N stratified samples.
-  int max_depth = 5;               ///< Maximum recursion depth r (primary rays have depth 0).
-  float min_contribution = 1e-3f;  ///< Secondary rays with a smaller pixel weight are not traced.
-  int threads = 0;                 ///< 0: all hardware threads.
-  uint32_t seed = 0;               ///< Seed of the stratified jitter.
+  int samples = 1;    ///< N: each pixel takes N x N stratified samples.
+  int max_depth = 5;  ///< Maximum recursion depth r (primary rays have depth 0).
+  /// Secondary rays whose weight within their sample (the product of the
+  /// reflection and transmission factors along their path, largest RGB
+  /// component) is smaller are not traced. Per sample, so that the error it
+  /// causes does not grow with the sample count (a ray's weight in the pixel
+  /// is this times 1 / N^2).
+  float min_contribution = 1e-3f;
+  int threads = 0;    ///< 0: all hardware threads.
+  uint32_t seed = 0;  ///< Seed of the stratified jitter.
   int tile_size = 16;
   /// Gather traversal statistics and per-pixel cost AOVs (a separate compiled
   /// path; the plain path has no counting code at all).
@@ -65,9 +70,14 @@ class WhittedIntegrator {
  public:
   WhittedIntegrator(const Scene& scene, const RenderSettings& settings, RayCounters& counters,
                     Recorder& recorder)
-      : scene_(scene), settings_(settings), counters_(counters), rec_(recorder) {}
+      : scene_(scene),
+        settings_(settings),
+        counters_(counters),
+        rec_(recorder),
+        cutoff_(settings.min_contribution / float(settings.samples * settings.samples)) {}
 
-  /// Radiance arriving along `ray`. `weight` is the ray's weight in the pixel.
+  /// Radiance arriving along `ray`. `weight` is the ray's weight in the pixel
+  /// (a primary ray of N x N samples has 1 / N^2).
   /// `first_hit`, when not null, receives the hit of this ray (for AOVs).
   Color trace(const Ray& ray, RayKind kind, int depth, const Color& weight, int parent,
               SurfaceHit* first_hit = nullptr) {
@@ -201,7 +211,7 @@ class WhittedIntegrator {
         return;
       }
       Color cw = weight * w;
-      if (max_component(cw) < settings_.min_contribution) {
+      if (max_component(cw) < cutoff_) {
         counters_.weight_cutoffs++;
         return;
       }
@@ -220,6 +230,8 @@ class WhittedIntegrator {
   const RenderSettings& settings_;
   RayCounters& counters_;
   Recorder& rec_;
+  /// min_contribution as a weight in the pixel: divided by the sample count.
+  const float cutoff_;
 };
 
 }  // namespace rayscope

@@ -69,7 +69,7 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopePass : public vtkRenderPass {
   ///@}
 
   ///@{
-  /// Secondary rays whose weight in the pixel is smaller are skipped (default 1e-3).
+  /// Secondary rays whose weight within their sample is smaller are skipped (default 1e-3).
   vtkSetMacro(MinContribution, double);
   vtkGetMacro(MinContribution, double);
   ///@}

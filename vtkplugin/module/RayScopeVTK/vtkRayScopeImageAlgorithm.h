@@ -93,7 +93,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   ///@}
 
   ///@{
-  /// Secondary rays whose weight in the pixel is smaller are skipped (default 1e-3).
+  /// Secondary rays whose weight within their sample is smaller are skipped (default 1e-3).
   vtkSetMacro(MinContribution, double);
   vtkGetMacro(MinContribution, double);
   ///@}
