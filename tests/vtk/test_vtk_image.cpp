@@ -19,6 +19,8 @@
 #include <vtkMath.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkSphereSource.h>
 #include <vtkUnsignedCharArray.h>
@@ -264,6 +266,36 @@ TEST(VtkImage, RejectsBadParameters) {
   alg->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, pipeline_errors);
   alg->Update();
   EXPECT_GE(errors->count + pipeline_errors->count, 1);
+}
+
+// A point with NaN coordinates: its triangles are left out with one warning
+// naming the input and the problem; the image is still made, without NaN.
+TEST(VtkImage, NonFinitePointsAreSkippedWithAWarning) {
+  vtkNew<vtkSphereSource> s;
+  configure_sphere(s, 0, 0, 0, 0.5, 16);
+  s->Update();
+  vtkNew<vtkPolyData> pd;
+  pd->DeepCopy(s->GetOutput());
+  pd->GetPoints()->SetPoint(3, std::nan(""), 0.0, 0.0);
+  vtkNew<vtkRayScopeImageAlgorithm> alg;
+  alg->AddInputData(pd);
+  alg->SetSize(32, 32);
+  alg->SetPosition(0, 0, 3);
+  vtkNew<ErrorCatcher> warnings, errors;
+  alg->AddObserver(vtkCommand::WarningEvent, warnings);
+  alg->AddObserver(vtkCommand::ErrorEvent, errors);
+  ASSERT_EQ(update(alg), 1);
+  EXPECT_EQ(errors->count, 0);
+  ASSERT_EQ(warnings->count, 1);
+  EXPECT_NE(warnings->last.find("triangles with non-finite vertex coordinates skipped"),
+            std::string::npos)
+      << warnings->last;
+  vtkDataArray* color = alg->GetOutput()->GetPointData()->GetArray("Color");
+  ASSERT_NE(color, nullptr);
+  for (vtkIdType i = 0; i < color->GetNumberOfTuples(); ++i)
+    for (int c = 0; c < color->GetNumberOfComponents(); ++c)
+      ASSERT_TRUE(std::isfinite(color->GetComponent(i, c))) << "pixel " << i;
+  EXPECT_GT(count_object(alg->GetOutput(), 0), 100);  // the rest of the sphere is there
 }
 
 // Changing only the camera re-renders without converting the geometry again;

@@ -680,6 +680,9 @@ int vtkRayScopeImageAlgorithm::BuildScene() {
       vtkErrorMacro(<< "invalid scene: " << e.what());
       return 0;
     }
+    // Input data the scene worked around (non-finite points, normals, colors):
+    // rendered without it, reported once per problem and input.
+    for (const std::string& w : s.summary().warnings) vtkWarningMacro(<< w);
     if (regeometry) {
       in.geometry_inputs = inputs;
       in.geometry_time.Modified();
