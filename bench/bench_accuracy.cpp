@@ -57,6 +57,7 @@ namespace {
 
 using namespace rayscope;
 using rstest::DVec3;
+using rstest::naive_sphere;
 using rstest::Rng;
 using rstest::round_f;
 using rstest::to_f;
@@ -246,7 +247,8 @@ Sample make_sample(Rng& rng, const Cell& cell) {
 }
 
 // ---------------------------------------------------------------------------
-// The naive textbook formulas, in float.
+// The naive textbook formulas, in float (the sphere's, shared with
+// test_intersect, is rstest::naive_sphere in tests/test_util.h).
 
 bool naive_plane(const Ray& r, const Vec3& p0, const Vec3& n, float& t) {
   float denom = glm::dot(r.dir, n);
@@ -271,20 +273,6 @@ bool naive_triangle(const Ray& r, const Vec3& p0, const Vec3& p1, const Vec3& p2
   float v = glm::dot(r.dir, qv) * inv;
   if (v < 0.0f || u + v > 1.0f) return false;
   t = glm::dot(e2, qv) * inv;
-  return t > 0.0f;
-}
-
-bool naive_sphere(const Ray& r, const Vec3& c, float radius, float& t) {
-  Vec3 f = r.origin - c;
-  float a = glm::dot(r.dir, r.dir);
-  float b = 2.0f * glm::dot(f, r.dir);
-  float cc = glm::dot(f, f) - radius * radius;
-  float disc = b * b - 4.0f * a * cc;
-  if (disc < 0.0f) return false;
-  float sq = std::sqrt(disc);
-  t = (-b - sq) / (2.0f * a);
-  if (t > 0.0f) return true;
-  t = (-b + sq) / (2.0f * a);
   return t > 0.0f;
 }
 

@@ -24,6 +24,7 @@ namespace {
 
 using namespace rayscope;
 using rstest::DVec3;
+using rstest::naive_sphere;
 using rstest::Rng;
 using rstest::to_d;
 using rstest::to_f;
@@ -403,22 +404,6 @@ TEST(Triangle, RangeDegenerateAndParallel) {
 
 // ---------------------------------------------------------------------------
 // Spheres
-
-// Textbook quadratic a t^2 + b t + c with b^2 - 4ac in float: the formula the
-// robust version replaces, used below to show that the accuracy tests would
-// catch it.
-bool naive_sphere(const Ray& ray, const Vec3& center, float r, float& t) {
-  Vec3 f = ray.origin - center;
-  float a = glm::dot(ray.dir, ray.dir);
-  float b = 2.0f * glm::dot(f, ray.dir);
-  float c = glm::dot(f, f) - r * r;
-  float disc = b * b - 4.0f * a * c;
-  if (disc < 0.0f) return false;
-  float s = std::sqrt(disc);
-  float t0 = (-b - s) / (2.0f * a), t1 = (-b + s) / (2.0f * a);
-  t = t0 > 0 ? t0 : t1;
-  return t > 0;
-}
 
 struct SphereCase {
   Vec3 c, o, d;

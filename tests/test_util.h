@@ -167,4 +167,21 @@ inline rayscope::Ray random_ray(Rng& rng, const rayscope::Bounds3& world,
   return ray;
 }
 
+/// The textbook ray-sphere test: a t^2 + b t + c = 0 with the discriminant
+/// b^2 - 4ac in float, nearest root with t > 0. The formula RayScope's
+/// intersect_sphere replaces; the accuracy test and bench_accuracy measure it.
+inline bool naive_sphere(const rayscope::Ray& ray, const rayscope::Vec3& center, float r,
+                         float& t) {
+  rayscope::Vec3 f = ray.origin - center;
+  float a = glm::dot(ray.dir, ray.dir);
+  float b = 2.0f * glm::dot(f, ray.dir);
+  float c = glm::dot(f, f) - r * r;
+  float disc = b * b - 4.0f * a * c;
+  if (disc < 0.0f) return false;
+  float s = std::sqrt(disc);
+  float t0 = (-b - s) / (2.0f * a), t1 = (-b + s) / (2.0f * a);
+  t = t0 > 0.0f ? t0 : t1;
+  return t > 0.0f;
+}
+
 }  // namespace rstest
