@@ -9,11 +9,15 @@ void Camera::prepare(int width, int height) {
   if (!all_finite(eye) || !all_finite(look_at) || !all_finite(up))
     throw std::invalid_argument("camera vectors must be finite");
   Vec3 f = look_at - eye;
-  if (glm::dot(f, f) == 0.0f) throw std::invalid_argument("camera eye and look_at coincide");
+  if (f == Vec3(0.0f)) throw std::invalid_argument("eye and look_at coincide");
+  // Rays start at eye and aim at points up to |f| away: beyond ~1.8e19 their
+  // directions overflow (found by fuzz_scene_parser: 6e38 gave NaN rays).
+  if (!std::isfinite(glm::dot(f, f)))
+    throw std::invalid_argument("eye and look_at are too far apart");
   forward_ = glm::normalize(f);
-  Vec3 r = glm::cross(forward_, up);
-  if (glm::dot(r, r) == 0.0f) throw std::invalid_argument("camera up is parallel to the view");
-  right_ = glm::normalize(r);
+  Vec3 r = glm::cross(forward_, up == Vec3(0.0f) ? up : normalize_any_length(up));
+  if (r == Vec3(0.0f)) throw std::invalid_argument("up is zero or parallel to the view direction");
+  right_ = normalize_any_length(r);
   up_ortho_ = glm::cross(right_, forward_);
   float aspect = float(width) / float(height);
   if (parallel) {

@@ -38,15 +38,10 @@ void Scene::commit(const BvhBuildConfig& config) {
   }
   for (Plane& p : planes) {
     check_material(p.material, "plane '" + p.name + "'");
-    if (!all_finite(p.point) || !all_finite(p.normal) || glm::dot(p.normal, p.normal) == 0.0f)
+    if (!all_finite(p.point) || !all_finite(p.normal) || p.normal == Vec3(0.0f))
       throw std::invalid_argument("plane '" + p.name +
                                   "': point and normal must be finite, normal non-zero");
-    // A normal whose squared length overflows (components above ~1.8e19) or is
-    // subnormal would normalise to zero or lose its precision: scale it to a
-    // largest component of 1 first (found by fuzz_scene_parser).
-    if (!std::isnormal(glm::dot(p.normal, p.normal)))
-      p.normal /= std::max({std::abs(p.normal.x), std::abs(p.normal.y), std::abs(p.normal.z)});
-    p.normal = glm::normalize(p.normal);
+    p.normal = normalize_any_length(p.normal);
   }
   for (const Light& l : lights)
     if (!all_finite(l.position) || !all_finite(l.direction) || !all_finite(l.color) ||

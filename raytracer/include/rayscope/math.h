@@ -54,6 +54,14 @@ inline int max_dimension(const Vec3& v) {
 inline bool all_finite(const Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
+/// Unit vector along a finite, non-zero v of any magnitude. glm::normalize
+/// alone returns zero (or loses precision) when v.v overflows or is subnormal
+/// (components above ~1.8e19 or below ~1e-19): v is then first scaled to a
+/// largest component of magnitude 1 (found by fuzz_scene_parser).
+inline Vec3 normalize_any_length(Vec3 v) {
+  if (!std::isnormal(glm::dot(v, v))) v /= std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  return glm::normalize(v);
+}
 inline float luminance(const Color& c) {
   return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
 }

@@ -51,13 +51,13 @@ enum class ObjectType : uint8_t { Mesh, Sphere, Plane };
 /// Everything the integrator needs to know about a ray's closest hit.
 struct SurfaceHit {
   float t = kInfinity;
-  Vec3 p{0.0f};        ///< Hit point.
+  Vec3 p{0.0f};  ///< Hit point.
   /// Per-axis bound on how far p may lie off the exact surface (projected on the
   /// normal, the offset spawn_ray() applies). Not a bound on the distance to the
   /// exact hit point: p may slide along the surface by more (docs/accuracy.md).
   Vec3 p_error{0.0f};
-  Vec3 ng{0.0f};       ///< Unit geometric normal (outward / as wound; not face-forwarded).
-  Vec3 ns{0.0f};       ///< Unit shading normal (interpolated), same side as ng.
+  Vec3 ng{0.0f};  ///< Unit geometric normal (outward / as wound; not face-forwarded).
+  Vec3 ns{0.0f};  ///< Unit shading normal (interpolated), same side as ng.
   uint32_t object = ~0u;
   uint32_t prim = ~0u;  ///< Triangle index within its mesh; 0 for spheres and planes.
   uint32_t material = 0;
