@@ -14,19 +14,6 @@
 
 namespace rayscope {
 
-void RenderSettings::validate() const {
-  auto fail = [](const std::string& s) { throw std::invalid_argument(s); };
-  if (width <= 0 || height <= 0) fail("image size must be positive");
-  if (width > 32768 || height > 32768 || double(width) * height > 268435456.0)
-    fail("image size " + std::to_string(width) + "x" + std::to_string(height) + " is too large");
-  if (samples < 1 || samples > 64) fail("samples must be in 1..64 (N for N x N per pixel)");
-  if (max_depth < 0 || max_depth > 64) fail("max_depth must be in 0..64");
-  if (!std::isfinite(min_contribution) || min_contribution < 0.0f)
-    fail("min_contribution must be finite and >= 0");
-  if (threads < 0 || threads > 1024) fail("threads must be in 0..1024");
-  if (tile_size < 1 || tile_size > 1024) fail("tile_size must be in 1..1024");
-}
-
 namespace {
 // SplitMix64: a small, well-mixed hash for the deterministic jitter.
 uint64_t mix(uint64_t z) {

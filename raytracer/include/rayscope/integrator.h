@@ -6,38 +6,16 @@
 //
 // The integrator is a template on a Recorder policy. NullRecorder (kActive ==
 // false) compiles every recording hook away; a recording policy receives the
-// whole ray tree of a pixel (see recorder.h once it exists).
+// whole ray tree of a pixel (recorder.h).
 #pragma once
 
 #include "rayscope/material.h"
 #include "rayscope/ray.h"
+#include "rayscope/render_settings.h"
 #include "rayscope/scene.h"
 #include "rayscope/stats.h"
 
 namespace rayscope {
-
-/// Settings of a render; every field has a sensible default.
-struct RenderSettings {
-  int width = 640;
-  int height = 480;
-  int samples = 1;    ///< N: each pixel takes N x N stratified samples.
-  int max_depth = 5;  ///< Maximum recursion depth r (primary rays have depth 0).
-  /// Secondary rays whose weight within their sample (the product of the
-  /// reflection and transmission factors along their path, largest RGB
-  /// component) is smaller are not traced. Per sample, so that the error it
-  /// causes does not grow with the sample count (a ray's weight in the pixel
-  /// is this times 1 / N^2).
-  float min_contribution = 1e-3f;
-  int threads = 0;    ///< 0: all hardware threads.
-  uint32_t seed = 0;  ///< Seed of the stratified jitter.
-  int tile_size = 16;
-  /// Gather traversal statistics and per-pixel cost AOVs (a separate compiled
-  /// path; the plain path has no counting code at all).
-  bool statistics = false;
-
-  /// Throws std::invalid_argument naming the first bad field.
-  void validate() const;
-};
 
 /// Details of a refraction event, for recorders.
 struct RefractionEvent {

@@ -1,0 +1,55 @@
+// The settings of a render and their limits. This header owns both: every
+// front end (the JSON scene parser, the rayscope command, the VTK module)
+// checks settings by calling RenderSettings::validate(), and quotes the named
+// limits below instead of writing the numbers again.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+
+namespace rayscope {
+
+/// Settings of a render; every field has a sensible default.
+struct RenderSettings {
+  // --- Limits (inclusive) -------------------------------------------------
+  /// Largest image width or height in pixels.
+  static constexpr int kMaxImageSide = 32768;
+  /// Most pixels in one image (2^28: 1 GiB of 32-bit floats per channel).
+  static constexpr int64_t kMaxPixels = int64_t(1) << 28;
+  /// Largest N of N x N samples per pixel.
+  static constexpr int kMaxSamples = 64;
+  /// Deepest recursion (primary rays have depth 0).
+  static constexpr int kMaxDepth = 64;
+  /// Largest contribution cutoff: a weight within a sample is at most 1.
+  static constexpr float kMaxMinContribution = 1.0f;
+  /// Most worker threads (0 means all hardware threads).
+  static constexpr int kMaxThreads = 1024;
+  /// Largest tile side in pixels.
+  static constexpr int kMaxTileSize = 1024;
+  /// Largest seed: 2^31 - 1, so that the seed fits every front end's integer.
+  static constexpr uint32_t kMaxSeed = 2147483647u;
+
+  // --- Fields -------------------------------------------------------------
+  int width = 640;
+  int height = 480;
+  int samples = 1;    ///< N: each pixel takes N x N stratified samples (1..kMaxSamples).
+  int max_depth = 5;  ///< Maximum recursion depth r (0..kMaxDepth).
+  /// Secondary rays whose weight within their sample (the product of the
+  /// reflection and transmission factors along their path, largest RGB
+  /// component) is smaller are not traced (0..kMaxMinContribution). Per sample,
+  /// so that the error it causes does not grow with the sample count (a ray's
+  /// weight in the pixel is this times 1 / N^2).
+  float min_contribution = 1e-3f;
+  int threads = 0;    ///< 0: all hardware threads.
+  uint32_t seed = 0;  ///< Seed of the stratified jitter (0..kMaxSeed).
+  int tile_size = 16;
+  /// Gather traversal statistics and per-pixel cost AOVs (a separate compiled
+  /// path; the plain path has no counting code at all).
+  bool statistics = false;
+
+  /// Throws std::invalid_argument naming the first bad field, its range and
+  /// the value, e.g. "samples must be in 1..64 (N for N x N per pixel), got 65".
+  void validate() const;
+};
+
+}  // namespace rayscope

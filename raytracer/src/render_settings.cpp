@@ -1,0 +1,39 @@
+#include "rayscope/render_settings.h"
+
+#include <cmath>
+#include <string>
+
+namespace rayscope {
+
+namespace {
+[[noreturn]] void fail(const std::string& s) {
+  throw std::invalid_argument(s);
+}
+std::string range(long long lo, long long hi) {
+  return std::to_string(lo) + ".." + std::to_string(hi);
+}
+}  // namespace
+
+void RenderSettings::validate() const {
+  if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide ||
+      int64_t(width) * int64_t(height) > kMaxPixels)
+    fail("image size " + std::to_string(width) + "x" + std::to_string(height) +
+         " is invalid: width and height must be in " + range(1, kMaxImageSide) + ", at most " +
+         std::to_string(kMaxPixels) + " pixels");
+  if (samples < 1 || samples > kMaxSamples)
+    fail("samples must be in " + range(1, kMaxSamples) + " (N for N x N per pixel), got " +
+         std::to_string(samples));
+  if (max_depth < 0 || max_depth > kMaxDepth)
+    fail("max_depth must be in " + range(0, kMaxDepth) + ", got " + std::to_string(max_depth));
+  if (!(min_contribution >= 0.0f && min_contribution <= kMaxMinContribution))
+    fail("min_contribution must be in [0, 1], got " + std::to_string(min_contribution));
+  if (threads < 0 || threads > kMaxThreads)
+    fail("threads must be in " + range(0, kMaxThreads) + " (0: all), got " +
+         std::to_string(threads));
+  if (seed > kMaxSeed)
+    fail("seed must be in " + range(0, kMaxSeed) + ", got " + std::to_string(seed));
+  if (tile_size < 1 || tile_size > kMaxTileSize)
+    fail("tile_size must be in " + range(1, kMaxTileSize) + ", got " + std::to_string(tile_size));
+}
+
+}  // namespace rayscope
