@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "rayscope/recorder.h"
+#include "rayscope/replay.h"
 #include "rayscope/render.h"
 #include "rayscope/shapes.h"
 #include "rayscope/vtk_mesh.h"
@@ -156,11 +156,11 @@ int main(int argc, char** argv) {
     tiny.planes = lean.planes;
     tiny.spheres.assign(all.begin(), all.begin() + long(n));
     tiny.lights = make_default_scene().lights;
-    tiny.allow_brute_force = true;
     Scene tiny_bvh = tiny;
-    tiny_bvh.allow_brute_force = false;
     tiny.commit();
-    tiny_bvh.commit();
+    AccelConfig always_bvh;
+    always_bvh.allow_brute_force = false;
+    tiny_bvh.commit(always_bvh);
     std::string what = std::to_string(n) + (tiny.summary().bvh_used ? " spheres: BVH (default)"
                                                                     : " spheres: no BVH vs BVH");
     compare(what.c_str(), tiny, tiny_bvh);

@@ -6,7 +6,8 @@
 #include <vector>
 
 #include "commands.h"
-#include "rayscope/recorder.h"
+#include "rayscope/raytree_format.h"
+#include "rayscope/replay.h"
 #include "scene_options.h"
 
 namespace rayscope::cli {
@@ -44,7 +45,7 @@ int run_inspect(const InspectOptions& o) {
   for (const std::string& w : loaded.scene.summary().warnings)
     std::fprintf(stderr, "rayscope: warning: %s: %s\n",
                  o.scene.scene.empty() ? "default scene" : o.scene.scene.c_str(), w.c_str());
-  prepare_for_replay(loaded.scene, loaded.settings);
+  prepare_frame(loaded.scene, loaded.settings);
   std::vector<PixelRecord> records;
   for (const glm::ivec2& p : pixels)
     records.push_back(record_pixel(loaded.scene, loaded.settings, p.x, p.y, o.sample));

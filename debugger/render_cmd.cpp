@@ -43,11 +43,14 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
   std::printf("Image:     %dx%d, %dx%d samples per pixel, max depth %d, %d threads\n", rs.width,
               rs.height, rs.samples, rs.samples, rs.max_depth,
               rs.threads > 0 ? rs.threads : int(std::thread::hardware_concurrency()));
+  const Aggregate& accel = scene.accel();
   std::printf(
-      "BVH:       %u nodes, %u leaves, depth %u, %.1f prims/leaf, SAH cost %.2f, %.2f MiB, "
-      "built in %.3f s\n",
-      q.nodes, q.leaves, q.depth, q.mean_leaf_prims, q.sah_cost,
-      double(q.memory_bytes) / (1024.0 * 1024.0), build_s);
+      "BVH:       %u nodes, %u leaves, depth %u, %.1f prims/leaf, SAH cost %.2f, built in %.3f "
+      "s\n",
+      q.nodes, q.leaves, q.depth, q.mean_leaf_prims, q.sah_cost, build_s);
+  std::printf("Walk:      %s: %zu %d-wide nodes, depth %u; %.2f MiB held in all\n",
+              to_string(accel.kind()), accel.walk().nodes.size(), accel.walk().arity(),
+              accel.walk().depth(), double(accel.memory_bytes()) / (1024.0 * 1024.0));
   std::printf("%-22s %14s\n", "Rays", "count");
   for (int k = 0; k < kRayKindCount; ++k)
     std::printf("  %-20s %14llu\n", to_string(RayKind(k)), (unsigned long long)c.rays[size_t(k)]);
@@ -120,7 +123,7 @@ void print_explain(const Scene& scene, const RenderSettings& rs, const RayCounte
     std::printf(
         "- BVH: skipped; %zu bounded primitives (<= %zu) are tested directly, which is "
         "cheaper than walking a hierarchy\n",
-        bounded, Scene::kBruteForceMax);
+        bounded, Aggregate::kBruteForceMax);
   if (s.planes) std::printf("- planes: %zu unbounded, tested outside the BVH\n", s.planes);
   if (s.degenerate_triangles || s.skipped_triangles)
     std::printf(

@@ -1,10 +1,10 @@
-// Ray trees, statistics and "render only what the scene needs" (issue 3).
+// Ray trees, statistics and "render only what the scene needs".
 #include <gtest/gtest.h>
 
 #include <cstring>
 
-#include "rayscope/recorder.h"
 #include "rayscope/render.h"
+#include "rayscope/replay.h"
 #include "rayscope/shapes.h"
 
 using namespace rayscope;
@@ -77,7 +77,7 @@ TEST(RayTree, TreeStructure) {
   Scene scene = make_default_scene();
   scene.commit();
   RenderSettings rs = small(64, 48, 2);
-  prepare_for_replay(scene, rs);
+  prepare_frame(scene, rs);
   for (auto [x, y] : {std::pair{20, 25}, {40, 30}, {32, 20}, {10, 40}}) {
     PixelRecord rec = record_pixel(scene, rs, x, y);
     Color sum(0.0f);
@@ -108,46 +108,6 @@ TEST(RayTree, TreeStructure) {
   EXPECT_THROW(record_pixel(scene, rs, 64, 0), std::out_of_range);
   EXPECT_THROW(record_pixel(scene, rs, 0, -1), std::out_of_range);
   EXPECT_THROW(record_pixel(scene, rs, 0, 0, 4), std::out_of_range);
-}
-
-// Per-ray traversal records agree with the statistics policy's per-pixel cost.
-TEST(RayTree, TraversalRecordsMatchStatistics) {
-  Scene scene = make_default_scene();
-  scene.commit();
-  RenderSettings rs = small(48, 36, 1);
-  rs.statistics = true;
-  RayCounters counters;
-  Framebuffer fb = render(scene, rs, &counters);
-  ASSERT_EQ(fb.cost.size(), fb.color.size());
-  uint64_t rays = 0, nodes = 0, prims = 0, boxes = 0;
-  for (int y = 0; y < rs.height; ++y)
-    for (int x = 0; x < rs.width; ++x) {
-      PixelRecord rec = record_pixel(scene, rs, x, y);
-      uint32_t n = 0, p = 0, b = 0;
-      for (const RayRecord& r : rec.rays) {
-        n += uint32_t(r.traversal.nodes.size());
-        p += r.traversal.prims_tested;
-        b += r.traversal.boxes_tested;
-      }
-      const PixelCost& c = fb.cost[fb.index(x, y)];
-      ASSERT_EQ(c.rays, rec.rays.size());
-      ASSERT_EQ(c.nodes, n);
-      ASSERT_EQ(c.prims, p);
-      ASSERT_EQ(c.boxes, b);
-      rays += c.rays;
-      nodes += c.nodes;
-      prims += c.prims;
-      boxes += c.boxes;
-    }
-  EXPECT_EQ(rays, counters.total_rays());
-  EXPECT_EQ(nodes, counters.nodes_visited);
-  EXPECT_EQ(prims, counters.prims_tested);
-  EXPECT_EQ(boxes, counters.boxes_tested);
-  // The statistics path renders the same image as the plain one.
-  RenderSettings plain = rs;
-  plain.statistics = false;
-  Framebuffer fb2 = render(scene, plain);
-  ASSERT_EQ(0, std::memcmp(fb.color.data(), fb2.color.data(), fb.color.size() * sizeof(Color)));
 }
 
 // A diffuse scene without lights traces exactly width x height x spp rays.

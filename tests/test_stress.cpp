@@ -42,7 +42,7 @@
 #include <tbb/parallel_for.h>
 
 #include "rayscope/image.h"
-#include "rayscope/recorder.h"
+#include "rayscope/replay.h"
 #include "rayscope/render.h"
 #include "rayscope/scene.h"
 #include "rayscope/shapes.h"
@@ -996,7 +996,7 @@ TEST(Dielectrics, NestedSpheresRenderWithoutNaNOrEnergyGain) {
   rs.samples = 2;
   rs.max_depth = 16;
   rs.min_contribution = 1e-4f;
-  prepare_for_replay(s, rs);
+  prepare_frame(s, rs);
   size_t bad = 0, rays = 0;
   const int step = stress_scale() >= 0.5 ? 3 : 9;
   for (int y = 1; y < h; y += step)

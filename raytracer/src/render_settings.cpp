@@ -15,11 +15,13 @@ std::string range(long long lo, long long hi) {
 }  // namespace
 
 void RenderSettings::validate() const {
-  if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide ||
+  const std::string size = std::to_string(width) + "x" + std::to_string(height);
+  if (width < 1 || height < 1)
+    fail("image size " + size + " is invalid: width and height must be at least 1");
+  if (width > kMaxImageSide || height > kMaxImageSide ||
       int64_t(width) * int64_t(height) > kMaxPixels)
-    fail("image size " + std::to_string(width) + "x" + std::to_string(height) +
-         " is invalid: width and height must be in " + range(1, kMaxImageSide) + ", at most " +
-         std::to_string(kMaxPixels) + " pixels");
+    fail("image size " + size + " is too large: at most " + std::to_string(kMaxImageSide) +
+         " pixels per side and " + std::to_string(kMaxPixels) + " pixels in all");
   if (samples < 1 || samples > kMaxSamples)
     fail("samples must be in " + range(1, kMaxSamples) + " (N for N x N per pixel), got " +
          std::to_string(samples));

@@ -7,7 +7,7 @@
 
 namespace rayscope {
 
-void Scene::commit(const BvhBuildConfig& config) {
+void Scene::commit(const AccelConfig& config) {
   if (materials.empty()) throw std::invalid_argument("scene has no materials");
   auto check_material = [&](uint32_t m, const std::string& what) {
     if (m >= materials.size())
@@ -95,24 +95,18 @@ void Scene::commit(const BvhBuildConfig& config) {
     centroids.push_back(s.center);
     ids.push_back(ntri + uint32_t(si));
   }
-  bvh_.build(bounds, centroids, config);
-  bvh4_.build(bvh_);
-
-  prims_.resize(ids.size());
-  for (size_t i = 0; i < bvh_.prim_indices.size(); ++i) {
-    uint32_t id = ids[bvh_.prim_indices[i]];
-    PrimRecord& r = prims_[i];
+  std::vector<PrimRecord> records(ids.size());
+  for (size_t i = 0; i < ids.size(); ++i) {
+    const uint32_t id = ids[i];
+    PrimRecord& r = records[i];
     r.id = id;
     r.pad = 0;
     if (id < ntri) {
-      size_t mi = size_t(std::upper_bound(tri_offsets_.begin(), tri_offsets_.end(), id) -
-                         tri_offsets_.begin()) -
-                  1;
-      const TriangleMesh& m = meshes[mi];
-      const glm::uvec3& t = m.triangles[id - tri_offsets_[mi]];
-      r.a = m.positions[t.x];
-      r.b = m.positions[t.y];
-      r.c = m.positions[t.z];
+      const uint32_t mi = prim_object(id);
+      const glm::uvec3& t = meshes[mi].triangles[id - tri_offsets_[mi]];
+      r.a = meshes[mi].positions[t.x];
+      r.b = meshes[mi].positions[t.y];
+      r.c = meshes[mi].positions[t.z];
     } else {
       const Sphere& s = spheres[id - ntri];
       r.a = s.center;
@@ -120,9 +114,11 @@ void Scene::commit(const BvhBuildConfig& config) {
       r.c = Vec3(0.0f);
     }
   }
+  std::vector<PlaneRecord> plane_records;
+  for (const Plane& p : planes) plane_records.push_back({p.point, p.normal});
+  accel_.build(bounds, centroids, records, ntri, std::move(plane_records), config);
 
-  use_bvh_ = !allow_brute_force || prims_.size() > kBruteForceMax;
-  summary_.bvh_used = use_bvh_;
+  summary_.bvh_used = accel_.walks_structure();
   summary_.triangles = ntri - summary_.skipped_triangles;
   summary_.spheres = spheres.size();
   summary_.planes = planes.size();
@@ -173,7 +169,7 @@ SurfaceHit Scene::surface_hit(const Ray& ray, const PrimHit& ph) const {
     hit.material = pl.material;
     return hit;
   }
-  const PrimRecord& r = prims_[ph.record];
+  const PrimRecord& r = accel_.records()[ph.record];
   const TriangleHit th{t, ph.b0, ph.b1, ph.b2};
   if (r.id < num_triangles_) {
     uint32_t mi = prim_object(r.id);

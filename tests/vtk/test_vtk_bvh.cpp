@@ -164,7 +164,7 @@ TEST(VtkBVH, LevelsCountsAndSAH) {
   // The root holds every primitive.
   const std::vector<Box> boxes = boxes_of(all, 12);
   EXPECT_EQ(boxes[0].node, 0);
-  EXPECT_EQ(size_t(boxes[0].count), scene->prim_records().size());
+  EXPECT_EQ(size_t(boxes[0].count), scene->accel().records().size());
 
   bvh->SetLevelRange(2, 3);
   bvh->GenerateFacesOn();

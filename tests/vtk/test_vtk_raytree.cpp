@@ -24,7 +24,8 @@
 #include <vtkSphereSource.h>
 #include <vtkStringArray.h>
 
-#include "rayscope/recorder.h"
+#include "rayscope/raytree_format.h"
+#include "rayscope/replay.h"
 #include "rayscope/render.h"
 #include "rayscope/scene.h"
 #include "vtkRayScopeImageAlgorithm.h"

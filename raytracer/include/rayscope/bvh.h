@@ -1,20 +1,13 @@
-// Bounding volume hierarchy (lecture: "Spatial data structures").
+// Bounding volume hierarchy (lecture: "Spatial data structures"): the binned
+// SAH builder and the binary tree it makes.
 //
 // The builder knows nothing about geometry: it takes one bounding box and one
 // centroid per primitive and returns a flat array of 32-byte nodes plus the
-// permutation of primitive indices the leaves refer to. Traversal is a template
-// with two hooks: a leaf function supplied by the caller (which intersects the
-// primitives) and an observer that sees every node visit, box test and
-// early-terminated node. The default observer is empty and compiled out, so
-// recording and statistics cost nothing unless a caller asks for them.
-//
-// For tracing, Scene collapses this hierarchy into a 4-wide one (bvh4.h) and
-// walks that when nobody observes; observed queries (ray-tree recording,
-// statistics, cost AOVs) walk this binary hierarchy, so the node ids, box tests
-// and culls they report are those of Bvh::nodes, as visualised. Both walks
-// return the same hit (see Scene::intersect). Bvh4::traverse has the same
-// observer hooks; it reports binary node ids too (the top binary node of each
-// wide node, and the leaves), and one box test per child box it tests.
+// permutation of primitive indices the leaves refer to. This binary tree is the
+// hierarchy RayScope builds, measures (quality()) and shows: its node ids are
+// the ones every walk reports to observers and the VTK sources draw. Rays walk
+// it through WideBvh (wide_bvh.h), which collapses it into nodes of up to four
+// children for rendering, or of exactly two for the teaching walk.
 #pragma once
 
 #include <cstdint>
@@ -65,16 +58,6 @@ struct BvhQuality {
   size_t memory_bytes = 0;
 };
 
-/// Hooks that traversal calls. An observer with kActive == false is never
-/// called, so an empty observer costs nothing.
-struct NullTraversalObserver {
-  static constexpr bool kActive = false;
-  void on_node(uint32_t /*node*/) {}
-  void on_box_test() {}
-  void on_cull(uint32_t /*node*/) {}
-  void on_prim_test(uint32_t /*prim*/) {}
-};
-
 class Bvh {
  public:
   /// Builds the hierarchy. bounds.size() == centroids.size() primitives; an
@@ -85,68 +68,6 @@ class Bvh {
   bool empty() const { return nodes.empty(); }
   Bounds3 bounds() const { return empty() ? Bounds3() : nodes[0].bounds(); }
   BvhQuality quality() const;
-
-  /// Walks the nodes the ray [origin, origin + tmax * dir] can reach, nearer child
-  /// first. `leaf(first, count, tmax)` tests the primitives prim_indices[first ..
-  /// first + count) and returns true on a hit, lowering tmax to the hit distance.
-  /// With AnyHit the walk stops at the first hit (shadow rays); otherwise it
-  /// skips every node whose entry distance is beyond the closest hit so far
-  /// (early termination; "beyond" by more than the box test's rounding margin
-  /// kBoxFarScale, so that the decision does not depend on whether a node is
-  /// tested before or after the hit is found). Returns whether anything was hit.
-  template <bool AnyHit, class Observer, class LeafFn>
-  bool traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs) const {
-    if (nodes.empty()) return false;
-    const Vec3 inv_dir = 1.0f / ray.dir;
-    struct Entry {
-      uint32_t node;
-      float tnear;
-    };
-    Entry stack[64];
-    int sp = 0;
-    if constexpr (Observer::kActive) obs.on_box_test();
-    float troot = intersect_box(nodes[0].lo, nodes[0].hi, ray.origin, inv_dir, tmax);
-    if (troot == kInfinity) return false;
-    uint32_t current = 0;
-    bool hit = false;
-    for (;;) {
-      const BvhNode& n = nodes[current];
-      if constexpr (Observer::kActive) obs.on_node(current);
-      if (n.is_leaf()) {
-        if (leaf(n.index, n.count, tmax)) {
-          hit = true;
-          if constexpr (AnyHit) return true;
-        }
-      } else {
-        uint32_t c0 = n.index, c1 = n.index + 1;
-        if constexpr (Observer::kActive) {
-          obs.on_box_test();
-          obs.on_box_test();
-        }
-        float d0 = intersect_box(nodes[c0].lo, nodes[c0].hi, ray.origin, inv_dir, tmax);
-        float d1 = intersect_box(nodes[c1].lo, nodes[c1].hi, ray.origin, inv_dir, tmax);
-        if (d1 < d0) {
-          std::swap(d0, d1);
-          std::swap(c0, c1);
-        }
-        if (d0 != kInfinity) {
-          if (d1 != kInfinity) stack[sp++] = {c1, d1};
-          current = c0;
-          continue;
-        }
-      }
-      // Pop the next node that can still hold a closer hit.
-      for (;;) {
-        if (sp == 0) return hit;
-        Entry e = stack[--sp];
-        if (e.tnear <= tmax * kBoxFarScale) {
-          current = e.node;
-          break;
-        }
-        if constexpr (Observer::kActive) obs.on_cull(e.node);
-      }
-    }
-  }
 
   std::vector<BvhNode> nodes;          ///< nodes[0] is the root.
   std::vector<uint32_t> prim_indices;  ///< Leaf order -> primitive index.

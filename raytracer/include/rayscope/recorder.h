@@ -1,22 +1,27 @@
 // Ray-tree recording: every ray traced for a pixel (primary, shadow, reflection,
 // refraction) with its hit, normals, ids, optics, weight, returned color and the
-// BVH nodes it visited. The recorder is a policy of the integrator template;
-// renders use NullRecorder, so none of this costs anything unless a pixel is
-// replayed with record_pixel().
+// walk it made through the acceleration structure. The recorder is a policy of
+// the integrator template; renders use NullRecorder, so none of this costs
+// anything unless a pixel is replayed (replay.h). Text and JSON forms of a
+// recorded tree: raytree_format.h.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "rayscope/image.h"
 #include "rayscope/integrator.h"
 #include "rayscope/scene.h"
 
 namespace rayscope {
 
-/// How one ray walked the BVH.
+/// How one ray walked the acceleration structure: the walk renders do (the
+/// 4-wide BVH by default), named by the binary BVH's node ids.
 struct TraversalRecord {
-  std::vector<uint32_t> nodes;  ///< Node ids in the order visited.
+  /// Nodes entered, in order (a 4-wide node is named by the binary node at its
+  /// top; its children's boxes are tested together).
+  std::vector<uint32_t> nodes;
+  /// Boxes tested against the ray: the root's, then every child box of each
+  /// entered node, hit or missed (so usually more than the nodes entered).
   uint32_t boxes_tested = 0;
   uint32_t prims_tested = 0;
   uint32_t culled = 0;  ///< Nodes skipped because a closer hit was already found.
@@ -66,13 +71,14 @@ class RayTreeRecorder {
 
   std::vector<RayRecord> rays;
 
-  struct Observer {
+  struct Observer : TraversalHooks {
     static constexpr bool kActive = true;
-    TraversalRecord* rec;
+    TraversalRecord* rec;  ///< Null for rays of samples that are not recorded.
+    explicit Observer(TraversalRecord* r) : rec(r) {}
     void on_node(uint32_t node) {
       if (rec) rec->nodes.push_back(node);
     }
-    void on_box_test() {
+    void on_box_test(uint32_t, bool) {
       if (rec) rec->boxes_tested++;
     }
     void on_cull(uint32_t) {
@@ -152,28 +158,5 @@ struct PixelRecord {
   Color color{0.0f};  ///< The pixel's color, exactly as in a full render.
   std::vector<RayRecord> rays;
 };
-
-/// Replays pixel (x, y) of a render with these settings, recording its ray tree
-/// (one sample, or all with sample == -1). scene.camera must be prepared for the
-/// settings' image size (render() and prepare_for_replay() do that). Throws
-/// std::out_of_range for a pixel or sample outside the image.
-PixelRecord record_pixel(const Scene& scene, const RenderSettings& settings, int x, int y,
-                         int sample = -1);
-
-/// Renders the whole image exactly like render() and, in the same pass, records
-/// the full ray trees (all samples) of the listed pixels into `records` (one per
-/// listed pixel, in order). With an empty list, recording is present but idle.
-/// Throws std::out_of_range for a pixel outside the image.
-Framebuffer render_and_record(Scene& scene, const RenderSettings& settings,
-                              const std::vector<glm::ivec2>& pixels,
-                              std::vector<PixelRecord>& records, RayCounters* counters = nullptr);
-
-/// Validates settings and prepares the camera, as render() does before tracing.
-void prepare_for_replay(Scene& scene, const RenderSettings& settings);
-
-/// The ray tree as indented text, one ray per line with its details.
-std::string format_text(const PixelRecord& rec, const Scene& scene);
-/// The ray tree as JSON (for tools and the VTK module).
-std::string format_json(const PixelRecord& rec, const Scene& scene, int indent = 2);
 
 }  // namespace rayscope

@@ -1,11 +1,15 @@
-// Parallel tile rendering with TBB. Each pixel depends only on its coordinates,
-// the settings and the seed, so the image is bit-identical for any thread count.
+// Rendering an image: a pixel's samples through the integrator (render_pixel,
+// the body of the frame loop in frame.h), and render(), the frame loop with
+// the plain or the statistics policy. Each pixel depends only on its
+// coordinates, the settings and the seed, so the image is bit-identical for any
+// thread count.
 #pragma once
 
 #include <functional>
 
 #include "rayscope/image.h"
 #include "rayscope/integrator.h"
+#include "rayscope/render_settings.h"
 #include "rayscope/scene.h"
 #include "rayscope/stats.h"
 
@@ -17,9 +21,18 @@ using ProgressFn = std::function<void(size_t done, size_t total)>;
 
 /// Image-plane position of sample k (0 <= k < N*N) of pixel (x, y): the center of
 /// the pixel for N == 1, else a jittered point in stratum k of an N x N grid.
+/// Pixel (0, 0) is the top-left pixel.
 Vec2 sample_position(int x, int y, int k, int n, uint32_t seed);
 
-/// Renders the committed scene. Prepares scene.camera for the image size.
+/// What every frame needs first: validates the settings (the one
+/// RenderSettings::validate()) and prepares scene.camera for the image size.
+/// render(), render_and_record() and the replay of a pixel call it; a caller
+/// that runs the frame loop itself (render_frame) calls it once before.
+void prepare_frame(Scene& scene, const RenderSettings& settings);
+
+/// Renders the committed scene: prepare_frame(), then the frame loop, with the
+/// statistics policy (per-pixel cost AOVs and traversal counters) when
+/// settings.statistics is set. Throws std::invalid_argument for bad settings.
 Framebuffer render(Scene& scene, const RenderSettings& settings, RayCounters* counters = nullptr,
                    const ProgressFn& progress = {});
 
@@ -36,7 +49,9 @@ decltype(auto) with_scene_features(const Scene& scene, F&& f) {
   return f.template operator()<false, false>();
 }
 
-/// Renders one pixel exactly as render() does (same samples, same color).
+/// One pixel, all its samples: what the frame loop does per pixel, so a pixel
+/// rendered alone (replayed) has exactly the color it has in the frame.
+/// `first_hit` receives the first sample's primary hit (for the AOVs).
 template <class Recorder = NullRecorder, bool kShadows = true, bool kSecondary = true>
 Color render_pixel(const Scene& scene, const RenderSettings& settings, int x, int y,
                    RayCounters& counters, Recorder& recorder, SurfaceHit* first_hit = nullptr,

@@ -8,8 +8,8 @@
 #include <array>
 #include <cstdint>
 
-#include "rayscope/bvh.h"
 #include "rayscope/ray.h"
+#include "rayscope/traversal.h"
 
 namespace rayscope {
 
@@ -65,11 +65,12 @@ struct StatsRecorder {
   static constexpr bool kActive = true;
   PixelCost cost;
 
-  struct Observer {
+  struct Observer : TraversalHooks {
     static constexpr bool kActive = true;
     PixelCost* c;
+    explicit Observer(PixelCost* cost) : c(cost) {}
     void on_node(uint32_t) { c->nodes++; }
-    void on_box_test() { c->boxes++; }
+    void on_box_test(uint32_t, bool) { c->boxes++; }
     void on_cull(uint32_t) { c->culled++; }
     void on_prim_test(uint32_t) { c->prims++; }
   };

@@ -1,15 +1,11 @@
 #include "vtkRayScopeBVHSource.h"
 
 #include <algorithm>
-#include <atomic>
 #include <exception>
 #include <thread>
 #include <vector>
 
-#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -25,8 +21,8 @@
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
 
-#include "rayscope/recorder.h"
-#include "rayscope/render.h"
+#include "rayscope/frame.h"
+#include "rayscope/replay.h"
 #include "rayscope/scene.h"
 #include "vtkRayScopeImageAlgorithm.h"
 
@@ -56,18 +52,16 @@ vtkMTimeType vtkRayScopeBVHSource::GetMTime() {
 
 namespace {
 
-// Integrator policy that counts node visits per BVH node (whole-frame counts).
+// Integrator recorder that counts node visits per binary BVH node.
 struct NodeVisitRecorder {
   static constexpr bool kActive = true;
   std::vector<uint32_t>* counts;
 
-  struct Observer {
+  struct Observer : rayscope::TraversalHooks {
     static constexpr bool kActive = true;
     std::vector<uint32_t>* c;
+    explicit Observer(std::vector<uint32_t>* counts) : c(counts) {}
     void on_node(uint32_t node) { (*c)[node]++; }
-    void on_box_test() {}
-    void on_cull(uint32_t) {}
-    void on_prim_test(uint32_t) {}
   };
   void begin_sample(int) {}
   int begin_ray(rayscope::RayKind, const rayscope::Ray&, int, const rayscope::Color&, int) {
@@ -80,38 +74,31 @@ struct NodeVisitRecorder {
   void end_ray(int, const rayscope::Color&) {}
 };
 
-// Node visits of every ray of the image, rendered exactly like render() (same
-// samples, same rays), counted per thread and summed.
+// Frame policy: every pixel with a NodeVisitRecorder on its thread's counts.
+struct NodeVisitPolicy : rayscope::FramePolicy {
+  using Recorder = NodeVisitRecorder;
+  tbb::enumerable_thread_specific<std::vector<uint32_t>> local;
+  explicit NodeVisitPolicy(size_t nodes) : local([nodes] { return std::vector<uint32_t>(nodes); }) {}
+  NodeVisitRecorder recorder() { return NodeVisitRecorder{&local.local()}; }
+  void finish(size_t, NodeVisitRecorder&, rayscope::RayCounters&, rayscope::Framebuffer&) {}
+};
+
+// Node visits of every ray of the image: the frame loop of render() (same
+// samples, same rays, same walk) with the visit-counting policy, summed over
+// threads. Progress is reported from the calling thread only (VTK observers
+// expect it there).
 std::vector<uint32_t> frame_visits(const rayscope::Scene& scene,
                                    const rayscope::RenderSettings& settings,
                                    vtkRayScopeBVHSource* self) {
   const size_t nnodes = scene.bvh().nodes.size();
-  tbb::enumerable_thread_specific<std::vector<uint32_t>> local(
-      [&] { return std::vector<uint32_t>(nnodes, 0u); });
-  const int threads =
-      settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(threads);
+  NodeVisitPolicy policy(nnodes);
   const std::thread::id caller = std::this_thread::get_id();
-  std::atomic<int> rows_done{0};
-  arena.execute([&] {
-    rayscope::with_scene_features(scene, [&]<bool kShadows, bool kSecondary>() {
-      tbb::parallel_for(tbb::blocked_range<int>(0, settings.height), [&](const auto& r) {
-        std::vector<uint32_t>& counts = local.local();
-        NodeVisitRecorder rec{&counts};
-        rayscope::RayCounters counters;
-        for (int y = r.begin(); y != r.end(); ++y) {
-          for (int x = 0; x < settings.width; ++x)
-            rayscope::render_pixel<NodeVisitRecorder, kShadows, kSecondary>(scene, settings, x, y,
-                                                                            counters, rec);
-          const int d = ++rows_done;
-          if (std::this_thread::get_id() == caller)
-            self->UpdateProgress(0.9 * double(d) / double(settings.height));
-        }
-      });
-    });
+  rayscope::render_frame(scene, settings, policy, nullptr, [&](size_t done, size_t total) {
+    if (std::this_thread::get_id() == caller)
+      self->UpdateProgress(0.9 * double(done) / double(total));
   });
   std::vector<uint32_t> total(nnodes, 0u);
-  for (const auto& counts : local)
+  for (const auto& counts : policy.local)
     for (size_t i = 0; i < nnodes; ++i) total[i] += counts[i];
   return total;
 }
@@ -286,7 +273,7 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector**,
   cd->SetActiveScalars("Level");
 
   vtkFieldData* fd = output->GetFieldData();
-  const auto& prims = scene.prim_records();
+  const auto& prims = scene.accel().records();
   auto leaf_ids = make<vtkIntArray>("LeafPrimitiveIds", vtkIdType(prims.size()));
   for (size_t k = 0; k < prims.size(); ++k) leaf_ids->SetValue(vtkIdType(k), int(prims[k].id));
   fd->AddArray(leaf_ids);

@@ -44,7 +44,7 @@
 #include "vtkWeakPointer.h"
 
 #include "rayscope/image.h"
-#include "rayscope/recorder.h"
+#include "rayscope/replay.h"
 #include "rayscope/render.h"
 #include "rayscope/scene.h"
 #include "vtkRayScopeColor.h"
@@ -697,7 +697,7 @@ int vtkRayScopeImageAlgorithm::BuildScene() {
   s.background = linear_color(this->Background);
   s.ambient_light = linear_color(this->AmbientLight);
   try {
-    rayscope::prepare_for_replay(s, this->GetRenderSettings());
+    rayscope::prepare_frame(s, this->GetRenderSettings());
   } catch (const std::exception& e) {
     vtkErrorMacro(<< "invalid camera or settings: " << e.what());
     return 0;

@@ -21,7 +21,7 @@
 #include "vtkStringArray.h"
 #include "vtkUnsignedCharArray.h"
 
-#include "rayscope/recorder.h"
+#include "rayscope/replay.h"
 #include "rayscope/render.h"
 #include "rayscope/scene.h"
 #include "vtkRayScopeImageAlgorithm.h"

@@ -1,13 +1,17 @@
-// 4-wide bounding volume hierarchy, collapsed from the binary one (bvh.h).
+// The walk of the BVH: the binary tree (bvh.h) collapsed into nodes of up to
+// four children, whose boxes are stored per axis and bound so that one SSE
+// instruction computes one slab of all four boxes.
 //
-// The binary hierarchy is what RayScope builds, tests and visualises; for
-// tracing it is collapsed into nodes of up to four children (each wide node
-// replaces a binary node and up to two levels of its descendants), whose boxes
-// are stored per axis and bound so that one SSE instruction computes one slab
-// of all four boxes. A wide node costs one visit and one 4-box test instead of
-// up to three visits with two scalar box tests each, and the tree has about
-// half the levels. The leaves are the binary leaves, unchanged, so the leaf
-// function of Bvh::traverse works here as it is.
+// This is the one BVH traversal in RayScope. Renders walk the tree collapsed
+// with arity 4 (AccelKind::Bvh): each wide node replaces a binary node and up to
+// two levels of its descendants, so a wide node costs one visit and one 4-box
+// test instead of up to three visits with two scalar box tests each, and the
+// tree has about half the levels. The teaching walk (AccelKind::BinaryBvh) is
+// the same code on the tree collapsed with arity 2: every wide node is then
+// exactly one binary node, and the walk is the lecture's binary walk, node by
+// node. The leaves are the binary leaves, unchanged.
+//
+// Observers see binary node ids either way (see traverse()).
 //
 // The box test is intersect_box() exactly, four lanes at a time: same
 // sign-selected planes, same operations in the same order, NaN ignored the same
@@ -26,64 +30,76 @@
 #endif
 
 #include "rayscope/bvh.h"
+#include "rayscope/traversal.h"
 
 namespace rayscope {
 
-/// One node of the 4-wide hierarchy (128 bytes, two cache lines): the boxes of
-/// up to four children, one array of four floats per axis and bound.
-struct alignas(64) Bvh4Node {
+/// One node of the wide hierarchy (128 bytes, two cache lines): the boxes of up
+/// to four children, one array of four floats per axis and bound.
+struct alignas(64) WideBvhNode {
   /// Set in `child` for a leaf child: the low bits are then the offset of its
   /// first primitive in Bvh::prim_indices, and `count` the number of them.
   static constexpr uint32_t kLeaf = 0x80000000u;
 
   float lo_x[4], hi_x[4], lo_y[4], hi_y[4], lo_z[4], hi_z[4];
-  /// Inner child: index of its Bvh4Node. Leaf child: kLeaf | first primitive.
+  /// Inner child: index of its WideBvhNode. Leaf child: kLeaf | first primitive.
   /// Empty slot (nodes with fewer than four children; always the last slots):
   /// kLeaf with count 0 and an empty box (lo = +inf, hi = -inf) that no ray
   /// with a finite origin hits.
   uint32_t child[4];
   uint32_t count[4];  ///< Primitives of a leaf child; 0 for inner children and empty slots.
 };
-static_assert(sizeof(Bvh4Node) == 128);
+static_assert(sizeof(WideBvhNode) == 128);
 
-class Bvh4 {
+class WideBvh {
  public:
+  /// Most children per node (the SSE box test's width).
+  static constexpr int kMaxArity = 4;
   /// Entries of the traversal stack. A wide node pushes at most three children,
   /// so a walk needs at most 3 * depth() entries; build() checks that the
   /// collapsed tree fits (Bvh's builder caps the binary depth at 64 levels, and
   /// the wide tree is never deeper than the binary one).
   static constexpr int kStackSize = 3 * 64 + 4;
 
-  /// Collapses `bvh` (which must outlive nothing: everything needed is copied).
-  /// An empty `bvh` gives an empty hierarchy that every ray misses. Throws
-  /// std::length_error if the tree were too deep for the traversal stack.
-  void build(const Bvh& bvh);
+  /// Collapses `bvh` into nodes of at most `arity` children (2..kMaxArity; 2
+  /// keeps the binary tree's shape). Everything needed is copied. An empty
+  /// `bvh` gives an empty hierarchy that every ray misses. Throws
+  /// std::invalid_argument for a bad arity, std::length_error if the tree were
+  /// too deep for the traversal stack.
+  void build(const Bvh& bvh, int arity = kMaxArity);
 
   bool empty() const { return root_child_ == kNone; }
+  /// Children per node at most (what build() was given).
+  int arity() const { return arity_; }
   /// Levels of wide nodes on the longest path (0 when the root is a leaf).
   uint32_t depth() const { return depth_; }
   size_t memory_bytes() const {
-    return nodes.size() * sizeof(Bvh4Node) + slot_source.size() * sizeof(uint32_t);
+    return nodes.size() * sizeof(WideBvhNode) + slot_source.size() * sizeof(uint32_t);
   }
 
-  /// Same contract as Bvh::traverse: `leaf(first, count, tmax)` tests the
-  /// primitives prim_indices[first .. first + count) of the binary hierarchy
-  /// and returns true on a hit, lowering tmax. Children whose boxes are hit are
-  /// visited nearest first; with AnyHit the walk stops at the first hit,
-  /// otherwise nodes whose entry distance exceeds tmax * kBoxFarScale are
-  /// skipped (early termination).
+  /// Walks the nodes the ray [origin, origin + tmax * dir] can reach.
+  /// `leaf(first, count, tmax)` tests the primitives prim_indices[first ..
+  /// first + count) of the binary hierarchy and returns true on a hit, lowering
+  /// tmax to the hit distance. Children whose boxes are hit are visited nearest
+  /// first (ties: in the binary tree's child order); with AnyHit the walk stops
+  /// at the first hit (shadow rays) and does not order children; otherwise it
+  /// skips every node whose entry distance is beyond the closest hit so far
+  /// (early termination; "beyond" by more than the box test's rounding margin
+  /// kBoxFarScale, so that the decision does not depend on whether a node is
+  /// tested before or after the hit is found). Returns whether anything was hit.
   ///
-  /// Observer hooks: on_box_test() once for the root box and once for each
-  /// child box tested (every non-empty slot of a visited wide node); on_node(id)
-  /// and on_cull(id) with ids of the *binary* hierarchy (Bvh::nodes): a wide
-  /// node is reported as the binary node at the top of the subtree it
-  /// replaces, a leaf as the binary leaf, so that recorded walks can be drawn
-  /// on the boxes of the binary hierarchy. (Scene's observed queries walk the
-  /// binary hierarchy itself; see Scene::intersect.)
+  /// Observer hooks (traversal.h), all with ids of the *binary* hierarchy
+  /// (Bvh::nodes): on_box_test(0, hit) for the root box; on_node(id) when a
+  /// wide node is entered (reported as the binary node at the top of the
+  /// subtree it replaces) or a leaf is tested; on_box_test(id, hit) for each
+  /// child box tested (every non-empty slot of an entered wide node);
+  /// on_cull(id) for a pushed node skipped by early termination. With arity 2
+  /// this is exactly the binary walk: every binary node entered, both child
+  /// boxes of each inner node tested.
   template <bool AnyHit, class Observer, class LeafFn>
   bool traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs) const;
 
-  std::vector<Bvh4Node> nodes;  ///< nodes[0] is the root unless the root is a leaf.
+  std::vector<WideBvhNode> nodes;  ///< nodes[0] is the root unless the root is a leaf.
   /// Binary node id of child slot k of wide node n at [4 n + k]; ~0u for empty
   /// slots. Only observers read it.
   std::vector<uint32_t> slot_source;
@@ -96,11 +112,12 @@ class Bvh4 {
   uint32_t root_child_ = kNone;  ///< 0 (wide node 0), kLeaf | first, or kNone when empty.
   uint32_t root_count_ = 0;
   uint32_t depth_ = 0;
+  int arity_ = kMaxArity;
 };
 
 // ---------------------------------------------------------------------------
 
-namespace bvh4_detail {
+namespace wide_bvh_detail {
 
 /// Per-ray constants of the 4-wide box test.
 struct RayBoxes {
@@ -108,7 +125,7 @@ struct RayBoxes {
   __m128 ox, oy, oz, ix, iy, iz;
 #endif
   Vec3 origin, inv_dir;
-  // Byte offsets of the near and far plane arrays of each axis in a Bvh4Node
+  // Byte offsets of the near and far plane arrays of each axis in a WideBvhNode
   // (lo_x at 0, hi_x at 16, lo_y at 32, ...), chosen by the direction's sign.
   uint32_t near_x, far_x, near_y, far_y, near_z, far_z;
 
@@ -130,34 +147,16 @@ struct RayBoxes {
   }
 };
 
-inline const float* plane(const Bvh4Node& n, uint32_t offset) {
+inline const float* plane(const WideBvhNode& n, uint32_t offset) {
   return reinterpret_cast<const float*>(reinterpret_cast<const char*>(&n) + offset);
 }
 
-/// intersect_box() for the four children of `n`: returns a bit mask of the
-/// children hit within [0, tmax] and stores their entry distances in tnear.
-[[gnu::always_inline]] inline unsigned intersect_boxes(const Bvh4Node& n, const RayBoxes& r,
-                                                       float tmax, float tnear[4]) {
-#if defined(__SSE2__)
-  const __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.near_x)), r.ox), r.ix);
-  const __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.far_x)), r.ox), r.ix);
-  const __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.near_y)), r.oy), r.iy);
-  const __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.far_y)), r.oy), r.iy);
-  const __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.near_z)), r.oz), r.iz);
-  const __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.far_z)), r.oz), r.iz);
-  // _mm_max_ps(a, b) is a > b ? a : b, _mm_min_ps(a, b) is a < b ? a : b: with
-  // the running value as b, a NaN slab (ray in a face plane) leaves it alone,
-  // exactly like intersect_box's "if (tn > tnear) tnear = tn".
-  __m128 tn = _mm_max_ps(tnx, _mm_setzero_ps());
-  tn = _mm_max_ps(tny, tn);
-  tn = _mm_max_ps(tnz, tn);
-  __m128 tf = _mm_min_ps(tfx, _mm_set1_ps(tmax));
-  tf = _mm_min_ps(tfy, tf);
-  tf = _mm_min_ps(tfz, tf);
-  tf = _mm_mul_ps(tf, _mm_set1_ps(kBoxFarScale));
-  _mm_storeu_ps(tnear, tn);
-  return unsigned(_mm_movemask_ps(_mm_cmple_ps(tn, tf)));
-#else
+/// intersect_box() for the four children of `n`, one lane at a time: the
+/// portable fallback of intersect_boxes() (and its reference in the tests).
+/// Returns a bit mask of the children hit within [0, tmax] and stores their
+/// entry distances in tnear.
+inline unsigned intersect_boxes_scalar(const WideBvhNode& n, const RayBoxes& r, float tmax,
+                                       float tnear[4]) {
   unsigned mask = 0;
   const float* nx = plane(n, r.near_x);
   const float* fx = plane(n, r.far_x);
@@ -179,18 +178,46 @@ inline const float* plane(const Bvh4Node& n, uint32_t offset) {
     if (tn <= tf) mask |= 1u << k;
   }
   return mask;
+}
+
+/// intersect_box() for the four children of `n`: SSE where the compiler
+/// targets it, else intersect_boxes_scalar(). Same mask and distances.
+[[gnu::always_inline]] inline unsigned intersect_boxes(const WideBvhNode& n, const RayBoxes& r,
+                                                       float tmax, float tnear[4]) {
+#if defined(__SSE2__)
+  const __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.near_x)), r.ox), r.ix);
+  const __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.far_x)), r.ox), r.ix);
+  const __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.near_y)), r.oy), r.iy);
+  const __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.far_y)), r.oy), r.iy);
+  const __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.near_z)), r.oz), r.iz);
+  const __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.far_z)), r.oz), r.iz);
+  // _mm_max_ps(a, b) is a > b ? a : b, _mm_min_ps(a, b) is a < b ? a : b: with
+  // the running value as b, a NaN slab (ray in a face plane) leaves it alone,
+  // exactly like intersect_box's "if (tn > tnear) tnear = tn".
+  __m128 tn = _mm_max_ps(tnx, _mm_setzero_ps());
+  tn = _mm_max_ps(tny, tn);
+  tn = _mm_max_ps(tnz, tn);
+  __m128 tf = _mm_min_ps(tfx, _mm_set1_ps(tmax));
+  tf = _mm_min_ps(tfy, tf);
+  tf = _mm_min_ps(tfz, tf);
+  tf = _mm_mul_ps(tf, _mm_set1_ps(kBoxFarScale));
+  _mm_storeu_ps(tnear, tn);
+  return unsigned(_mm_movemask_ps(_mm_cmple_ps(tn, tf)));
+#else
+  return intersect_boxes_scalar(n, r, tmax, tnear);
 #endif
 }
 
-}  // namespace bvh4_detail
+}  // namespace wide_bvh_detail
 
 template <bool AnyHit, class Observer, class LeafFn>
-bool Bvh4::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs) const {
+bool WideBvh::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs) const {
   if (root_child_ == kNone) return false;
   const Vec3 inv_dir = 1.0f / ray.dir;
-  if constexpr (Observer::kActive) obs.on_box_test();
-  if (intersect_box(root_lo_, root_hi_, ray.origin, inv_dir, tmax) == kInfinity) return false;
-  const bvh4_detail::RayBoxes rb(ray.origin, inv_dir);
+  const bool root_hit = intersect_box(root_lo_, root_hi_, ray.origin, inv_dir, tmax) != kInfinity;
+  if constexpr (Observer::kActive) obs.on_box_test(0, root_hit);
+  if (!root_hit) return false;
+  const wide_bvh_detail::RayBoxes rb(ray.origin, inv_dir);
 
   struct Entry {
     uint32_t child, count;
@@ -203,25 +230,25 @@ bool Bvh4::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs) c
   [[maybe_unused]] uint32_t source = 0;  // binary node id of `child`, for the observer
   bool hit = false;
   for (;;) {
-    if (child & Bvh4Node::kLeaf) {
+    if (child & WideBvhNode::kLeaf) {
       // (count == 0: an empty slot, reached only by rays with a NaN origin.)
       if (count != 0) {
         if constexpr (Observer::kActive) obs.on_node(source);
-        if (leaf(child & ~Bvh4Node::kLeaf, count, tmax)) {
+        if (leaf(child & ~WideBvhNode::kLeaf, count, tmax)) {
           hit = true;
           if constexpr (AnyHit) return true;
         }
       }
     } else {
       if constexpr (Observer::kActive) obs.on_node(source);
-      const Bvh4Node& n = nodes[child];
+      const WideBvhNode& n = nodes[child];
       alignas(16) float d[4];
-      unsigned mask = bvh4_detail::intersect_boxes(n, rb, tmax, d);
+      unsigned mask = wide_bvh_detail::intersect_boxes(n, rb, tmax, d);
       const uint32_t* src = nullptr;
       if constexpr (Observer::kActive) {
         src = &slot_source[4 * size_t(child)];
         for (int k = 0; k < 4; ++k)
-          if (src[k] != ~0u) obs.on_box_test();
+          if (src[k] != ~0u) obs.on_box_test(src[k], (mask >> k) & 1u);
       }
       if constexpr (AnyHit) {
         if (mask != 0) {

@@ -1,4 +1,4 @@
-#include "rayscope/recorder.h"
+#include "rayscope/raytree_format.h"
 
 #include <cstdarg>
 #include <cstdio>
@@ -7,40 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rayscope/render.h"
-
 namespace rayscope {
-
-void prepare_for_replay(Scene& scene, const RenderSettings& settings) {
-  settings.validate();
-  scene.camera.prepare(settings.width, settings.height);
-}
-
-PixelRecord record_pixel(const Scene& scene, const RenderSettings& settings, int x, int y,
-                         int sample) {
-  if (x < 0 || y < 0 || x >= settings.width || y >= settings.height)
-    throw std::out_of_range("pixel (" + std::to_string(x) + ", " + std::to_string(y) +
-                            ") is outside the " + std::to_string(settings.width) + "x" +
-                            std::to_string(settings.height) + " image");
-  const int n2 = settings.samples * settings.samples;
-  if (sample < -1 || sample >= n2)
-    throw std::out_of_range("sample " + std::to_string(sample) + " is outside 0.." +
-                            std::to_string(n2 - 1) + " (" + std::to_string(settings.samples) + "x" +
-                            std::to_string(settings.samples) + " samples per pixel)");
-  RayTreeRecorder rec(sample);
-  RayCounters counters;
-  PixelRecord out;
-  out.x = x;
-  out.y = y;
-  out.sample = sample;
-  out.samples = settings.samples;
-  out.color = with_scene_features(scene, [&]<bool kShadows, bool kSecondary>() {
-    return render_pixel<RayTreeRecorder, kShadows, kSecondary>(scene, settings, x, y, counters,
-                                                               rec);
-  });
-  out.rays = std::move(rec.rays);
-  return out;
-}
 
 namespace {
 
@@ -98,7 +65,7 @@ void text_ray(const PixelRecord& rec, const Scene& s, int id, int indent, std::s
     line += "  miss (background) returned " + v3(r.color);
   }
   out += line + "\n";
-  out += pad + fmt("   BVH: %zu nodes visited, %u boxes, %u primitives tested",
+  out += pad + fmt("   walk: %zu nodes visited, %u boxes tested, %u primitives tested",
                    r.traversal.nodes.size(), r.traversal.boxes_tested, r.traversal.prims_tested);
   if (r.traversal.culled) out += fmt(", %u nodes culled", r.traversal.culled);
   if (r.traversal.early_terminated) out += ", early termination";
@@ -116,6 +83,23 @@ void text_ray(const PixelRecord& rec, const Scene& s, int id, int indent, std::s
   for (int c : r.children) text_ray(rec, s, c, indent + 1, out);
 }
 
+// What the "walk:" line of each ray counts, for the structure the scene walks.
+std::string walk_legend(const Scene& s) {
+  const Aggregate& a = s.accel();
+  if (!a.walks_structure())
+    return "walk: no structure; every primitive is tested (primitives tested = all of them)\n";
+  const char* walk = a.kind() == AccelKind::BinaryBvh
+                         ? "the binary BVH, node by node (--accel bvh2)"
+                         : "the 4-wide BVH, as renders walk it (--accel bvh); nodes are named by "
+                           "their binary BVH ids";
+  return std::string("walk: ") + walk +
+         "\n  nodes visited = nodes entered, in order; boxes tested = boxes tested against the "
+         "ray,\n  hit or missed (the root's, then every child box of each node entered, so more "
+         "boxes\n  than nodes); primitives tested = triangles and spheres in the leaves entered;"
+         "\n  culled = boxes hit but skipped because a closer hit was found first (early "
+         "termination)\n";
+}
+
 nlohmann::json jv(const Vec3& v) {
   return {v.x, v.y, v.z};
 }
@@ -130,6 +114,7 @@ std::string format_text(const PixelRecord& rec, const Scene& s) {
   std::string out =
       fmt("pixel (%d, %d): %dx%d samples, color ", rec.x, rec.y, rec.samples, rec.samples) +
       v3(rec.color) + fmt(", %zu rays recorded\n", rec.rays.size());
+  out += walk_legend(s);
   for (const RayRecord& r : rec.rays)
     if (r.parent < 0) {
       out += fmt("sample %d\n", r.sample);
@@ -194,11 +179,9 @@ std::string format_json(const PixelRecord& rec, const Scene& s, int indent) {
     }
     rays.push_back(std::move(j));
   }
-  json root = {{"pixel", {rec.x, rec.y}},
-               {"sample", rec.sample},
-               {"samples_per_axis", rec.samples},
-               {"color", jv(rec.color)},
-               {"rays", std::move(rays)}};
+  json root = {{"pixel", {rec.x, rec.y}}, {"accel", to_string(s.accel().kind())},
+               {"sample", rec.sample},    {"samples_per_axis", rec.samples},
+               {"color", jv(rec.color)},  {"rays", std::move(rays)}};
   return root.dump(indent);
 }
 

@@ -1,9 +1,10 @@
-// Collapse of the binary hierarchy into the 4-wide one (bvh4.h): each wide node
-// takes a binary inner node's two children and, while it has fewer than four,
-// replaces its inner child of largest surface area by that child's two
-// children (the choice Embree's BVH4 builders make), so that the boxes a ray
-// is most likely to enter are tested together.
-#include "rayscope/bvh4.h"
+// Collapse of the binary hierarchy into the wide one (wide_bvh.h): each wide
+// node takes a binary inner node's two children and, while it has fewer than
+// the arity, replaces its inner child of largest surface area by that child's
+// two children (the choice Embree's BVH4 builders make), so that the boxes a
+// ray is most likely to enter are tested together. With arity 2 nothing is
+// replaced: each wide node is one binary node.
+#include "rayscope/wide_bvh.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -11,7 +12,11 @@
 
 namespace rayscope {
 
-void Bvh4::build(const Bvh& bvh) {
+void WideBvh::build(const Bvh& bvh, int arity) {
+  if (arity < 2 || arity > kMaxArity)
+    throw std::invalid_argument("WideBvh: arity " + std::to_string(arity) + " is outside 2.." +
+                                std::to_string(kMaxArity));
+  arity_ = arity;
   nodes.clear();
   slot_source.clear();
   root_child_ = kNone;
@@ -24,7 +29,7 @@ void Bvh4::build(const Bvh& bvh) {
   root_lo_ = root.lo;
   root_hi_ = root.hi;
   if (root.is_leaf()) {
-    root_child_ = Bvh4Node::kLeaf | root.index;
+    root_child_ = WideBvhNode::kLeaf | root.index;
     root_count_ = root.count;
   } else {
     nodes.reserve(bvh.nodes.size() / 2 + 1);
@@ -35,16 +40,16 @@ void Bvh4::build(const Bvh& bvh) {
   nodes.shrink_to_fit();
   slot_source.shrink_to_fit();
   if (3 * depth_ > uint32_t(kStackSize))
-    throw std::length_error("Bvh4: " + std::to_string(depth_) +
+    throw std::length_error("WideBvh: " + std::to_string(depth_) +
                             " levels exceed the traversal stack");
 }
 
-uint32_t Bvh4::collapse(const Bvh& bvh, uint32_t binary_node, uint32_t level) {
+uint32_t WideBvh::collapse(const Bvh& bvh, uint32_t binary_node, uint32_t level) {
   depth_ = std::max(depth_, level);
   const BvhNode& bn = bvh.nodes[binary_node];
   uint32_t kids[4] = {bn.index, bn.index + 1, 0, 0};
   int n = 2;
-  while (n < 4) {
+  while (n < arity_) {
     int open = -1;
     float area = -1.0f;
     for (int k = 0; k < n; ++k) {
@@ -68,11 +73,11 @@ uint32_t Bvh4::collapse(const Bvh& bvh, uint32_t binary_node, uint32_t level) {
   nodes.emplace_back();
   slot_source.insert(slot_source.end(), 4, ~0u);
   {
-    Bvh4Node& w = nodes[me];
+    WideBvhNode& w = nodes[me];
     for (int k = 0; k < 4; ++k) {
       w.lo_x[k] = w.lo_y[k] = w.lo_z[k] = kInfinity;
       w.hi_x[k] = w.hi_y[k] = w.hi_z[k] = -kInfinity;
-      w.child[k] = Bvh4Node::kLeaf;
+      w.child[k] = WideBvhNode::kLeaf;
       w.count[k] = 0;
     }
   }
@@ -80,14 +85,14 @@ uint32_t Bvh4::collapse(const Bvh& bvh, uint32_t binary_node, uint32_t level) {
     const BvhNode& c = bvh.nodes[kids[k]];
     uint32_t child, count;
     if (c.is_leaf()) {
-      if (c.index & Bvh4Node::kLeaf) throw std::length_error("Bvh4: too many primitives");
-      child = Bvh4Node::kLeaf | c.index;
+      if (c.index & WideBvhNode::kLeaf) throw std::length_error("WideBvh: too many primitives");
+      child = WideBvhNode::kLeaf | c.index;
       count = c.count;
     } else {
       child = collapse(bvh, kids[k], level + 1);  // may reallocate `nodes`
       count = 0;
     }
-    Bvh4Node& w = nodes[me];
+    WideBvhNode& w = nodes[me];
     w.lo_x[k] = c.lo.x;
     w.lo_y[k] = c.lo.y;
     w.lo_z[k] = c.lo.z;

@@ -1,0 +1,250 @@
+// The aggregate (pbrt: "the aggregate is just a primitive"): the one thing the
+// integrator asks for closest hits and any hits. Behind it sits the chosen
+// acceleration structure over the scene's bounded primitives (triangles and
+// spheres), plus the unbounded planes, which no structure can hold.
+//
+// Whatever the structure, the aggregate owns the two rules that decide a hit:
+// the one primitive test (test_prim) and the one tie rule (wins_tie), so every
+// structure returns the same hit, bit for bit, for every ray. Observers
+// (traversal.h) see the walk of the chosen structure: the very walk a plain
+// query does (statistics and recording may cost time; they never change it).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string_view>
+#include <type_traits>
+#include <vector>
+
+#include "rayscope/bvh.h"
+#include "rayscope/intersect.h"
+#include "rayscope/traversal.h"
+#include "rayscope/wide_bvh.h"
+
+namespace rayscope {
+
+/// Which structure the aggregate walks. One is chosen per scene commit.
+enum class AccelKind : uint8_t {
+  /// The BVH walked through 4-wide nodes (WideBvh arity 4): what renders use.
+  Bvh,
+  /// The same BVH walked node by node, two child boxes per node (WideBvh
+  /// arity 2): the lecture's binary walk, for teaching. Same hits; more,
+  /// smaller steps, each of which the tools can show.
+  BinaryBvh,
+  /// No structure: every primitive is tested against every ray (O(n) per ray).
+  None,
+};
+/// "bvh", "bvh2", "none".
+const char* to_string(AccelKind kind);
+/// Parses the names to_string() gives; false for anything else.
+bool parse_accel_kind(std::string_view name, AccelKind& kind);
+
+/// How commit() builds the aggregate; every field has a documented default.
+struct AccelConfig {
+  AccelKind kind = AccelKind::Bvh;
+  BvhBuildConfig bvh;  ///< Settings of the SAH builder (bvh.h).
+  /// Let scenes with at most Aggregate::kBruteForceMax bounded primitives skip
+  /// the structure and test them all. Off only to measure what the skip saves.
+  bool allow_brute_force = true;
+};
+
+/// The closest hit of a ray without any shading data: what tracing needs to
+/// find, and no more (the same work as Embree's rtcIntersect1, which returns t,
+/// barycentrics and ids). Scene::surface_hit() turns it into a SurfaceHit.
+struct PrimHit {
+  float t = kInfinity;
+  float b0 = 0.0f, b1 = 0.0f, b2 = 0.0f;  ///< Barycentric weights (triangles).
+  uint32_t record = ~0u;  ///< Index into Aggregate::records() (leaf order); ~0u for a plane.
+  uint32_t prim = ~0u;    ///< Global primitive index (triangles mesh by mesh, then spheres).
+  int plane = -1;         ///< Index of the plane hit, else -1.
+};
+
+/// One bounded primitive in leaf order: a triangle's vertices, or a sphere's
+/// center and radius (in b.x). Stored inline so that leaves need no indirection.
+struct PrimRecord {
+  Vec3 a;
+  uint32_t id;  ///< Global primitive index.
+  Vec3 b;
+  uint32_t pad;
+  Vec3 c;
+};
+
+/// An unbounded plane (tested outside any structure).
+struct PlaneRecord {
+  Vec3 point, normal;  ///< normal: unit length.
+};
+
+class Aggregate {
+ public:
+  /// Scenes with at most this many bounded primitives skip the structure and
+  /// test them all. Measured by bench_recording (default-scene spheres, one
+  /// thread): 1-3 spheres render 2-8% faster without a BVH, 4 spheres 2% slower.
+  static constexpr size_t kBruteForceMax = 3;
+
+  /// Builds the chosen structure. records[i] is primitive i, with bounds[i] and
+  /// centroids[i] (the builder sees only those); records with id <
+  /// num_triangles are triangles, the others spheres. Replaces what was built.
+  void build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids,
+             std::span<const PrimRecord> records, uint32_t num_triangles,
+             std::vector<PlaneRecord> planes, const AccelConfig& config = {});
+
+  /// Closest hit within (0, ray.tmax). When several primitives are hit at
+  /// exactly the same t, the result is the one a brute-force loop over all
+  /// triangles, then spheres, then planes reports: the triangle with the
+  /// highest global index, else the sphere with the lowest, else the first
+  /// plane. The answer therefore does not depend on the structure or the order
+  /// of its walk.
+  template <class Observer = NullTraversalObserver>
+  bool intersect(const Ray& ray, PrimHit& hit, Observer& obs) const;
+
+  /// Any hit within (0, ray.tmax) (shadow rays): stops at the first one found
+  /// and describes it in `which` (prim or plane) when not null.
+  template <class Observer = NullTraversalObserver>
+  bool occluded(const Ray& ray, Observer& obs, PrimHit* which = nullptr) const;
+
+  /// The structure asked for.
+  AccelKind kind() const { return config_.kind; }
+  /// Whether queries walk a structure (false for AccelKind::None and for tiny
+  /// scenes that skip it; see kBruteForceMax).
+  bool walks_structure() const { return use_walk_; }
+  /// The binary hierarchy: built for every kind (the tools show it).
+  const Bvh& bvh() const { return bvh_; }
+  /// The walked collapse of bvh() (arity 4 for AccelKind::Bvh, 2 for BinaryBvh;
+  /// empty for None).
+  const WideBvh& walk() const { return walk_; }
+  const std::vector<PrimRecord>& records() const { return records_; }
+  const std::vector<PlaneRecord>& planes() const { return planes_; }
+  /// Every byte the aggregate holds: binary nodes, leaf order, wide nodes,
+  /// primitive records and planes.
+  size_t memory_bytes() const;
+
+ private:
+  /// Whether primitive `a` wins an exact tie in t against primitive `b`:
+  /// triangles beat spheres, a higher triangle index beats a lower one, a lower
+  /// sphere index beats a higher one.
+  bool wins_tie(uint32_t a, uint32_t b) const {
+    return a < num_triangles_ ? (b >= num_triangles_ || a > b) : (b >= num_triangles_ && a < b);
+  }
+
+  /// The one primitive test. Triangles are hit at t <= tri_tmax
+  /// (intersect_triangle's closed bound), spheres at t < sphere_limit; on a hit
+  /// `th` holds t (and the barycentrics of a triangle).
+  [[gnu::always_inline]] bool test_prim(const PrimRecord& r, const Ray& ray,
+                                        const TrianglePrecomp& pre, float tri_tmax,
+                                        float sphere_limit, TriangleHit& th) const {
+    if (r.id < num_triangles_) return intersect_triangle(pre, tri_tmax, r.a, r.b, r.c, th);
+    float ts;
+    if (!intersect_sphere(ray, r.a, r.b.x, sphere_limit, ts)) return false;
+    th = TriangleHit{ts, 0.0f, 0.0f, 0.0f};
+    return true;
+  }
+
+  /// Visits the primitives' leaves with `leaf(first, count, tmax)`: through
+  /// the structure's walk, or all at once without one.
+  template <bool AnyHit, class Observer, class LeafFn>
+  bool walk_leaves(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs) const {
+    if (use_walk_) return walk_.traverse<AnyHit>(ray, tmax, leaf, obs);
+    return !records_.empty() && leaf(0u, uint32_t(records_.size()), tmax);
+  }
+
+  AccelConfig config_;
+  Bvh bvh_;
+  WideBvh walk_;
+  std::vector<PrimRecord> records_;  ///< Leaf order.
+  std::vector<PlaneRecord> planes_;
+  uint32_t num_triangles_ = 0;
+  bool use_walk_ = false;
+};
+
+// ---------------------------------------------------------------------------
+
+template <class Observer>
+bool Aggregate::intersect(const Ray& ray, PrimHit& hit, Observer& obs) const {
+  float tmax = ray.tmax;
+  uint32_t best = ~0u, best_id = ~0u;
+  TriangleHit best_tri{};
+  const TrianglePrecomp pre(ray);
+  // A hit at exactly the closest t so far replaces it only if it wins the tie.
+  // Spheres are tested with the open bound next_float_up(t) once something was
+  // hit, so that a sphere at exactly t is found and can win the tie.
+  auto leaf = [&](uint32_t first, uint32_t count, float& t) {
+    bool found = false;
+    for (uint32_t i = first; i < first + count; ++i) {
+      const PrimRecord& r = records_[i];
+      if constexpr (Observer::kActive) obs.on_prim_test(r.id);
+      TriangleHit th;
+      if (test_prim(r, ray, pre, t, best == ~0u ? t : next_float_up(t), th) &&
+          (th.t < t || best == ~0u || wins_tie(r.id, best_id))) {
+        t = th.t;
+        best = i;
+        best_id = r.id;
+        best_tri = th;
+        found = true;
+      }
+    }
+    return found;
+  };
+  walk_leaves<false>(ray, tmax, leaf, obs);
+  int best_plane = -1;
+  for (size_t k = 0; k < planes_.size(); ++k) {
+    float tp;
+    if (intersect_plane(ray, planes_[k].point, planes_[k].normal, tmax, tp)) {
+      tmax = tp;
+      best_plane = int(k);
+    }
+  }
+  if (best_plane >= 0) {
+    hit = PrimHit{};
+    hit.t = tmax;
+    hit.plane = best_plane;
+    return true;
+  }
+  if (best == ~0u) return false;
+  hit.t = tmax;
+  hit.b0 = best_tri.b0;
+  hit.b1 = best_tri.b1;
+  hit.b2 = best_tri.b2;
+  hit.record = best;
+  hit.prim = best_id;
+  hit.plane = -1;
+  return true;
+}
+
+template <class Observer>
+bool Aggregate::occluded(const Ray& ray, Observer& obs, PrimHit* which) const {
+  for (size_t k = 0; k < planes_.size(); ++k) {
+    float tp;
+    if (intersect_plane(ray, planes_[k].point, planes_[k].normal, ray.tmax, tp)) {
+      if (which) {
+        *which = PrimHit{};
+        which->t = tp;
+        which->plane = int(k);
+      }
+      return true;
+    }
+  }
+  float tmax = ray.tmax;
+  const TrianglePrecomp pre(ray);
+  uint32_t hit_record = ~0u;
+  auto leaf = [&](uint32_t first, uint32_t count, float& t) {
+    for (uint32_t i = first; i < first + count; ++i) {
+      const PrimRecord& r = records_[i];
+      if constexpr (Observer::kActive) obs.on_prim_test(r.id);
+      TriangleHit th;
+      if (test_prim(r, ray, pre, t, t, th)) {
+        hit_record = i;
+        return true;
+      }
+    }
+    return false;
+  };
+  if (!walk_leaves<true>(ray, tmax, leaf, obs)) return false;
+  if (which) {
+    *which = PrimHit{};
+    which->record = hit_record;
+    which->prim = records_[hit_record].id;
+  }
+  return true;
+}
+
+}  // namespace rayscope

@@ -1,0 +1,143 @@
+// The frame loop: every pixel of an image, in tiles, in parallel with TBB
+// inside an arena of settings.threads, each pixel through render_pixel() with
+// the recorder its policy gives it. It is the only loop over an image's pixels
+// in RayScope: plain renders, statistics, renders that record selected pixels'
+// ray trees, and the VTK BVH source's visit counts are policies of it.
+//
+// A policy derives from FramePolicy and overrides what it needs:
+//   using Recorder = ...;                  the integrator's recorder for a pixel
+//   Recorder recorder();                   a fresh one (called once per pixel)
+//   void begin(Framebuffer&);              before the first pixel (e.g. allocate AOVs)
+//   void finish(size_t index, Recorder&, RayCounters&, Framebuffer&);
+//                                          after pixel `index` (fb.index(x, y))
+//   static constexpr bool kSelects;        some pixels are rendered by select():
+//   bool tile_selected(size_t tile) const;   tiles holding such a pixel ask
+//   template <bool kShadows, bool kSecondary>
+//   bool select(int x, int y, const Scene&, const RenderSettings&, RayCounters&,
+//               Color&, SurfaceHit&, bool& hit_anything);
+//                                          renders (x, y) itself and returns
+//                                          true, or returns false for the plain
+//                                          path; tiles without a selected pixel
+//                                          run the very code of a plain render.
+// recorder(), finish() and select() run concurrently on several threads for
+// different pixels.
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <mutex>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "rayscope/render.h"
+
+namespace rayscope {
+
+/// The plain policy, and the defaults every policy inherits.
+struct FramePolicy {
+  using Recorder = NullRecorder;
+  static constexpr bool kSelects = false;
+  NullRecorder recorder() { return {}; }
+  void begin(Framebuffer&) {}
+  void finish(size_t, NullRecorder&, RayCounters&, Framebuffer&) {}
+  bool tile_selected(size_t) const { return false; }
+  template <bool kShadows, bool kSecondary>
+  bool select(int, int, const Scene&, const RenderSettings&, RayCounters&, Color&, SurfaceHit&,
+              bool&) {
+    return false;
+  }
+};
+
+/// Statistics: traversal counters and the per-pixel cost AOVs (fb.cost).
+struct StatsPolicy : FramePolicy {
+  using Recorder = StatsRecorder;
+  StatsRecorder recorder() { return {}; }
+  void begin(Framebuffer& fb) { fb.cost.assign(fb.color.size(), PixelCost{}); }
+  void finish(size_t i, StatsRecorder& rec, RayCounters& cnt, Framebuffer& fb) {
+    fb.cost[i] = rec.cost;
+    rec.add_to(cnt);
+  }
+};
+
+/// Renders the scene with `policy`. The scene must be committed and
+/// prepare_frame()d for these settings. Counters of all threads are summed
+/// into *counters when not null.
+template <class Policy>
+Framebuffer render_frame(const Scene& scene, const RenderSettings& settings, Policy& policy,
+                         RayCounters* counters = nullptr, const ProgressFn& progress = {}) {
+  using Recorder = typename Policy::Recorder;
+  Framebuffer fb;
+  fb.resize(settings.width, settings.height);
+  policy.begin(fb);
+  const int ts = settings.tile_size;
+  const int tiles_x = (settings.width + ts - 1) / ts;
+  const int tiles_y = (settings.height + ts - 1) / ts;
+  const size_t total = size_t(tiles_x) * size_t(tiles_y);
+  std::atomic<size_t> done{0};
+  std::mutex progress_mutex;
+  tbb::enumerable_thread_specific<RayCounters> local;
+
+  auto frame = [&]<bool kShadows, bool kSecondary>() {
+    // One tile's pixels. With kCheck, each pixel first asks the policy whether
+    // it renders the pixel itself.
+    auto tile_pixels = [&]<bool kCheck>(int x0, int y0, int x1, int y1, RayCounters& cnt) {
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          SurfaceHit hit;
+          bool any = false;
+          Color c;
+          const size_t i = fb.index(x, y);
+          bool selected = false;
+          if constexpr (kCheck)
+            selected = policy.template select<kShadows, kSecondary>(x, y, scene, settings, cnt, c,
+                                                                    hit, any);
+          if (!selected) {
+            Recorder rec = policy.recorder();
+            c = render_pixel<Recorder, kShadows, kSecondary>(scene, settings, x, y, cnt, rec, &hit,
+                                                             &any);
+            policy.finish(i, rec, cnt, fb);
+          }
+          fb.color[i] = c;
+          if (any) {
+            const Vec2 s = sample_position(x, y, 0, settings.samples, settings.seed);
+            fb.depth[i] = hit.t * glm::length(scene.camera.generate_ray(s.x, s.y).dir);
+            fb.normal[i] = hit.ns;
+            fb.object_id[i] = float(hit.object);
+          }
+        }
+    };
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 1), [&](const auto& r) {
+      RayCounters& cnt = local.local();
+      for (size_t tile = r.begin(); tile != r.end(); ++tile) {
+        const int x0 = int(tile % size_t(tiles_x)) * ts, y0 = int(tile / size_t(tiles_x)) * ts;
+        const int x1 = std::min(x0 + ts, settings.width), y1 = std::min(y0 + ts, settings.height);
+        bool check = false;
+        if constexpr (Policy::kSelects) check = policy.tile_selected(tile);
+        if (check)
+          tile_pixels.template operator()<true>(x0, y0, x1, y1, cnt);
+        else
+          tile_pixels.template operator()<false>(x0, y0, x1, y1, cnt);
+        const size_t d = ++done;
+        if (progress) {
+          std::lock_guard<std::mutex> lock(progress_mutex);
+          progress(d, total);
+        }
+      }
+    });
+  };
+  const int threads =
+      settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+  arena.execute([&] { with_scene_features(scene, frame); });
+  if (counters) {
+    RayCounters sum;
+    for (const RayCounters& c : local) sum += c;
+    *counters = sum;
+  }
+  return fb;
+}
+
+}  // namespace rayscope

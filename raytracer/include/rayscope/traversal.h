@@ -1,0 +1,39 @@
+// What an acceleration structure's walk reports, and to whom.
+//
+// Every structure behind the Aggregate (aggregate.h) reports its walk to an
+// observer through the hooks below; ray-tree recording, statistics, cost AOVs
+// and the VTK BVH source are observers. The ids are those of the structure's
+// teaching view, the nodes the tools draw (for the BVH: Bvh::nodes, the binary
+// tree), whichever walk renders use. An observer never selects a walk: observed
+// and plain queries walk the same nodes in the same order.
+//
+// Observers are compile-time policies: with kActive == false no hook is ever
+// called and the walk compiles to the plain one, at no cost.
+#pragma once
+
+#include <cstdint>
+
+namespace rayscope {
+
+/// Every hook, each doing nothing. An observer derives from this and defines
+/// kActive = true and the hooks it needs (the others stay no-ops).
+struct TraversalHooks {
+  /// The walk enters node (or cell) `node`: its children or primitives are
+  /// tested next.
+  void on_node(uint32_t /*node*/) {}
+  /// The box of node `node` was tested against the ray; `hit`: it overlaps the
+  /// ray's current [0, tmax] (and the node will be entered or pushed).
+  void on_box_test(uint32_t /*node*/, bool /*hit*/) {}
+  /// Node `node`, whose box was hit, is skipped without being entered: a
+  /// closer hit was found after it was pushed (early termination).
+  void on_cull(uint32_t /*node*/) {}
+  /// Primitive `prim` (global primitive index) is tested against the ray.
+  void on_prim_test(uint32_t /*prim*/) {}
+};
+
+/// The observer of plain queries: compiled out.
+struct NullTraversalObserver : TraversalHooks {
+  static constexpr bool kActive = false;
+};
+
+}  // namespace rayscope

@@ -1,0 +1,102 @@
+#include "rayscope/replay.h"
+
+#include <stdexcept>
+#include <string>
+
+#include "rayscope/frame.h"
+
+namespace rayscope {
+
+namespace {
+
+[[noreturn]] void outside(int x, int y, const RenderSettings& s) {
+  throw std::out_of_range("pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                          ") is outside the " + std::to_string(s.width) + "x" +
+                          std::to_string(s.height) + " image");
+}
+
+// Frame policy: plain pixels, except the selected ones, whose full ray trees
+// are recorded (in the same pass, so recording costs nothing in other tiles).
+struct RecordSelected : FramePolicy {
+  static constexpr bool kSelects = true;
+  int width;
+  std::vector<int32_t> slot;  // per pixel: index into records, or -1
+  std::vector<PixelRecord>* records;
+  std::vector<uint8_t> tiles;  // per tile: holds a selected pixel
+  bool tile_selected(size_t tile) const { return tiles[tile] != 0; }
+
+  template <bool kShadows, bool kSecondary>
+  bool select(int x, int y, const Scene& scene, const RenderSettings& settings, RayCounters& cnt,
+              Color& c, SurfaceHit& hit, bool& any) {
+    const int32_t k = slot[size_t(y) * size_t(width) + size_t(x)];
+    if (k < 0) return false;
+    RayTreeRecorder rec;
+    c = render_pixel<RayTreeRecorder, kShadows, kSecondary>(scene, settings, x, y, cnt, rec, &hit,
+                                                            &any);
+    PixelRecord& r = (*records)[size_t(k)];
+    r.x = x;
+    r.y = y;
+    r.sample = -1;
+    r.samples = settings.samples;
+    r.color = c;
+    r.rays = std::move(rec.rays);
+    return true;
+  }
+};
+
+}  // namespace
+
+PixelRecord record_pixel(const Scene& scene, const RenderSettings& settings, int x, int y,
+                         int sample) {
+  if (x < 0 || y < 0 || x >= settings.width || y >= settings.height) outside(x, y, settings);
+  const int n2 = settings.samples * settings.samples;
+  if (sample < -1 || sample >= n2)
+    throw std::out_of_range("sample " + std::to_string(sample) + " is outside 0.." +
+                            std::to_string(n2 - 1) + " (" + std::to_string(settings.samples) + "x" +
+                            std::to_string(settings.samples) + " samples per pixel)");
+  RayTreeRecorder rec(sample);
+  RayCounters counters;
+  PixelRecord out;
+  out.x = x;
+  out.y = y;
+  out.sample = sample;
+  out.samples = settings.samples;
+  out.color = with_scene_features(scene, [&]<bool kShadows, bool kSecondary>() {
+    return render_pixel<RayTreeRecorder, kShadows, kSecondary>(scene, settings, x, y, counters,
+                                                               rec);
+  });
+  out.rays = std::move(rec.rays);
+  return out;
+}
+
+Framebuffer render_and_record(Scene& scene, const RenderSettings& settings,
+                              const std::vector<glm::ivec2>& pixels,
+                              std::vector<PixelRecord>& records, RayCounters* counters) {
+  if (settings.statistics)
+    throw std::invalid_argument("render_and_record: statistics and recording are exclusive");
+  prepare_frame(scene, settings);
+  const int ts = settings.tile_size, tiles_x = (settings.width + ts - 1) / ts;
+  const int tiles_y = (settings.height + ts - 1) / ts;
+  RecordSelected sel;
+  sel.width = settings.width;
+  sel.slot.assign(size_t(settings.width) * size_t(settings.height), -1);
+  sel.records = &records;
+  sel.tiles.assign(size_t(tiles_x) * size_t(tiles_y), 0);
+  records.assign(pixels.size(), PixelRecord{});
+  for (size_t k = 0; k < pixels.size(); ++k) {
+    const glm::ivec2& p = pixels[k];
+    if (p.x < 0 || p.y < 0 || p.x >= settings.width || p.y >= settings.height)
+      outside(p.x, p.y, settings);
+    sel.slot[size_t(p.y) * size_t(settings.width) + size_t(p.x)] = int32_t(k);
+    sel.tiles[size_t(p.y / ts) * size_t(tiles_x) + size_t(p.x / ts)] = 1;
+  }
+  Framebuffer fb = render_frame(scene, settings, sel, counters);
+  // A pixel listed twice shares one slot; fill the duplicates' records.
+  for (size_t k = 0; k < pixels.size(); ++k) {
+    const int32_t s = sel.slot[size_t(pixels[k].y) * size_t(settings.width) + size_t(pixels[k].x)];
+    if (size_t(s) != k) records[k] = records[size_t(s)];
+  }
+  return fb;
+}
+
+}  // namespace rayscope

@@ -1,0 +1,311 @@
+// The aggregate (aggregate.h): scene queries through every structure it can
+// walk (the 4-wide BVH renders use, the binary teaching walk, no structure),
+// against brute force over all primitives. Every structure returns the same
+// hit bit for bit, including which primitive wins an exact tie in t; an
+// observed query returns exactly what the plain query returns; the observer
+// sees the walk of the chosen structure.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+
+#include "accel_test_util.h"
+#include "rayscope/scene.h"
+#include "rayscope/shapes.h"
+
+namespace {
+
+using namespace rayscope;
+using rstest::brute_force;
+using rstest::BruteHit;
+using rstest::DVec3;
+using rstest::random_ray;
+using rstest::Rng;
+using rstest::to_d;
+using rstest::to_f;
+
+class AggregateKind : public ::testing::TestWithParam<AccelKind> {
+ protected:
+  void commit(Scene& scene) {
+    AccelConfig cfg;
+    cfg.kind = GetParam();
+    scene.commit(cfg);
+    ASSERT_EQ(scene.accel().kind(), GetParam());
+    ASSERT_EQ(scene.summary().bvh_used, GetParam() != AccelKind::None);
+  }
+};
+INSTANTIATE_TEST_SUITE_P(Accel, AggregateKind,
+                         ::testing::Values(AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::None),
+                         [](const auto& info) {
+                           return std::string(
+                               info.param == AccelKind::BinaryBvh ? "bvh2" : to_string(info.param));
+                         });
+
+// An observer that is active and does nothing: the query must not change.
+struct AlwaysActive : TraversalHooks {
+  static constexpr bool kActive = true;
+};
+
+bool same_bits(const PrimHit& a, const PrimHit& b) {
+  return std::memcmp(&a.t, &b.t, sizeof(float)) == 0 &&
+         std::memcmp(&a.b0, &b.b0, sizeof(float)) == 0 &&
+         std::memcmp(&a.b1, &b.b1, sizeof(float)) == 0 &&
+         std::memcmp(&a.b2, &b.b2, sizeof(float)) == 0 && a.record == b.record &&
+         a.prim == b.prim && a.plane == b.plane;
+}
+
+// Every ray: closest hit equal to brute force (t bit for bit, the same
+// primitive, ties resolved by the loop order), observed == plain bit for bit,
+// any hit == closest hit found, the SurfaceHit query == lean query plus
+// surface_hit(). Returns the hits, for comparisons across structures.
+std::vector<PrimHit> check_queries(const Scene& scene, const std::vector<Ray>& rays,
+                                   const char* what, int min_ties) {
+  int hits = 0, ties = 0;
+  std::vector<PrimHit> out;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Ray& ray = rays[i];
+    const BruteHit bf = brute_force(scene, ray);
+    PrimHit plain, observed;
+    const bool got = scene.intersect(ray, plain);
+    EXPECT_EQ(scene.intersect(ray, observed, AlwaysActive{}), got) << what << ", ray " << i;
+    EXPECT_EQ(got, bf.t != kInfinity) << what << ", ray " << i;
+    EXPECT_TRUE(same_bits(plain, observed))
+        << what << ", ray " << i << ": plain prim " << plain.prim << " t " << plain.t
+        << ", observed prim " << observed.prim << " t " << observed.t;
+    const bool occluded = scene.occluded(ray);
+    uint32_t occluder = ~0u;
+    EXPECT_EQ(scene.occluded(ray, AlwaysActive{}, &occluder), occluded) << what << ", ray " << i;
+    EXPECT_EQ(occluded, got) << what << ", any-hit ray " << i;
+    if (occluded) {
+      EXPECT_LT(occluder, scene.object_count()) << what << ", ray " << i;
+    }
+    out.push_back(plain);
+    if (::testing::Test::HasFailure()) return out;
+    if (!got) continue;
+    ++hits;
+    ties += bf.tie;
+    EXPECT_EQ(plain.t, bf.t) << what << ", ray " << i;
+    EXPECT_EQ(plain.plane, bf.plane) << what << ", ray " << i;
+    EXPECT_EQ(plain.prim, bf.prim) << what << ", ray " << i << (bf.tie ? " (tie)" : "");
+    if (plain.plane < 0) {
+      EXPECT_LT(plain.record, scene.accel().records().size());
+      if (plain.record < scene.accel().records().size()) {
+        EXPECT_EQ(scene.accel().records()[plain.record].id, plain.prim);
+      }
+    }
+    SurfaceHit sh;
+    EXPECT_TRUE(scene.intersect(ray, sh));
+    const SurfaceHit ref = scene.surface_hit(ray, plain);
+    EXPECT_EQ(std::memcmp(&sh.p, &ref.p, sizeof(Vec3)), 0);
+    EXPECT_EQ(std::memcmp(&sh.ns, &ref.ns, sizeof(Vec3)), 0);
+    EXPECT_EQ(sh.object, ref.object);
+    EXPECT_EQ(sh.prim, ref.prim);
+    if (::testing::Test::HasFailure()) return out;
+  }
+  std::printf("%s: %zu rays, %d hits, %d with exact ties\n", what, rays.size(), hits, ties);
+  EXPECT_GT(hits, int(rays.size()) / 4) << what;
+  EXPECT_GE(ties, min_ties) << what;
+  return out;
+}
+
+Scene soup_scene(Rng& rng) {
+  Scene scene;
+  scene.meshes.push_back(make_icosphere(Vec3(0.0f), 2.0f, 3));
+  scene.meshes.push_back(make_torus(Vec3(3.0f, 0.0f, 0.0f), 1.5f, 0.4f, 32, 16));
+  TriangleMesh soup;
+  for (uint32_t i = 0; i < 1000; ++i) {
+    DVec3 c(rng.uniform(-6, 6), rng.uniform(-6, 6), rng.uniform(-6, 6));
+    double s = rng.log_uniform(0.01, 1);
+    for (int k = 0; k < 3; ++k) soup.positions.push_back(to_f(c + s * rng.in_unit_ball()));
+    soup.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+  }
+  scene.meshes.push_back(soup);
+  for (int k = 0; k < 10; ++k)
+    scene.spheres.push_back(rayscope::Sphere{
+        "s", to_f(DVec3(rng.uniform(-6, 6), rng.uniform(-6, 6), rng.uniform(-6, 6))),
+        rstest::round_f(rng.log_uniform(0.05, 1)), 0});
+  scene.planes.push_back(Plane{"floor", Vec3(0, -5, 0), Vec3(0, 1, 0), 0});
+  return scene;
+}
+
+TEST_P(AggregateKind, RandomRaysMatchBruteForce) {
+  Rng rng(15);
+  Scene scene = soup_scene(rng);
+  commit(scene);
+  const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 20000; ++i) rays.push_back(random_ray(rng, scene.bvh().bounds(), boxes));
+  check_queries(scene, rays, "meshes + soup + spheres + plane", 0);
+}
+
+TEST_P(AggregateKind, TiesAtVerticesAndEdgesResolveLikeBruteForce) {
+  // Rays through the vertices and edge midpoints of closed meshes, and along
+  // the axes through an axis-aligned cube's faces, edges and corners: several
+  // triangles are hit at exactly the same t, and the winner must not depend
+  // on the structure or its walk. Rays lying exactly in a cube face's plane
+  // hit the edge of the perpendicular face; the walk must not cull the box
+  // they touch.
+  Rng rng(16);
+  Scene scene;
+  scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 2));
+  TriangleMesh cube;  // unit cube at (3, 0, 0)
+  for (int i = 0; i < 8; ++i)
+    cube.positions.push_back(Vec3(3.0f + float(i & 1), float((i >> 1) & 1), float((i >> 2) & 1)));
+  cube.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  scene.meshes.push_back(cube);
+  scene.meshes.push_back(make_torus(Vec3(-3.0f, 0.0f, 0.0f), 1.0f, 0.3f, 24, 12));
+  scene.spheres.push_back(rayscope::Sphere{"s", Vec3(0, 3, 0), 0.5f, 0});
+  commit(scene);
+  std::vector<Ray> rays;
+  for (const TriangleMesh& m : scene.meshes) {
+    for (const Vec3& v : m.positions)
+      for (int k = 0; k < 2; ++k) {
+        Vec3 o = to_f(to_d(v) + 8.0 * rng.unit_vector());
+        rays.push_back(Ray{o, v - o, kInfinity});
+      }
+    for (const glm::uvec3& t : m.triangles) {
+      Vec3 mid = 0.5f * (m.positions[t.x] + m.positions[t.y]);
+      Vec3 o = to_f(to_d(mid) + 8.0 * rng.unit_vector());
+      rays.push_back(Ray{o, mid - o, kInfinity});
+    }
+  }
+  for (float a : {0.0f, 0.5f, 1.0f})
+    for (float b : {0.0f, 0.5f, 1.0f}) {
+      rays.push_back(Ray{Vec3(3.0f + a, b, -5.0f), Vec3(0, 0, 1), kInfinity});
+      rays.push_back(Ray{Vec3(3.0f + a, b, 6.0f), Vec3(0, 0, -1), kInfinity});
+      rays.push_back(Ray{Vec3(3.0f + a, -5.0f, b), Vec3(0, 1, 0), kInfinity});
+      rays.push_back(Ray{Vec3(-1.0f, a, b), Vec3(1, 0, 0), kInfinity});
+      rays.push_back(Ray{Vec3(3.0f + a, b, -5.0f), Vec3(0.0f, 0.0f, 2.0f), 2.5f});
+    }
+  check_queries(scene, rays, "vertex, edge and face-plane rays", 20);
+}
+
+TEST(Aggregate, EveryStructureGivesTheSameHitsBitForBit) {
+  // The same scene committed with each kind: identical PrimHits for every ray
+  // (t, barycentrics, record, primitive, plane).
+  Rng rng(17);
+  Scene scene = soup_scene(rng);
+  scene.commit();
+  const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 5000; ++i) rays.push_back(random_ray(rng, scene.bvh().bounds(), boxes));
+  std::vector<std::vector<PrimHit>> per_kind;
+  for (AccelKind kind : {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::None}) {
+    AccelConfig cfg;
+    cfg.kind = kind;
+    scene.commit(cfg);
+    std::vector<PrimHit> hits(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i) scene.intersect(rays[i], hits[i]);
+    per_kind.push_back(std::move(hits));
+  }
+  for (size_t k = 1; k < per_kind.size(); ++k)
+    for (size_t i = 0; i < rays.size(); ++i)
+      ASSERT_TRUE(same_bits(per_kind[0][i], per_kind[k][i])) << "kind " << k << " ray " << i;
+}
+
+struct WalkObserver : TraversalHooks {
+  static constexpr bool kActive = true;
+  std::vector<int>* node_visits;
+  std::vector<int>* prim_tests;
+  explicit WalkObserver(std::vector<int>* nv, std::vector<int>* pt)
+      : node_visits(nv), prim_tests(pt) {}
+  void on_node(uint32_t n) { (*node_visits).at(n)++; }
+  void on_prim_test(uint32_t p) { (*prim_tests).at(p)++; }
+};
+
+TEST_P(AggregateKind, ObserverSeesTheChosenWalk) {
+  // What the observer sees tells the structure apart: with the 4-wide BVH
+  // every entered inner node is the top of a wide node (the nodes a wide node
+  // swallows are never reported), with the binary walk every entered inner
+  // node's parent was entered too, without a structure no node at all and
+  // every primitive. A primitive is tested at most once per ray; a structure
+  // prunes far below the brute-force count.
+  Rng rng(6);
+  Scene scene;
+  scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 4));
+  commit(scene);
+  const Bvh& bvh = scene.bvh();
+  const WideBvh& walk = scene.accel().walk();
+  std::vector<int> is_top(bvh.nodes.size(), 0), parent(bvh.nodes.size(), -1);
+  is_top[0] = 1;
+  for (size_t n = 0; n < walk.nodes.size(); ++n)
+    for (int k = 0; k < 4; ++k)
+      if (walk.slot_source[4 * n + k] != ~0u) is_top[walk.slot_source[4 * n + k]] = 1;
+  for (uint32_t n = 0; n < bvh.nodes.size(); ++n)
+    if (!bvh.nodes[n].is_leaf())
+      parent[bvh.nodes[n].index] = parent[bvh.nodes[n].index + 1] = int(n);
+  const size_t prims = scene.meshes[0].triangles.size();
+  uint64_t prim_tests = 0;
+  int swallowed_nodes = 0;
+  for (int i = 0; i < 2000; ++i) {
+    std::vector<int> nv(bvh.nodes.size(), 0), pt(prims, 0);
+    WalkObserver obs(&nv, &pt);
+    const Ray ray{to_f(3.0 * rng.unit_vector()), to_f(rng.unit_vector()), kInfinity};
+    SurfaceHit hit;
+    scene.intersect(ray, hit, obs);
+    for (size_t n = 0; n < nv.size(); ++n) {
+      ASSERT_LE(nv[n], 1) << "node " << n;
+      if (!nv[n]) continue;
+      ASSERT_NE(GetParam(), AccelKind::None);
+      ASSERT_TRUE(is_top[n]) << "node " << n << " is not a node of the walked tree";
+      if (GetParam() == AccelKind::BinaryBvh && n > 0) {
+        ASSERT_EQ(nv[size_t(parent[n])], 1) << "node " << n << " entered without its parent";
+      }
+      if (GetParam() == AccelKind::Bvh && n > 0 && !nv[size_t(parent[n])]) ++swallowed_nodes;
+    }
+    for (int v : pt) {
+      ASSERT_LE(v, 1);
+      prim_tests += uint64_t(v);
+    }
+  }
+  if (GetParam() == AccelKind::None) {
+    EXPECT_EQ(prim_tests, uint64_t(2000) * prims);
+  } else {
+    EXPECT_LT(prim_tests, uint64_t(2000) * prims / 20);
+  }
+  if (GetParam() == AccelKind::Bvh) {
+    EXPECT_GT(swallowed_nodes, 0);
+  }
+}
+
+TEST(Aggregate, KindNamesRoundTrip) {
+  for (AccelKind k : {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::None}) {
+    AccelKind parsed = AccelKind::None;
+    ASSERT_TRUE(parse_accel_kind(to_string(k), parsed));
+    EXPECT_EQ(parsed, k);
+  }
+  AccelKind k = AccelKind::Bvh;
+  EXPECT_FALSE(parse_accel_kind("kdtree", k));
+  EXPECT_FALSE(parse_accel_kind("", k));
+  EXPECT_EQ(k, AccelKind::Bvh);
+}
+
+TEST(Aggregate, MemoryCountsEveryStructure) {
+  Scene scene;
+  scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
+  scene.planes.push_back(Plane{"floor", Vec3(0, -5, 0), Vec3(0, 1, 0), 0});
+  scene.commit();
+  const Aggregate& a = scene.accel();
+  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.walk().memory_bytes() +
+                                  a.records().size() * sizeof(PrimRecord) + sizeof(PlaneRecord));
+  EXPECT_GT(a.walk().memory_bytes(), 0u);
+}
+
+TEST(Aggregate, TinyScenesSkipTheStructureUnlessAsked) {
+  Scene scene;
+  for (int k = 0; k < int(Aggregate::kBruteForceMax); ++k)
+    scene.spheres.push_back(rayscope::Sphere{"s", Vec3(float(3 * k), 0, 0), 1.0f, 0});
+  scene.commit();
+  EXPECT_FALSE(scene.accel().walks_structure());
+  AccelConfig cfg;
+  cfg.allow_brute_force = false;
+  scene.commit(cfg);
+  EXPECT_TRUE(scene.accel().walks_structure());
+  scene.spheres.push_back(rayscope::Sphere{"s", Vec3(-3, 0, 0), 1.0f, 0});
+  scene.commit();
+  EXPECT_TRUE(scene.accel().walks_structure());
+}
+
+}  // namespace

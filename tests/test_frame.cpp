@@ -1,0 +1,193 @@
+// The frame loop (frame.h) and its policies: a plain render, a render with
+// statistics (per-pixel cost AOVs) and a render that records ray trees are one
+// walk. The images are bit-identical, the cost AOV of every pixel equals the
+// walk its recorded ray tree logs, and that walk is the one renders do (the
+// 4-wide BVH by default; the binary teaching walk only when chosen).
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "rayscope/frame.h"
+#include "rayscope/replay.h"
+#include "rayscope/shapes.h"
+
+using namespace rayscope;
+
+namespace {
+
+RenderSettings settings(int w, int h, int spp) {
+  RenderSettings s;
+  s.width = w;
+  s.height = h;
+  s.samples = spp;
+  s.threads = 2;
+  return s;
+}
+
+template <class T>
+bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+void expect_same_image(const Framebuffer& a, const Framebuffer& b, const char* what) {
+  EXPECT_TRUE(same_bytes(a.color, b.color)) << what;
+  EXPECT_TRUE(same_bytes(a.depth, b.depth)) << what;
+  EXPECT_TRUE(same_bytes(a.normal, b.normal)) << what;
+  EXPECT_TRUE(same_bytes(a.object_id, b.object_id)) << what;
+}
+
+// Every third pixel of every other row: about 1/6 of the image, in most tiles.
+std::vector<glm::ivec2> some_pixels(const RenderSettings& rs) {
+  std::vector<glm::ivec2> p;
+  for (int y = 0; y < rs.height; y += 2)
+    for (int x = (y / 2) % 3; x < rs.width; x += 3) p.emplace_back(x, y);
+  return p;
+}
+
+PixelCost walk_of(const PixelRecord& rec) {
+  PixelCost c;
+  c.rays = uint32_t(rec.rays.size());
+  for (const RayRecord& r : rec.rays) {
+    c.nodes += uint32_t(r.traversal.nodes.size());
+    c.boxes += r.traversal.boxes_tested;
+    c.prims += r.traversal.prims_tested;
+    c.culled += r.traversal.culled;
+  }
+  return c;
+}
+
+class FrameWalk : public ::testing::TestWithParam<AccelKind> {};
+INSTANTIATE_TEST_SUITE_P(Accel, FrameWalk, ::testing::Values(AccelKind::Bvh, AccelKind::BinaryBvh),
+                         [](const auto& info) {
+                           return std::string(info.param == AccelKind::Bvh ? "bvh" : "bvh2");
+                         });
+
+TEST_P(FrameWalk, StatisticsAndRecordingObserveThePlainWalk) {
+  // The default scene (glass, mirror, shadows, a mesh, spheres, a plane) with
+  // 2x2 samples: plain, statistics and recording renders, and the recorded
+  // pixels' walks against the cost AOV, field by field.
+  Scene scene = make_default_scene();
+  AccelConfig cfg;
+  cfg.kind = GetParam();
+  scene.commit(cfg);
+  ASSERT_TRUE(scene.summary().bvh_used);
+  RenderSettings rs = settings(96, 72, 2);
+  RayCounters plain_counters, stats_counters, record_counters;
+  const Framebuffer plain = render(scene, rs, &plain_counters);
+  RenderSettings with_stats = rs;
+  with_stats.statistics = true;
+  const Framebuffer stats = render(scene, with_stats, &stats_counters);
+  const std::vector<glm::ivec2> pixels = some_pixels(rs);
+  std::vector<PixelRecord> records;
+  const Framebuffer recorded = render_and_record(scene, rs, pixels, records, &record_counters);
+
+  expect_same_image(plain, stats, "plain vs statistics");
+  expect_same_image(plain, recorded, "plain vs recording");
+  EXPECT_EQ(plain_counters.rays, stats_counters.rays);
+  EXPECT_EQ(plain_counters.rays, record_counters.rays);
+  EXPECT_EQ(plain_counters.shadow_occluded, stats_counters.shadow_occluded);
+
+  ASSERT_EQ(stats.cost.size(), stats.color.size());
+  ASSERT_EQ(records.size(), pixels.size());
+  for (size_t k = 0; k < pixels.size(); ++k) {
+    const PixelCost aov = stats.cost[stats.index(pixels[k].x, pixels[k].y)];
+    const PixelCost walk = walk_of(records[k]);
+    const std::string at =
+        "pixel (" + std::to_string(pixels[k].x) + ", " + std::to_string(pixels[k].y) + ")";
+    ASSERT_EQ(aov.rays, walk.rays) << at;
+    ASSERT_EQ(aov.nodes, walk.nodes) << at;
+    ASSERT_EQ(aov.boxes, walk.boxes) << at;
+    ASSERT_EQ(aov.prims, walk.prims) << at;
+    ASSERT_EQ(aov.culled, walk.culled) << at;
+  }
+  // The counters are the sums of the AOV.
+  PixelCost sum;
+  for (const PixelCost& c : stats.cost) {
+    sum.nodes += c.nodes;
+    sum.boxes += c.boxes;
+    sum.prims += c.prims;
+    sum.culled += c.culled;
+  }
+  EXPECT_EQ(stats_counters.nodes_visited, sum.nodes);
+  EXPECT_EQ(stats_counters.boxes_tested, sum.boxes);
+  EXPECT_EQ(stats_counters.prims_tested, sum.prims);
+  EXPECT_EQ(stats_counters.nodes_culled, sum.culled);
+  EXPECT_GT(sum.culled, 0u);
+
+  // A pixel replayed alone logs the walk its frame recorded.
+  for (size_t k = 0; k < pixels.size(); k += 97) {
+    const PixelRecord alone = record_pixel(scene, rs, pixels[k].x, pixels[k].y);
+    ASSERT_EQ(alone.rays.size(), records[k].rays.size());
+    for (size_t r = 0; r < alone.rays.size(); ++r)
+      EXPECT_EQ(alone.rays[r].traversal.nodes, records[k].rays[r].traversal.nodes);
+  }
+}
+
+TEST(FrameWalk, DefaultWalkIsTheWideOneAndBinaryIsAChoice) {
+  // The walk that statistics report is the 4-wide one unless the binary walk
+  // is chosen: every recorded inner node is the top of a wide node, and the
+  // binary walk enters more nodes and tests fewer boxes per node for the same
+  // image.
+  RenderSettings rs = settings(64, 48, 1);
+  rs.statistics = true;
+  Scene wide = make_default_scene(), binary = make_default_scene();
+  wide.commit();
+  AccelConfig cfg;
+  cfg.kind = AccelKind::BinaryBvh;
+  binary.commit(cfg);
+  RayCounters cw, cb;
+  const Framebuffer fw = render(wide, rs, &cw), fb = render(binary, rs, &cb);
+  expect_same_image(fw, fb, "4-wide vs binary walk");
+  EXPECT_GT(cb.nodes_visited, cw.nodes_visited);
+  EXPECT_LT(double(cb.boxes_tested) / double(cb.nodes_visited),
+            double(cw.boxes_tested) / double(cw.nodes_visited));
+
+  const Bvh& bvh = wide.bvh();
+  const WideBvh& walk = wide.accel().walk();
+  ASSERT_EQ(walk.arity(), 4);
+  std::vector<char> is_top(bvh.nodes.size(), 0);
+  is_top[0] = 1;
+  for (uint32_t src : walk.slot_source)
+    if (src != ~0u) is_top[src] = 1;
+  std::vector<glm::ivec2> pixels = some_pixels(rs);
+  std::vector<PixelRecord> records;
+  RenderSettings plain = rs;
+  plain.statistics = false;
+  render_and_record(wide, plain, pixels, records);
+  size_t nodes = 0;
+  for (const PixelRecord& rec : records)
+    for (const RayRecord& r : rec.rays)
+      for (uint32_t n : r.traversal.nodes) {
+        ASSERT_TRUE(is_top[n]) << "node " << n << " is inside a 4-wide node";
+        ++nodes;
+      }
+  EXPECT_GT(nodes, 0u);
+}
+
+TEST(Frame, PolicyFinishSeesEveryPixelOnce) {
+  // A custom policy (as the VTK BVH source uses): finish() runs once per
+  // pixel, concurrently, with the pixel's own recorder.
+  struct CountPixels : FramePolicy {
+    std::vector<std::atomic<int>>* seen;
+    void finish(size_t i, NullRecorder&, RayCounters&, Framebuffer&) { (*seen)[i]++; }
+  };
+  Scene scene = make_default_scene();
+  scene.commit();
+  const RenderSettings rs = settings(37, 29, 1);  // tiles cut at the borders
+  prepare_frame(scene, rs);
+  std::vector<std::atomic<int>> seen(size_t(rs.width * rs.height));
+  CountPixels policy;
+  policy.seen = &seen;
+  size_t progress_calls = 0, last_done = 0, total_tiles = 0;
+  render_frame(scene, rs, policy, nullptr, [&](size_t done, size_t total) {
+    ++progress_calls;
+    last_done = std::max(last_done, done);
+    total_tiles = total;
+  });
+  for (size_t i = 0; i < seen.size(); ++i) ASSERT_EQ(seen[i].load(), 1) << "pixel " << i;
+  EXPECT_EQ(total_tiles, size_t(3 * 2));  // 16-pixel tiles
+  EXPECT_EQ(progress_calls, total_tiles);
+  EXPECT_EQ(last_done, total_tiles);
+}
+
+}  // namespace
