@@ -706,7 +706,7 @@ void print_tables(const Results& r, const Options& opt) {
                 b.quality.sah_cost);
   }
   std::printf(
-      "(commit = Scene::commit(): validation, bounds, Bvh::build, Bvh4 collapse, leaf "
+      "(commit = Scene::commit(): validation, bounds, Bvh::build, WideBvh collapse, leaf "
       "records;\n bvh = Bvh::build() alone; Embree N = rtcNewScene .. rtcCommitScene incl. "
       "buffer copy with device \"threads=N\")\n");
 

@@ -5,24 +5,17 @@
 // 4-wide BVH by default; the binary teaching walk only when chosen).
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
 
 #include "rayscope/frame.h"
 #include "rayscope/replay.h"
 #include "rayscope/shapes.h"
+#include "test_util.h"
 
 using namespace rayscope;
 
 namespace {
-
-RenderSettings settings(int w, int h, int spp) {
-  RenderSettings s;
-  s.width = w;
-  s.height = h;
-  s.samples = spp;
-  s.threads = 2;
-  return s;
-}
 
 template <class T>
 bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
@@ -71,7 +64,7 @@ TEST_P(FrameWalk, StatisticsAndRecordingObserveThePlainWalk) {
   cfg.kind = GetParam();
   scene.commit(cfg);
   ASSERT_TRUE(scene.summary().bvh_used);
-  RenderSettings rs = settings(96, 72, 2);
+  RenderSettings rs = rstest::small_render(96, 72, 2);
   RayCounters plain_counters, stats_counters, record_counters;
   const Framebuffer plain = render(scene, rs, &plain_counters);
   RenderSettings with_stats = rs;
@@ -128,7 +121,7 @@ TEST(FrameWalk, DefaultWalkIsTheWideOneAndBinaryIsAChoice) {
   // is chosen: every recorded inner node is the top of a wide node, and the
   // binary walk enters more nodes and tests fewer boxes per node for the same
   // image.
-  RenderSettings rs = settings(64, 48, 1);
+  RenderSettings rs = rstest::small_render(64, 48, 1);
   rs.statistics = true;
   Scene wide = make_default_scene(), binary = make_default_scene();
   wide.commit();
@@ -138,6 +131,11 @@ TEST(FrameWalk, DefaultWalkIsTheWideOneAndBinaryIsAChoice) {
   RayCounters cw, cb;
   const Framebuffer fw = render(wide, rs, &cw), fb = render(binary, rs, &cb);
   expect_same_image(fw, fb, "4-wide vs binary walk");
+  std::printf(
+      "default scene 64x48: 4-wide walk %llu nodes, %llu boxes; binary walk %llu nodes, "
+      "%llu boxes\n",
+      (unsigned long long)cw.nodes_visited, (unsigned long long)cw.boxes_tested,
+      (unsigned long long)cb.nodes_visited, (unsigned long long)cb.boxes_tested);
   EXPECT_GT(cb.nodes_visited, cw.nodes_visited);
   EXPECT_LT(double(cb.boxes_tested) / double(cb.nodes_visited),
             double(cw.boxes_tested) / double(cw.nodes_visited));
@@ -173,7 +171,7 @@ TEST(Frame, PolicyFinishSeesEveryPixelOnce) {
   };
   Scene scene = make_default_scene();
   scene.commit();
-  const RenderSettings rs = settings(37, 29, 1);  // tiles cut at the borders
+  const RenderSettings rs = rstest::small_render(37, 29, 1);  // tiles cut at the borders
   prepare_frame(scene, rs);
   std::vector<std::atomic<int>> seen(size_t(rs.width * rs.height));
   CountPixels policy;

@@ -6,6 +6,7 @@
 #include "rayscope/render.h"
 #include "rayscope/replay.h"
 #include "rayscope/shapes.h"
+#include "test_util.h"
 
 using namespace rayscope;
 
@@ -13,15 +14,6 @@ namespace {
 
 bool same_bits(const Color& a, const Color& b) {
   return std::memcmp(&a, &b, sizeof(Color)) == 0;
-}
-
-RenderSettings small(int w, int h, int spp) {
-  RenderSettings s;
-  s.width = w;
-  s.height = h;
-  s.samples = spp;
-  s.threads = 2;
-  return s;
 }
 
 // A diffuse scene: a plane and two spheres, no reflective or refractive material.
@@ -52,7 +44,7 @@ Scene diffuse_scene(bool with_light) {
 TEST(RayTree, ReplayEqualsRender) {
   Scene scene = make_default_scene();
   scene.commit();
-  RenderSettings rs = small(96, 72, 2);
+  RenderSettings rs = rstest::small_render(96, 72, 2);
   Framebuffer fb = render(scene, rs);
   int compared = 0, with_refraction = 0, with_occlusion = 0;
   for (int y = 0; y < rs.height; y += 3)
@@ -76,7 +68,7 @@ TEST(RayTree, ReplayEqualsRender) {
 TEST(RayTree, TreeStructure) {
   Scene scene = make_default_scene();
   scene.commit();
-  RenderSettings rs = small(64, 48, 2);
+  RenderSettings rs = rstest::small_render(64, 48, 2);
   prepare_frame(scene, rs);
   for (auto [x, y] : {std::pair{20, 25}, {40, 30}, {32, 20}, {10, 40}}) {
     PixelRecord rec = record_pixel(scene, rs, x, y);
@@ -115,7 +107,7 @@ TEST(RenderOnlyWhatIsNeeded, NoLightsNoShadowRays) {
   Scene scene = diffuse_scene(false);
   scene.commit();
   for (int spp : {1, 2, 3}) {
-    RenderSettings rs = small(40, 30, spp);
+    RenderSettings rs = rstest::small_render(40, 30, spp);
     RayCounters c;
     render(scene, rs, &c);
     EXPECT_EQ(c.total_rays(), uint64_t(40 * 30 * spp * spp));
@@ -130,7 +122,7 @@ TEST(RenderOnlyWhatIsNeeded, NoLightsNoShadowRays) {
 TEST(RenderOnlyWhatIsNeeded, OneShadowRayPerLitHit) {
   Scene scene = diffuse_scene(true);
   scene.commit();
-  RenderSettings rs = small(40, 30, 1);
+  RenderSettings rs = rstest::small_render(40, 30, 1);
   RayCounters c;
   render(scene, rs, &c);
   EXPECT_EQ(c.rays[int(RayKind::Primary)], 1200u);
@@ -143,7 +135,7 @@ TEST(RenderOnlyWhatIsNeeded, OneShadowRayPerLitHit) {
 TEST(RenderOnlyWhatIsNeeded, MirrorAddsExactlyItsReflectionRays) {
   Scene base = diffuse_scene(false);
   base.commit();
-  RenderSettings rs = small(40, 30, 1);
+  RenderSettings rs = rstest::small_render(40, 30, 1);
   RayCounters c0;
   Framebuffer fb = render(base, rs, &c0);
   const uint32_t mirror_object = 0;  // sphere "a": objects are meshes, spheres, planes
@@ -177,7 +169,7 @@ TEST(RenderOnlyWhatIsNeeded, TinySceneSkipsBvh) {
   big.spheres.push_back(Sphere{"hidden3", Vec3(-3, 0.5f, 100), 0.1f, 0});
   big.commit();
   EXPECT_TRUE(big.summary().bvh_used);
-  RenderSettings rs = small(48, 36, 1);
+  RenderSettings rs = rstest::small_render(48, 36, 1);
   Framebuffer a = render(tiny, rs), b = render(big, rs);
   ASSERT_EQ(0, std::memcmp(a.color.data(), b.color.data(), a.color.size() * sizeof(Color)));
 }
@@ -186,7 +178,7 @@ TEST(RenderOnlyWhatIsNeeded, TinySceneSkipsBvh) {
 TEST(RenderOnlyWhatIsNeeded, DepthZeroCutsAllSecondaryRays) {
   Scene scene = make_default_scene();
   scene.commit();
-  RenderSettings rs = small(32, 24, 1);
+  RenderSettings rs = rstest::small_render(32, 24, 1);
   rs.max_depth = 0;
   RayCounters c;
   render(scene, rs, &c);
@@ -199,7 +191,7 @@ TEST(RenderOnlyWhatIsNeeded, DepthZeroCutsAllSecondaryRays) {
 TEST(RayTree, RenderAndRecordMatchesReplay) {
   Scene scene = make_default_scene();
   scene.commit();
-  RenderSettings rs = small(64, 48, 2);
+  RenderSettings rs = rstest::small_render(64, 48, 2);
   Framebuffer plain = render(scene, rs);
   std::vector<glm::ivec2> pixels = {{10, 10}, {32, 24}, {50, 30}, {32, 24}};
   std::vector<PixelRecord> records;

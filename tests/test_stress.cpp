@@ -1,4 +1,4 @@
-// Numerical stress tests (issue 5): the tracer under conditions that break
+// Numerical stress tests: the tracer under conditions that break
 // naive float code.
 //
 //  1. Watertightness at scale: a closed icosphere of 1,310,720 triangles

@@ -14,6 +14,7 @@
 
 #include "rayscope/math.h"
 #include "rayscope/ray.h"
+#include "rayscope/render_settings.h"
 
 namespace rstest {
 
@@ -182,6 +183,16 @@ inline bool naive_sphere(const rayscope::Ray& ray, const rayscope::Vec3& center,
   float t0 = (-b - s) / (2.0f * a), t1 = (-b + s) / (2.0f * a);
   t = t0 > 0.0f ? t0 : t1;
   return t > 0.0f;
+}
+
+/// Settings of a small test render: w x h, spp x spp samples, two threads.
+inline rayscope::RenderSettings small_render(int w, int h, int spp) {
+  rayscope::RenderSettings s;
+  s.width = w;
+  s.height = h;
+  s.samples = spp;
+  s.threads = 2;
+  return s;
 }
 
 }  // namespace rstest
