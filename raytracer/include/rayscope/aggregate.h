@@ -126,15 +126,18 @@ class Aggregate {
     return a < num_triangles_ ? (b >= num_triangles_ || a > b) : (b >= num_triangles_ && a < b);
   }
 
-  /// The one primitive test. Triangles are hit at t <= tri_tmax
-  /// (intersect_triangle's closed bound), spheres at t < sphere_limit; on a hit
-  /// `th` holds t (and the barycentrics of a triangle).
+  /// The one primitive test: whether record r is hit within the query's range,
+  /// and where (`th`: t, and the barycentrics of a triangle). Triangles are hit
+  /// at t <= tmax (intersect_triangle's closed bound); spheres at t < tmax, or
+  /// at t <= tmax with `sphere_closed` (so that a sphere at exactly the
+  /// closest t so far is found and can win the tie).
   [[gnu::always_inline]] bool test_prim(const PrimRecord& r, const Ray& ray,
-                                        const TrianglePrecomp& pre, float tri_tmax,
-                                        float sphere_limit, TriangleHit& th) const {
-    if (r.id < num_triangles_) return intersect_triangle(pre, tri_tmax, r.a, r.b, r.c, th);
+                                        const TrianglePrecomp& pre, float tmax, bool sphere_closed,
+                                        TriangleHit& th) const {
+    if (r.id < num_triangles_) return intersect_triangle(pre, tmax, r.a, r.b, r.c, th);
     float ts;
-    if (!intersect_sphere(ray, r.a, r.b.x, sphere_limit, ts)) return false;
+    if (!intersect_sphere(ray, r.a, r.b.x, sphere_closed ? next_float_up(tmax) : tmax, ts))
+      return false;
     th = TriangleHit{ts, 0.0f, 0.0f, 0.0f};
     return true;
   }
@@ -164,16 +167,15 @@ bool Aggregate::intersect(const Ray& ray, PrimHit& hit, Observer& obs) const {
   uint32_t best = ~0u, best_id = ~0u;
   TriangleHit best_tri{};
   const TrianglePrecomp pre(ray);
-  // A hit at exactly the closest t so far replaces it only if it wins the tie.
-  // Spheres are tested with the open bound next_float_up(t) once something was
-  // hit, so that a sphere at exactly t is found and can win the tie.
+  // A hit at exactly the closest t so far replaces it only if it wins the tie
+  // (spheres are tested with the closed bound once something was hit).
   auto leaf = [&](uint32_t first, uint32_t count, float& t) {
     bool found = false;
     for (uint32_t i = first; i < first + count; ++i) {
       const PrimRecord& r = records_[i];
       if constexpr (Observer::kActive) obs.on_prim_test(r.id);
       TriangleHit th;
-      if (test_prim(r, ray, pre, t, best == ~0u ? t : next_float_up(t), th) &&
+      if (test_prim(r, ray, pre, t, best != ~0u, th) &&
           (th.t < t || best == ~0u || wins_tie(r.id, best_id))) {
         t = th.t;
         best = i;
@@ -231,7 +233,7 @@ bool Aggregate::occluded(const Ray& ray, Observer& obs, PrimHit* which) const {
       const PrimRecord& r = records_[i];
       if constexpr (Observer::kActive) obs.on_prim_test(r.id);
       TriangleHit th;
-      if (test_prim(r, ray, pre, t, t, th)) {
+      if (test_prim(r, ray, pre, t, false, th)) {
         hit_record = i;
         return true;
       }
