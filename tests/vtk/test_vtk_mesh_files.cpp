@@ -80,12 +80,17 @@ class VtkMeshFiles : public ::testing::Test {
   fs::path dir_;
 };
 
-// What the module makes of `data` with its default converter.
-TriangleMesh module_mesh(vtkDataSet* data, vtkMapper* mapper = nullptr) {
+// What the module makes of `file` read by VTK's `Reader`: its default
+// converter, coloring with `mapper` when given.
+template <class Reader>
+TriangleMesh module_mesh(const fs::path& file, vtkMapper* mapper = nullptr) {
+  vtkNew<Reader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
   vtkNew<vtkRayScopeMeshConverter> converter;
   if (mapper) converter->SetMapper(mapper);
   TriangleMesh m;
-  EXPECT_TRUE(converter->ConvertToMesh(data, m));
+  EXPECT_TRUE(converter->ConvertToMesh(reader->GetOutput(), m));
   return m;
 }
 
@@ -111,10 +116,7 @@ void expect_same(const TriangleMesh& a, const TriangleMesh& b) {
 TEST_F(VtkMeshFiles, CommandAndModuleGiveTheSameSmoothMesh) {
   const fs::path file = sphere_vtp();
   TriangleMesh cli = rayscope_vtk::load_mesh(file_options(file));
-  vtkNew<vtkXMLPolyDataReader> reader;
-  reader->SetFileName(file.c_str());
-  reader->Update();
-  expect_same(cli, module_mesh(reader->GetOutput()));
+  expect_same(cli, module_mesh<vtkXMLPolyDataReader>(file));
 
   ASSERT_EQ(cli.normals.size(), cli.positions.size());
   ASSERT_GT(cli.triangles.size(), 400u);
@@ -133,10 +135,7 @@ TEST_F(VtkMeshFiles, CommandAndModuleGiveTheSameSmoothMesh) {
 TEST_F(VtkMeshFiles, SharpEdgesSplitAsInTheModule) {
   const fs::path file = cube_stl();
   TriangleMesh cli = rayscope_vtk::load_mesh(file_options(file));
-  vtkNew<vtkSTLReader> reader;
-  reader->SetFileName(file.c_str());
-  reader->Update();
-  expect_same(cli, module_mesh(reader->GetOutput()));
+  expect_same(cli, module_mesh<vtkSTLReader>(file));
   EXPECT_EQ(cli.triangles.size(), 12u);
   EXPECT_EQ(cli.positions.size(), 24u);
   for (const glm::uvec3& t : cli.triangles) {
@@ -188,10 +187,7 @@ TEST_F(VtkMeshFiles, ColorByMatchesTheModuleMapper) {
   mapper->SetColorModeToMapScalars();
   mapper->SetLookupTable(gray);
   mapper->SetScalarRange(0.0, 1.0);
-  vtkNew<vtkXMLPolyDataReader> reader;
-  reader->SetFileName(file.c_str());
-  reader->Update();
-  expect_same(cli, module_mesh(reader->GetOutput(), mapper));
+  expect_same(cli, module_mesh<vtkXMLPolyDataReader>(file, mapper));
 
   ASSERT_EQ(cli.colors.size(), cli.positions.size());
   for (const glm::uvec3& t : cli.triangles) {
