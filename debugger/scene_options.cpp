@@ -1,7 +1,7 @@
 #include "scene_options.h"
 
 #include "rayscope/shapes.h"
-#include "rayscope/vtk_mesh.h"
+#include "rayscope_vtk/mesh_files.h"
 
 namespace rayscope::cli {
 namespace {
@@ -60,7 +60,7 @@ LoadedScene SceneOptions::load() const {
     loaded.scene = make_default_scene();
     loaded.settings.samples = 2;
   } else {
-    loaded = load_scene(scene, read_mesh_file);
+    loaded = load_scene(scene, rayscope_vtk::load_mesh);
   }
   RenderSettings& rs = loaded.settings;
   if (!size.empty()) parse_size(size, rs.width, rs.height);

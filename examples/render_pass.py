@@ -110,8 +110,9 @@ def main():
         if k == 1:
             # The one line that switches this renderer to ray tracing.
             rt_pass = rayscope.vtkRayScopePass()
-            rt_pass.SetSamples(args.samples)
-            rt_pass.SetMaxDepth(6)
+            settings = rt_pass.GetImageAlgorithm()  # holds the render settings
+            settings.SetSamples(args.samples)
+            settings.SetMaxDepth(6)
             renderer.SetPass(rt_pass)
         window.AddRenderer(renderer)
     window.Render()

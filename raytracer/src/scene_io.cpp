@@ -107,6 +107,44 @@ glm::mat4 parse_transform(Reader& r, const json& j, const std::string& where) {
   return t;
 }
 
+// A mesh's "color_by" object: an array, its association, a range and a map.
+MeshColorBy parse_color_by(Reader& r, const json& j, const std::string& where) {
+  r.keys(j, where, {"array", "association", "range", "map"});
+  MeshColorBy c;
+  if (!j.contains("array")) r.fail(where, "needs an 'array' (the name of a point or cell array)");
+  c.array = r.string(j["array"], where + ".array");
+  if (c.array.empty()) r.fail(where + ".array", "must not be empty");
+  if (j.contains("association")) {
+    const std::string a = r.string(j["association"], where + ".association");
+    if (a == "point")
+      c.association = MeshColorBy::Association::Point;
+    else if (a == "cell")
+      c.association = MeshColorBy::Association::Cell;
+    else
+      r.fail(where + ".association", "expected \"point\" or \"cell\", got \"" + a + "\"");
+  }
+  if (j.contains("range")) {
+    const json& g = j["range"];
+    if (!g.is_array() || g.size() != 2) r.fail(where + ".range", "expected [lo, hi]");
+    const double lo = r.number(g[0], where + ".range[0]"), hi = r.number(g[1], where + ".range[1]");
+    if (!(lo < hi)) r.fail(where + ".range", "lo must be less than hi");
+    c.range = std::array<double, 2>{lo, hi};
+  }
+  if (j.contains("map")) {
+    const std::string m = r.string(j["map"], where + ".map");
+    auto it = std::find_if(kColorMapNames.begin(), kColorMapNames.end(),
+                           [&](const char* name) { return m == name; });
+    if (it == kColorMapNames.end()) {
+      std::string names;
+      for (const char* name : kColorMapNames)
+        names += std::string(names.empty() ? "" : ", ") + "\"" + name + "\"";
+      r.fail(where + ".map", "expected one of " + names + ", got \"" + m + "\"");
+    }
+    c.map = ColorMap(it - kColorMapNames.begin());
+  }
+  return c;
+}
+
 }  // namespace
 
 LoadedScene parse_scene(const std::string& text, const std::string& name,
@@ -304,19 +342,24 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
         p.material = material_ref(j, w);
         s.planes.push_back(p);
       } else if (type == "mesh") {
-        r.keys(j, w, {"type", "name", "file", "transform", "material", "smooth"});
+        r.keys(j, w, {"type", "name", "file", "transform", "material", "smooth", "color_by"});
         if (!j.contains("file")) r.fail(w, "a mesh needs a 'file'");
-        std::filesystem::path f = r.string(j["file"], w + ".file");
-        if (f.is_relative()) f = base_dir / f;
-        if (!mesh_loader) r.fail(w, "no mesh reader available for '" + f.string() + "'");
+        MeshOptions mo;
+        mo.file = r.string(j["file"], w + ".file");
+        if (mo.file.is_relative()) mo.file = base_dir / mo.file;
+        if (j.contains("smooth")) mo.smooth = r.boolean(j["smooth"], w + ".smooth");
+        if (j.contains("color_by")) mo.color_by = parse_color_by(r, j["color_by"], w + ".color_by");
+        if (!mesh_loader) r.fail(w, "no mesh reader available for '" + mo.file.string() + "'");
         TriangleMesh m;
         try {
-          m = mesh_loader(f);
+          m = mesh_loader(mo);
+        } catch (const MeshOptionError& e) {
+          // what() is "KEY: problem", KEY within the object (e.g. color_by.array).
+          throw SceneError(name + ": " + w + "." + e.what());
         } catch (const std::exception& e) {
           std::string msg = e.what();
           throw SceneError(name + ": " + w + ".file: " + msg);
         }
-        if (j.contains("smooth") && !r.boolean(j["smooth"], w + ".smooth")) m.normals.clear();
         if (j.contains("transform")) {
           glm::mat4 t = parse_transform(r, j["transform"], w + ".transform");
           glm::mat3 nt = glm::transpose(glm::inverse(glm::mat3(t)));

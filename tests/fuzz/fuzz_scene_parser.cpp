@@ -37,8 +37,10 @@ namespace {
 // Stands in for the VTK mesh reader without touching the filesystem: the file
 // name picks one of a few small meshes, so that the fuzzer can reach every
 // branch of mesh handling (load errors, smooth normals, vertex colors,
-// non-finite vertices, empty meshes). A missing file throws like the reader.
-rayscope::TriangleMesh fake_mesh(const std::filesystem::path& path) {
+// non-finite vertices, empty meshes). A missing file throws like the reader,
+// and so does a color_by array named "missing"; smooth false drops normals.
+rayscope::TriangleMesh fake_mesh(const rayscope::MeshOptions& options) {
+  const std::filesystem::path& path = options.file;
   const std::string file = path.filename().string();
   if (file.find("missing") != std::string::npos)
     throw std::runtime_error(path.string() + ": file not found");
@@ -52,6 +54,10 @@ rayscope::TriangleMesh fake_mesh(const std::filesystem::path& path) {
     for (const rayscope::Vec3& p : m.positions) m.normals.push_back(glm::normalize(p));
   if (ext == ".vtp" || ext == ".vtk") m.colors.assign(m.positions.size(), {0.9f, 0.5f, 0.1f});
   if (file.find("nan") != std::string::npos) m.positions[3].x = std::nanf("");
+  if (options.color_by && options.color_by->array.find("missing") != std::string::npos)
+    throw rayscope::MeshOptionError("color_by.array: " + path.string() + " has no array '" +
+                                    options.color_by->array + "'");
+  if (!options.smooth) m.normals.clear();
   return m;
 }
 

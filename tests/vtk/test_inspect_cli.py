@@ -88,8 +88,7 @@ def write_scene_file(named_sources):
         src.Update()
         tri = vtk.vtkPolyData()
         assert conv.Convert(src.GetOutput(), tri) == 1
-        # Legacy binary .vtk (the core's reader rejects XML .vtp files: see
-        # vtkplugin/mesh_reader.cpp, vtkXMLGenericDataObjectReader::CanReadFile).
+        # Legacy binary .vtk: float points and normals, read back bit for bit.
         path = os.path.join(OUT, f"inspect_{name}.vtk")
         w = vtk.vtkPolyDataWriter()
         w.SetFileName(path)

@@ -124,7 +124,7 @@ window.Render()
 opengl = grab(window)
 
 rt_pass = rayscope.vtkRayScopePass()
-rt_pass.SetSamples(2)
+rt_pass.GetImageAlgorithm().SetSamples(2)  # the pass renders with its algorithm's settings
 renderer.SetPass(rt_pass)
 window.Render()
 shown = grab(window)

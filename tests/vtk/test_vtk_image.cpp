@@ -25,6 +25,7 @@
 #include <vtkSphereSource.h>
 #include <vtkUnsignedCharArray.h>
 
+#include "rayscope/render_settings.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeMaterial.h"
 #include "vtk_test_util.h"
@@ -217,11 +218,18 @@ TEST(VtkImage, RejectsBadParameters) {
     std::function<void(vtkRayScopeImageAlgorithm*)> breakit;
   };
   std::vector<Case> cases = {
+      // The render settings: RenderSettings::validate()'s messages and limits.
       {"image size 0x20", [](auto* a) { a->SetWidth(0); }},
       {"image size 40x40000", [](auto* a) { a->SetHeight(40000); }},
-      {"Samples must be in 1..64", [](auto* a) { a->SetSamples(0); }},
-      {"MaxDepth must be in 0..64", [](auto* a) { a->SetMaxDepth(-1); }},
-      {"MinContribution", [](auto* a) { a->SetMinContribution(-1.0); }},
+      {"image size 20000x20000 is too large",
+       [](auto* a) { a->SetSize(20000, 20000); }},  // more than kMaxPixels
+      {"samples must be in 1..64", [](auto* a) { a->SetSamples(0); }},
+      {"samples must be in 1..64", [](auto* a) { a->SetSamples(65); }},
+      {"max_depth must be in 0..64", [](auto* a) { a->SetMaxDepth(-1); }},
+      {"min_contribution must be in [0, 1]", [](auto* a) { a->SetMinContribution(-1.0); }},
+      {"min_contribution must be in [0, 1]", [](auto* a) { a->SetMinContribution(1.5); }},
+      {"threads must be in 0..1024", [](auto* a) { a->SetThreads(1025); }},
+      // The checks only VTK has.
       {"Position and FocalPoint coincide", [](auto* a) { a->SetPosition(0, 0, 0); }},
       {"ViewUp is zero or parallel", [](auto* a) { a->SetViewUp(0, 0, 1); }},
       {"ViewAngle must be in (0, 180)", [](auto* a) { a->SetViewAngle(180.0); }},
@@ -250,14 +258,18 @@ TEST(VtkImage, RejectsBadParameters) {
     vtkNew<vtkRayScopeImageAlgorithm> alg;
     alg->AddInputConnection(s->GetOutputPort());
     alg->SetSize(40, 20);
+    ASSERT_EQ(update(alg), 1);
     c.breakit(alg);
     vtkNew<ErrorCatcher> errors, pipeline_errors;
     alg->AddObserver(vtkCommand::ErrorEvent, errors);
     alg->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, pipeline_errors);
     EXPECT_EQ(update(alg), 0) << c.expect;
+    // One error per update (the parameters are checked once), and the output
+    // of the earlier good update is gone.
     EXPECT_EQ(errors->count, 1) << c.expect;
     EXPECT_NE(errors->last.find(c.expect), std::string::npos)
         << "expected '" << c.expect << "' in: " << errors->last;
+    EXPECT_EQ(alg->GetOutput()->GetNumberOfPoints(), 0) << c.expect;
   }
   // No input at all.
   vtkNew<vtkRayScopeImageAlgorithm> alg;
@@ -266,6 +278,21 @@ TEST(VtkImage, RejectsBadParameters) {
   alg->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, pipeline_errors);
   alg->Update();
   EXPECT_GE(errors->count + pipeline_errors->count, 1);
+}
+
+// MinContribution is a weight within a sample: 0..1, both ends included.
+TEST(VtkImage, MinContributionRange) {
+  vtkNew<vtkSphereSource> s;
+  configure_sphere(s, 0, 0, 0, 0.5, 16);
+  for (double m : {0.0, 1e-3, 1.0}) {
+    vtkNew<vtkRayScopeImageAlgorithm> alg;
+    alg->AddInputConnection(s->GetOutputPort());
+    alg->SetSize(20, 20);
+    alg->GetMaterial()->SetReflectivity(0.5);
+    alg->SetMinContribution(m);
+    EXPECT_EQ(update(alg), 1) << m;
+    EXPECT_EQ(alg->GetRenderSettings().min_contribution, float(m));
+  }
 }
 
 // A point with NaN coordinates: its triangles are left out with one warning

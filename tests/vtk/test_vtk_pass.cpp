@@ -267,7 +267,7 @@ TEST(VtkPass, ParallelCameraHeadlightAndCameraLight) {
 // the window shows the heat map instead of the colors.
 TEST(VtkPass, StatisticsAndCostDisplay) {
   RendererScene r;
-  r.pass->ComputeStatisticsOn();
+  r.pass->GetImageAlgorithm()->ComputeCostOn();
   vtkSmartPointer<vtkImageData> colors = r.render_and_read();
   vtkImageData* last = r.pass->GetLastImage();
   ASSERT_NE(last, nullptr);
@@ -281,13 +281,49 @@ TEST(VtkPass, StatisticsAndCostDisplay) {
   EXPECT_GT(max_byte_difference(heat, r.pass->GetLastImage()), 50);
 }
 
+// The pass has no render settings of its own: it renders with its image
+// algorithm's, which CopyRenderer() leaves alone. Cost starts off; the cost
+// display switches it on.
+TEST(VtkPass, RendersWithTheImageAlgorithmSettings) {
+  RendererScene r;
+  vtkRayScopeImageAlgorithm* alg = r.pass->GetImageAlgorithm();
+  EXPECT_FALSE(alg->GetComputeCost());
+  alg->SetSamples(2);
+  alg->SetMaxDepth(1);
+  alg->SetMinContribution(0.5);
+  alg->ShadowsOff();
+  alg->SetThreads(2);
+  vtkSmartPointer<vtkImageData> shown = r.render_and_read();
+  EXPECT_EQ(alg->GetSamples(), 2);
+  EXPECT_EQ(alg->GetMaxDepth(), 1);
+  EXPECT_EQ(alg->GetMinContribution(), 0.5);
+  EXPECT_FALSE(alg->GetShadows());
+  EXPECT_EQ(r.pass->GetLastImage()->GetPointData()->GetArray("Cost"), nullptr);
+
+  HandScene h(r);
+  h.alg->SetSamples(2);
+  h.alg->SetMaxDepth(1);
+  h.alg->SetMinContribution(0.5);
+  h.alg->ShadowsOff();
+  ASSERT_EQ(update(h.alg), 1);
+  EXPECT_EQ(max_byte_difference(shown, h.alg->GetOutput()), 0);
+  HandScene defaults(r);
+  ASSERT_EQ(update(defaults.alg), 1);
+  EXPECT_GT(max_byte_difference(shown, defaults.alg->GetOutput()), 10);
+
+  r.pass->SetDisplayModeToCost();
+  EXPECT_TRUE(alg->GetComputeCost());
+  r.render_and_read();
+  EXPECT_NE(r.pass->GetLastImage()->GetPointData()->GetArray("Cost"), nullptr);
+}
+
 // Bad settings: one error from the algorithm, no crash, the background shows.
 TEST(VtkPass, BadSettingsReportAnError) {
   RendererScene r;
   vtkNew<ErrorCatcher> errors;
   r.pass->GetImageAlgorithm()->AddObserver(vtkCommand::ErrorEvent, errors);
   r.pass->AddObserver(vtkCommand::ErrorEvent, errors);
-  r.pass->SetSamples(0);
+  r.pass->GetImageAlgorithm()->SetSamples(0);
   vtkSmartPointer<vtkImageData> shown = r.render_and_read();
   EXPECT_GE(errors->count, 1);
   EXPECT_NE(errors->last.find("ray tracing failed"), std::string::npos) << errors->last;

@@ -1,8 +1,10 @@
 // The JSON scene format (documented in docs/scene-format.md).
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -17,10 +19,48 @@ class SceneError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Reads a mesh file into a TriangleMesh (positions, triangles, optional normals
-/// and colors). The core has no mesh readers of its own; the VTK converter in
-/// vtkplugin/ provides one. Throws std::exception on failure.
-using MeshLoader = std::function<TriangleMesh(const std::filesystem::path&)>;
+/// The color maps a mesh's "color_by" can name. The core only names them; the
+/// mesh loader builds them (the VTK-side loader with VTK's lookup tables).
+enum class ColorMap { CoolWarm, Rainbow, Grayscale };
+
+/// The scene-file names of the color maps, indexed by ColorMap.
+inline constexpr std::array<const char*, 3> kColorMapNames = {"cool-warm", "rainbow", "grayscale"};
+
+/// A mesh colored by one of its scalar arrays mapped through a color map
+/// (docs/scene-format.md, "color_by").
+struct MeshColorBy {
+  enum class Association { Point, Cell };
+  std::string array;  ///< Name of the point or cell array (non-empty).
+  Association association = Association::Point;
+  /// Scalar values mapped to the two ends of the map (lo < hi); without it
+  /// the array's range.
+  std::optional<std::array<double, 2>> range;
+  ColorMap map = ColorMap::CoolWarm;
+};
+
+/// What a scene file asks of one mesh object, for the MeshLoader.
+struct MeshOptions {
+  std::filesystem::path file;  ///< Resolved against the scene file's folder.
+  /// true: shaded smooth with point normals (the file's, else computed);
+  /// false: no normals, flat shading.
+  bool smooth = true;
+  std::optional<MeshColorBy> color_by;  ///< Vertex colors from scalars; none without.
+};
+
+/// Thrown by a MeshLoader when the file is read but an option does not fit it
+/// (e.g. color_by names an array the file lacks). what() is the problem; the
+/// parser reports it under the object's "color_by".
+class MeshOptionError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Reads the mesh a scene object describes into a TriangleMesh (positions,
+/// triangles, optional normals and colors). The core has no mesh readers of
+/// its own; rayscope_vtk::load_mesh (vtkplugin/meshio) is the one the rayscope
+/// command uses. Throws MeshOptionError for an option that does not fit the
+/// file, another std::exception ("FILE: problem") for a file it cannot read.
+using MeshLoader = std::function<TriangleMesh(const MeshOptions&)>;
 
 struct LoadedScene {
   Scene scene;

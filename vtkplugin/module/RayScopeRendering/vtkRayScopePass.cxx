@@ -22,16 +22,12 @@
 vtkStandardNewMacro(vtkRayScopePass);
 
 vtkRayScopePass::vtkRayScopePass()
-    : Samples(1),
-      MaxDepth(5),
-      MinContribution(1e-3),
-      Shadows(1),
-      Threads(0),
-      ComputeStatistics(0),
-      DisplayMode(COLOR),
+    : DisplayMode(COLOR),
       LastRenderTime(0.0),
       Algorithm(vtkRayScopeImageAlgorithm::New()),
-      HasImage(false) {}
+      HasImage(false) {
+  this->Algorithm->ComputeCostOff();
+}
 
 vtkRayScopePass::~vtkRayScopePass() {
   this->Algorithm->Delete();
@@ -39,6 +35,14 @@ vtkRayScopePass::~vtkRayScopePass() {
 
 vtkRayScopeImageAlgorithm* vtkRayScopePass::GetImageAlgorithm() {
   return this->Algorithm;
+}
+
+void vtkRayScopePass::SetDisplayMode(int mode) {
+  mode = std::clamp(mode, int(COLOR), int(COST));
+  if (mode == COST) this->Algorithm->ComputeCostOn();
+  if (mode == this->DisplayMode) return;
+  this->DisplayMode = mode;
+  this->Modified();
 }
 
 vtkImageData* vtkRayScopePass::GetLastImage() {
@@ -84,12 +88,6 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
   vtkRayScopeImageAlgorithm* alg = this->Algorithm;
   const int inputs = alg->CopyRenderer(ren);
   if (inputs <= 0) return;  // nothing to trace: the cleared background is the image
-  alg->SetSamples(this->Samples);
-  alg->SetMaxDepth(this->MaxDepth);
-  alg->SetMinContribution(this->MinContribution);
-  alg->SetShadows(this->Shadows);
-  alg->SetThreads(this->Threads);
-  alg->SetComputeCost(this->ComputeStatistics || this->DisplayMode == COST);
   this->HasImage = false;
   if (!alg->GetExecutive()->Update()) {
     vtkErrorMacro(<< "ray tracing failed (see the vtkRayScopeImageAlgorithm error)");
@@ -104,11 +102,14 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
   void* pixels = nullptr;
   if (this->DisplayMode == COST) {
     heat = cost_heat_map(image);
-    pixels = heat.data();
+    if (!heat.empty()) pixels = heat.data();
   } else if (auto* color = vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetScalars()))
     pixels = color->GetVoidPointer(0);
   if (!pixels) {
-    vtkErrorMacro(<< "the ray-traced image has no color array");
+    vtkErrorMacro(<< (this->DisplayMode == COST
+                          ? "the ray-traced image has no Cost array: turn the image algorithm's "
+                            "ComputeCost on for DisplayMode COST"
+                          : "the ray-traced image has no color array"));
     return;
   }
   // The image is as large as the renderer; draw it 1:1 over its viewport.
@@ -122,12 +123,8 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
 
 void vtkRayScopePass::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Samples: " << this->Samples << "\n";
-  os << indent << "MaxDepth: " << this->MaxDepth << "\n";
-  os << indent << "MinContribution: " << this->MinContribution << "\n";
-  os << indent << "Shadows: " << this->Shadows << "\n";
-  os << indent << "Threads: " << this->Threads << "\n";
-  os << indent << "ComputeStatistics: " << this->ComputeStatistics << "\n";
   os << indent << "DisplayMode: " << (this->DisplayMode == COST ? "COST" : "COLOR") << "\n";
   os << indent << "LastRenderTime: " << this->LastRenderTime << "\n";
+  os << indent << "ImageAlgorithm:\n";
+  this->Algorithm->PrintSelf(os, indent.GetNextIndent());
 }

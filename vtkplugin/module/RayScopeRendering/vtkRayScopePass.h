@@ -24,14 +24,18 @@
  * actor's property with vtkRayScopeMaterial::SetPropertyReflectivity() and
  * SetPropertyIndexOfRefraction(); opacity < 1 makes a dielectric (glass).
  *
- * Sampling (Samples: N x N per pixel), MaxDepth, MinContribution, Shadows and
- * Threads are settable; ComputeStatistics makes every render count rays, BVH
- * nodes, boxes and primitives (per pixel in the image's "Cost" arrays, totals
- * in its field data, see vtkRayScopeImageAlgorithm); DisplayMode COST shows
- * the per-pixel BVH cost as a heat map instead of the colors. GetLastImage()
- * is the last ray-traced image with all its arrays. GetImageAlgorithm() is the
- * algorithm holding the scene: vtkRayScopeRayTreeSource and
- * vtkRayScopeBVHSource take it as their scene source to show the ray tree of a
+ * The render settings live in the image algorithm only: GetImageAlgorithm()
+ * is the vtkRayScopeImageAlgorithm holding the scene, and the pass renders with
+ * its Samples (N x N per pixel), MaxDepth, MinContribution, Shadows, Threads
+ * and ComputeCost, e.g. pass.GetImageAlgorithm().SetSamples(3) in Python
+ * (CopyRenderer() sets only the inputs, camera, size, background and lights). The pass
+ * switches ComputeCost off when it is made (counting rays and BVH work per
+ * pixel makes a render a few percent slower); with it on, the last image has
+ * the "Cost" arrays and the totals in its field data (see
+ * vtkRayScopeImageAlgorithm). DisplayMode COST shows the per-pixel BVH cost as
+ * a heat map instead of the colors. GetLastImage() is the last ray-traced
+ * image with all its arrays. vtkRayScopeRayTreeSource and vtkRayScopeBVHSource
+ * take GetImageAlgorithm() as their scene source to show the ray tree of a
  * pixel of this very view, or its BVH.
  *
  * The pass draws colors only: the depth buffer is cleared, not written, and
@@ -56,57 +60,20 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopePass : public vtkRenderPass {
   /// Ray-traces the renderer of `s` and draws the image into its viewport.
   void Render(const vtkRenderState* s) override;
 
-  ///@{
-  /// N: each pixel takes N x N stratified samples (1..64, default 1).
-  vtkSetMacro(Samples, int);
-  vtkGetMacro(Samples, int);
-  ///@}
-
-  ///@{
-  /// Maximum recursion depth of reflection and refraction rays (0..64, default 5).
-  vtkSetMacro(MaxDepth, int);
-  vtkGetMacro(MaxDepth, int);
-  ///@}
-
-  ///@{
-  /// Secondary rays whose weight within their sample is smaller are skipped (default 1e-3).
-  vtkSetMacro(MinContribution, double);
-  vtkGetMacro(MinContribution, double);
-  ///@}
-
-  ///@{
-  /// Shadow rays toward every light (default on).
-  vtkSetMacro(Shadows, vtkTypeBool);
-  vtkGetMacro(Shadows, vtkTypeBool);
-  vtkBooleanMacro(Shadows, vtkTypeBool);
-  ///@}
-
-  ///@{
-  /// Render threads (0: all hardware threads, the default).
-  vtkSetMacro(Threads, int);
-  vtkGetMacro(Threads, int);
-  ///@}
-
-  ///@{
-  /// Count rays and BVH work per pixel ("Cost" arrays of GetLastImage(),
-  /// totals in its field data). Off by default: the counting tracer is a few
-  /// percent slower.
-  vtkSetMacro(ComputeStatistics, vtkTypeBool);
-  vtkGetMacro(ComputeStatistics, vtkTypeBool);
-  vtkBooleanMacro(ComputeStatistics, vtkTypeBool);
-  ///@}
-
   /// What the window shows.
   enum DisplayModes {
     COLOR = 0,  ///< the ray-traced colors (default)
-    COST = 1    ///< BVH nodes visited per pixel as a heat map (turns statistics on)
+    COST = 1    ///< BVH nodes visited per pixel as a heat map
   };
-  vtkSetClampMacro(DisplayMode, int, COLOR, COST);
+  /// Setting COST switches the image algorithm's ComputeCost on (the heat map
+  /// needs the "Cost" array); COLOR leaves it as it is.
+  virtual void SetDisplayMode(int mode);
   vtkGetMacro(DisplayMode, int);
   void SetDisplayModeToColor() { this->SetDisplayMode(COLOR); }
   void SetDisplayModeToCost() { this->SetDisplayMode(COST); }
 
-  /// The algorithm that holds the scene of the last render (never null).
+  /// The algorithm that holds the scene of the last render and the render
+  /// settings (never null).
   vtkRayScopeImageAlgorithm* GetImageAlgorithm();
 
   /// The last ray-traced image (null before the first successful render).
@@ -119,12 +86,6 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopePass : public vtkRenderPass {
   vtkRayScopePass();
   ~vtkRayScopePass() override;
 
-  int Samples;
-  int MaxDepth;
-  double MinContribution;
-  vtkTypeBool Shadows;
-  int Threads;
-  vtkTypeBool ComputeStatistics;
   int DisplayMode;
   double LastRenderTime;
 

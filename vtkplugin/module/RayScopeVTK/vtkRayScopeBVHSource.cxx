@@ -21,6 +21,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "RayScopeArrays.h"
 #include "rayscope/frame.h"
 #include "rayscope/replay.h"
 #include "rayscope/scene.h"
@@ -103,13 +104,8 @@ std::vector<uint32_t> frame_visits(const rayscope::Scene& scene,
   return total;
 }
 
-template <class A>
-vtkSmartPointer<A> make(const char* name, vtkIdType n) {
-  auto a = vtkSmartPointer<A>::New();
-  a->SetName(name);
-  a->SetNumberOfTuples(n);
-  return a;
-}
+using rayscope_vtk::add_field_tuple;
+using rayscope_vtk::make_array;
 
 }  // namespace
 
@@ -225,14 +221,14 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector**,
   points->SetNumberOfPoints(8 * nboxes);
   vtkNew<vtkCellArray> cells;
   cells->AllocateExact(ncells, ncells * (this->GenerateFaces ? 4 : 2));
-  auto a_level = make<vtkIntArray>("Level", ncells);
-  auto a_node = make<vtkIntArray>("NodeId", ncells);
-  auto a_parent = make<vtkIntArray>("ParentId", ncells);
-  auto a_leaf = make<vtkUnsignedCharArray>("IsLeaf", ncells);
-  auto a_count = make<vtkIntArray>("PrimitiveCount", ncells);
-  auto a_offset = make<vtkIntArray>("PrimitiveOffset", ncells);
-  auto a_sah = make<vtkDoubleArray>("SAHCost", ncells);
-  auto a_visits = make<vtkIntArray>("VisitCount", ncells);
+  auto a_level = make_array<vtkIntArray>("Level", 1, ncells);
+  auto a_node = make_array<vtkIntArray>("NodeId", 1, ncells);
+  auto a_parent = make_array<vtkIntArray>("ParentId", 1, ncells);
+  auto a_leaf = make_array<vtkUnsignedCharArray>("IsLeaf", 1, ncells);
+  auto a_count = make_array<vtkIntArray>("PrimitiveCount", 1, ncells);
+  auto a_offset = make_array<vtkIntArray>("PrimitiveOffset", 1, ncells);
+  auto a_sah = make_array<vtkDoubleArray>("SAHCost", 1, ncells);
+  auto a_visits = make_array<vtkIntArray>("VisitCount", 1, ncells);
   vtkIdType cell = 0;
   for (vtkIdType b = 0; b < nboxes; ++b) {
     const uint32_t i = shown[size_t(b)];
@@ -274,18 +270,12 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector**,
 
   vtkFieldData* fd = output->GetFieldData();
   const auto& prims = scene.accel().records();
-  auto leaf_ids = make<vtkIntArray>("LeafPrimitiveIds", vtkIdType(prims.size()));
+  auto leaf_ids = make_array<vtkIntArray>("LeafPrimitiveIds", 1, vtkIdType(prims.size()));
   for (size_t k = 0; k < prims.size(); ++k) leaf_ids->SetValue(vtkIdType(k), int(prims[k].id));
   fd->AddArray(leaf_ids);
-  auto total = make<vtkDoubleArray>("SAHCostTotal", 1);
-  total->SetValue(0, sah_total);
-  fd->AddArray(total);
-  auto used = make<vtkIntArray>("BVHUsed", 1);
-  used->SetValue(0, scene.summary().bvh_used ? 1 : 0);
-  fd->AddArray(used);
-  auto depth = make<vtkIntArray>("TreeDepth", 1);
-  depth->SetValue(0, tree_depth);
-  fd->AddArray(depth);
+  add_field_tuple<vtkDoubleArray>(fd, "SAHCostTotal", {sah_total});
+  add_field_tuple<vtkIntArray>(fd, "BVHUsed", {scene.summary().bvh_used ? 1 : 0});
+  add_field_tuple<vtkIntArray>(fd, "TreeDepth", {tree_depth});
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -29,6 +29,10 @@
  * Field data also holds "BVHUsed" (0 when the scene is so small that the
  * tracer tests every primitive instead, in which case no ray visits a node)
  * and "TreeDepth".
+ *
+ * Pixel is in VTK image coordinates: pixel (0, 0) is the bottom-left pixel
+ * (the VTK image convention, as in vtkRayScopeImageAlgorithm's output),
+ * unlike the rayscope command, whose (0, 0) is the top-left pixel.
  */
 #ifndef vtkRayScopeBVHSource_h
 #define vtkRayScopeBVHSource_h
@@ -81,8 +85,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeBVHSource : public vtkPolyDataAlgorithm {
   ///@}
 
   ///@{
-  /// The pixel of VisitModeToPixel (VTK image coordinates) and the ray of its
-  /// ray tree to count (-1: every ray of every sample, default).
+  /// The pixel of VisitModeToPixel (VTK image coordinates, (0, 0) bottom-left)
+  /// and the ray of its ray tree to count (-1: every ray of every sample,
+  /// default).
   vtkSetVector2Macro(Pixel, int);
   vtkGetVector2Macro(Pixel, int);
   vtkSetMacro(VisitRay, int);

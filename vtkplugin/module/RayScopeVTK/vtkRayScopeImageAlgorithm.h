@@ -19,8 +19,9 @@
  * VTK (see vtkRayScopeMeshConverter); shading is computed in linear RGB.
  *
  * The output has extent [0, Width-1] x [0, Height-1] x [0, 0], spacing 1 and
- * origin 0. As in VTK images, row 0 is the bottom row (the core's row
- * Height-1-j). Point data:
+ * origin 0. As in VTK images, pixel (0, 0) is the bottom-left pixel and row j
+ * is the core's (and the rayscope command's) row Height-1-j, whose (0, 0) is
+ * the top-left pixel. Point data:
  *
  * - "Color": unsigned char RGB, sRGB-encoded exactly as `rayscope render`
  *   writes PNG files (the active scalars).
@@ -38,8 +39,12 @@
  * "ShadowRaysOccluded", "NodesVisited", "BoxesTested", "PrimitivesTested".
  *
  * Progress is reported per finished tile through UpdateProgress (ProgressEvent
- * observers run on the calling thread). Parameters are checked before
- * rendering; a bad value gives a vtkErrorMacro naming it and no output.
+ * observers run on the calling thread). Parameters are checked once per
+ * update, before rendering: the render settings (size, Samples, MaxDepth,
+ * MinContribution, Threads, Seed) by the core's RenderSettings::validate(),
+ * whose named limits (rayscope/render_settings.h) the documentation below
+ * quotes, the rest by ValidateParameters(). A bad value gives one
+ * vtkErrorMacro naming it and an empty output.
  *
  * vtkRayScopeRayTreeSource and vtkRayScopeBVHSource take this algorithm as
  * their scene (SetSceneSource): they see the same scene, camera and sampling.
@@ -72,7 +77,8 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /// Image size in pixels (default 300 x 300), each in 1..32768.
+  /// Image size in pixels (default 300 x 300), each in 1..kMaxImageSide, at
+  /// most kMaxPixels pixels.
   vtkSetMacro(Width, int);
   vtkGetMacro(Width, int);
   vtkSetMacro(Height, int);
@@ -81,28 +87,31 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   ///@}
 
   ///@{
-  /// N: each pixel takes N x N stratified samples (1..64, default 1).
+  /// N: each pixel takes N x N stratified samples (1..kMaxSamples, default 1).
   vtkSetMacro(Samples, int);
   vtkGetMacro(Samples, int);
   ///@}
 
   ///@{
-  /// Maximum recursion depth of reflection and refraction rays (0..64, default 5).
+  /// Maximum recursion depth of reflection and refraction rays (0..kMaxDepth,
+  /// default 5).
   vtkSetMacro(MaxDepth, int);
   vtkGetMacro(MaxDepth, int);
   ///@}
 
   ///@{
-  /// Secondary rays whose weight within their sample is smaller are skipped (default 1e-3).
+  /// Secondary rays whose weight within their sample is smaller are skipped
+  /// (0..kMaxMinContribution, i.e. 0..1; default 1e-3).
   vtkSetMacro(MinContribution, double);
   vtkGetMacro(MinContribution, double);
   ///@}
 
   ///@{
-  /// Render threads (0: all hardware threads) and the jitter seed.
+  /// Render threads (0..kMaxThreads; 0: all hardware threads) and the seed of
+  /// the jitter (0..kMaxSeed, which is VTK_INT_MAX; clamped to that range).
   vtkSetMacro(Threads, int);
   vtkGetMacro(Threads, int);
-  vtkSetMacro(Seed, int);
+  vtkSetClampMacro(Seed, int, 0, VTK_INT_MAX);
   vtkGetMacro(Seed, int);
   ///@}
 
@@ -245,14 +254,18 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// Name of scene object k (the input index, "input k").
   std::string GetObjectName(int object);
 
-  /// Empty when every parameter is valid, else the message of the first bad one.
+  /// The checks only VTK has (camera, background and ambient colors, lights,
+  /// materials): empty when all pass, else the message of the first bad one.
+  /// The render settings are checked by RenderSettings::validate() (see
+  /// GetRenderSettings()).
   std::string ValidateParameters();
 
 #ifndef __VTK_WRAP__
   /// The scene built by the last successful UpdateScene() or render (null
   /// before). Owned by this algorithm; valid until the next update.
   rayscope::Scene* GetCoreScene();
-  /// The core settings of a render with the current parameters.
+  /// The core settings of a render with the current parameters (not
+  /// validated: RenderSettings::validate() does that).
   rayscope::RenderSettings GetRenderSettings();
 #endif
 

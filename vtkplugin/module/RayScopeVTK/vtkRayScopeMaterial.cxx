@@ -9,7 +9,7 @@
 #include "vtkProperty.h"
 
 #include "rayscope/material.h"
-#include "vtkRayScopeColor.h"
+#include "rayscope_vtk/srgb.h"
 
 vtkStandardNewMacro(vtkRayScopeMaterial);
 

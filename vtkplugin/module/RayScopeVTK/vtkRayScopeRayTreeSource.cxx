@@ -21,6 +21,7 @@
 #include "vtkStringArray.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "RayScopeArrays.h"
 #include "rayscope/replay.h"
 #include "rayscope/render.h"
 #include "rayscope/scene.h"
@@ -84,14 +85,7 @@ struct Row {
   int end_object;  // object at the end point, -1 for none
 };
 
-template <class A>
-vtkSmartPointer<A> make(const char* name, int comps, vtkIdType n) {
-  auto a = vtkSmartPointer<A>::New();
-  a->SetName(name);
-  a->SetNumberOfComponents(comps);
-  a->SetNumberOfTuples(n);
-  return a;
-}
+using rayscope_vtk::make_array;
 
 }  // namespace
 
@@ -191,8 +185,8 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
   vtkNew<vtkPoints> points;
   points->SetDataTypeToFloat();
   points->SetNumberOfPoints(2 * nrays);
-  auto normals = make<vtkFloatArray>("Normals", 3, 2 * nrays);
-  auto gnormals = make<vtkFloatArray>("GeometricNormals", 3, 2 * nrays);
+  auto normals = make_array<vtkFloatArray>("Normals", 3, 2 * nrays);
+  auto gnormals = make_array<vtkFloatArray>("GeometricNormals", 3, 2 * nrays);
   normals->Fill(0.0);
   gnormals->Fill(0.0);
   vtkNew<vtkCellArray> lines, verts;
@@ -217,30 +211,28 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
 
   // Cell data: vertex cells first (as vtkPolyData numbers them), then lines.
   const vtkIdType ncells = vtkIdType(hit_rows.size()) + nrays;
-  auto ray_id = make<vtkIntArray>("RayId", 1, ncells);
-  auto parent = make<vtkIntArray>("ParentId", 1, ncells);
-  auto pixel = make<vtkIntArray>("Pixel", 2, ncells);
-  auto pixel_index = make<vtkIntArray>("PixelIndex", 1, ncells);
-  auto sample = make<vtkIntArray>("Sample", 1, ncells);
-  auto kind = make<vtkIntArray>("Kind", 1, ncells);
-  vtkNew<vtkStringArray> kind_name;
-  kind_name->SetName("KindName");
-  kind_name->SetNumberOfValues(ncells);
-  auto depth = make<vtkIntArray>("Depth", 1, ncells);
-  auto hit = make<vtkUnsignedCharArray>("Hit", 1, ncells);
-  auto occluded = make<vtkUnsignedCharArray>("Occluded", 1, ncells);
-  auto object = make<vtkIntArray>("ObjectId", 1, ncells);
-  auto light = make<vtkIntArray>("LightId", 1, ncells);
-  auto tarr = make<vtkFloatArray>("T", 1, ncells);
-  auto end_kind = make<vtkIntArray>("EndKind", 1, ncells);
-  auto end_object = make<vtkIntArray>("EndObjectId", 1, ncells);
-  auto weight = make<vtkFloatArray>("Weight", 3, ncells);
-  auto color = make<vtkFloatArray>("Color", 3, ncells);
-  auto nodes = make<vtkIntArray>("NodesVisited", 1, ncells);
-  auto boxes = make<vtkIntArray>("BoxesTested", 1, ncells);
-  auto prims = make<vtkIntArray>("PrimitivesTested", 1, ncells);
-  auto culled = make<vtkIntArray>("NodesCulled", 1, ncells);
-  auto is_hit_point = make<vtkUnsignedCharArray>("IsHitPoint", 1, ncells);
+  auto ray_id = make_array<vtkIntArray>("RayId", 1, ncells);
+  auto parent = make_array<vtkIntArray>("ParentId", 1, ncells);
+  auto pixel = make_array<vtkIntArray>("Pixel", 2, ncells);
+  auto pixel_index = make_array<vtkIntArray>("PixelIndex", 1, ncells);
+  auto sample = make_array<vtkIntArray>("Sample", 1, ncells);
+  auto kind = make_array<vtkIntArray>("Kind", 1, ncells);
+  auto kind_name = make_array<vtkStringArray>("KindName", 1, ncells);
+  auto depth = make_array<vtkIntArray>("Depth", 1, ncells);
+  auto hit = make_array<vtkUnsignedCharArray>("Hit", 1, ncells);
+  auto occluded = make_array<vtkUnsignedCharArray>("Occluded", 1, ncells);
+  auto object = make_array<vtkIntArray>("ObjectId", 1, ncells);
+  auto light = make_array<vtkIntArray>("LightId", 1, ncells);
+  auto tarr = make_array<vtkFloatArray>("T", 1, ncells);
+  auto end_kind = make_array<vtkIntArray>("EndKind", 1, ncells);
+  auto end_object = make_array<vtkIntArray>("EndObjectId", 1, ncells);
+  auto weight = make_array<vtkFloatArray>("Weight", 3, ncells);
+  auto color = make_array<vtkFloatArray>("Color", 3, ncells);
+  auto nodes = make_array<vtkIntArray>("NodesVisited", 1, ncells);
+  auto boxes = make_array<vtkIntArray>("BoxesTested", 1, ncells);
+  auto prims = make_array<vtkIntArray>("PrimitivesTested", 1, ncells);
+  auto culled = make_array<vtkIntArray>("NodesCulled", 1, ncells);
+  auto is_hit_point = make_array<vtkUnsignedCharArray>("IsHitPoint", 1, ncells);
   auto fill = [&](vtkIdType cell, vtkIdType k, bool vertex) {
     const Row& row = rows[size_t(k)];
     const rayscope::RayRecord& r = *row.ray;
@@ -289,7 +281,7 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
            color,  nodes,    boxes,  prims,       culled, is_hit_point})
     cd->AddArray(a);
   cd->SetActiveScalars("Kind");
-  auto pixel_color = make<vtkFloatArray>("PixelColor", 3, vtkIdType(records.size()));
+  auto pixel_color = make_array<vtkFloatArray>("PixelColor", 3, vtkIdType(records.size()));
   for (size_t p = 0; p < records.size(); ++p)
     for (int c = 0; c < 3; ++c)
       pixel_color->SetTypedComponent(vtkIdType(p), c, records[p].color[c]);

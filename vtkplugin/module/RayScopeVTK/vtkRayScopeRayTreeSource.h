@@ -5,9 +5,13 @@
  * Replays pixels of the render of a vtkRayScopeImageAlgorithm (SetSceneSource:
  * same inputs, camera, lights, materials, size, samples and depth) with the
  * core's ray-tree recorder (rayscope::record_pixel), which is exact: the
- * replayed pixel has the very color of the full render. Pixels are given in
- * VTK image coordinates, (0, 0) at the bottom-left as in the image algorithm's
- * output and in display coordinates.
+ * replayed pixel has the very color of the full render.
+ *
+ * Pixels are given in VTK image coordinates: pixel (0, 0) is the bottom-left
+ * pixel (the VTK image convention, as in the image algorithm's output and in
+ * display coordinates), unlike the rayscope command (--pixel, --rect), whose
+ * (0, 0) is the top-left pixel. Pixel (i, j) here is the command's
+ * (i, Height - 1 - j).
  *
  * Output:
  * - one line cell per ray, from its origin to where it ends: its hit point,
@@ -57,7 +61,8 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeRayTreeSource : public vtkPolyDataAlgorithm 
   ///@}
 
   ///@{
-  /// Pixels to record, in VTK image coordinates. SetPixel replaces the list.
+  /// Pixels to record, in VTK image coordinates ((0, 0) bottom-left). SetPixel
+  /// replaces the list.
   void SetPixel(int i, int j);
   void AddPixel(int i, int j);
   void RemoveAllPixels();

@@ -1,0 +1,267 @@
+// The rayscope command's mesh files (rayscope_vtk::load_mesh, vtkplugin/meshio)
+// against the VTK module's converter: the same file gives the same triangles,
+// normals and colors, normals are computed smooth when the file has none, and
+// a scene file's color_by reaches the loader and colors the mesh.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <vtkCellData.h>
+#include <vtkCubeSource.h>
+#include <vtkDataSetMapper.h>
+#include <vtkFloatArray.h>
+#include <vtkLookupTable.h>
+#include <vtkNew.h>
+#include <vtkPlaneSource.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkSTLReader.h>
+#include <vtkSTLWriter.h>
+#include <vtkSphereSource.h>
+#include <vtkTriangleFilter.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include "rayscope/scene_io.h"
+#include "rayscope_vtk/mesh_files.h"
+#include "rayscope_vtk/srgb.h"
+#include "vtkRayScopeMeshConverter.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using rayscope::MeshColorBy;
+using rayscope::MeshOptions;
+using rayscope::TriangleMesh;
+
+class VtkMeshFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("rayscope_mesh_files_" + std::to_string(getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  // A sphere without normals, as .vtp.
+  fs::path sphere_vtp() {
+    vtkNew<vtkSphereSource> s;
+    s->SetRadius(1.0);
+    s->SetThetaResolution(24);
+    s->SetPhiResolution(12);
+    s->Update();
+    vtkNew<vtkPolyData> pd;
+    pd->DeepCopy(s->GetOutput());
+    pd->GetPointData()->SetNormals(nullptr);
+    fs::path p = dir_ / "sphere.vtp";
+    vtkNew<vtkXMLPolyDataWriter> w;
+    w->SetFileName(p.c_str());
+    w->SetInputData(pd);
+    EXPECT_EQ(w->Write(), 1);
+    return p;
+  }
+  // A cube as binary STL (no normals; sharp edges).
+  fs::path cube_stl() {
+    vtkNew<vtkCubeSource> c;
+    vtkNew<vtkTriangleFilter> t;
+    t->SetInputConnection(c->GetOutputPort());
+    fs::path p = dir_ / "cube.stl";
+    vtkNew<vtkSTLWriter> w;
+    w->SetFileName(p.c_str());
+    w->SetInputConnection(t->GetOutputPort());
+    EXPECT_EQ(w->Write(), 1);
+    return p;
+  }
+  fs::path dir_;
+};
+
+// What the module makes of `file` read by VTK's `Reader`: its default
+// converter, coloring with `mapper` when given.
+template <class Reader>
+TriangleMesh module_mesh(const fs::path& file, vtkMapper* mapper = nullptr) {
+  vtkNew<Reader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkNew<vtkRayScopeMeshConverter> converter;
+  if (mapper) converter->SetMapper(mapper);
+  TriangleMesh m;
+  EXPECT_TRUE(converter->ConvertToMesh(reader->GetOutput(), m));
+  return m;
+}
+
+MeshOptions file_options(const fs::path& file) {
+  MeshOptions o;
+  o.file = file;
+  return o;
+}
+
+void expect_same(const TriangleMesh& a, const TriangleMesh& b) {
+  EXPECT_EQ(a.positions, b.positions);
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.normals, b.normals);
+  EXPECT_EQ(a.colors, b.colors);
+}
+
+}  // namespace
+
+// A file without normals: the command's loader and the module (VTK's reader,
+// then the default converter) give the same mesh, bit for bit, and it is
+// smooth: every vertex of the sphere has its own unit normal, close to the
+// radial direction (flat shading would have one normal per face).
+TEST_F(VtkMeshFiles, CommandAndModuleGiveTheSameSmoothMesh) {
+  const fs::path file = sphere_vtp();
+  TriangleMesh cli = rayscope_vtk::load_mesh(file_options(file));
+  expect_same(cli, module_mesh<vtkXMLPolyDataReader>(file));
+
+  ASSERT_EQ(cli.normals.size(), cli.positions.size());
+  ASSERT_GT(cli.triangles.size(), 400u);
+  for (size_t i = 0; i < cli.positions.size(); ++i) {
+    EXPECT_NEAR(glm::length(cli.normals[i]), 1.0f, 1e-5f);
+    EXPECT_GT(glm::dot(cli.normals[i], glm::normalize(cli.positions[i])), 0.98f) << i;
+  }
+  // "smooth": false: no normals at all.
+  MeshOptions flat = file_options(file);
+  flat.smooth = false;
+  EXPECT_TRUE(rayscope_vtk::load_mesh(flat).normals.empty());
+}
+
+// Sharp edges are split as in the module (vtkPolyDataNormals, feature angle
+// 30 degrees): the cube's corners get one copy per face, with the face normal.
+TEST_F(VtkMeshFiles, SharpEdgesSplitAsInTheModule) {
+  const fs::path file = cube_stl();
+  TriangleMesh cli = rayscope_vtk::load_mesh(file_options(file));
+  expect_same(cli, module_mesh<vtkSTLReader>(file));
+  EXPECT_EQ(cli.triangles.size(), 12u);
+  EXPECT_EQ(cli.positions.size(), 24u);
+  for (const glm::uvec3& t : cli.triangles) {
+    const glm::vec3 face = glm::normalize(glm::cross(cli.positions[t.y] - cli.positions[t.x],
+                                                     cli.positions[t.z] - cli.positions[t.x]));
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(std::abs(glm::dot(cli.normals[t[k]], face)), 1.0f, 1e-5f);
+  }
+  // read_mesh_file: the file as stored (the STL reader merges the 8 corners).
+  TriangleMesh stored = rayscope_vtk::read_mesh_file(file);
+  EXPECT_EQ(stored.positions.size(), 8u);
+  EXPECT_TRUE(stored.normals.empty());
+}
+
+// color_by with a lookup table: the command's colors are those of the module
+// converting the same data with a mapper set up the same way (cell scalars
+// through a grayscale table over [0, 1]); the left cells are black, the right
+// ones white.
+TEST_F(VtkMeshFiles, ColorByMatchesTheModuleMapper) {
+  vtkNew<vtkPlaneSource> plane;
+  plane->SetXResolution(2);
+  plane->Update();
+  vtkNew<vtkPolyData> pd;
+  pd->DeepCopy(plane->GetOutput());
+  vtkNew<vtkFloatArray> half;
+  half->SetName("Half");
+  half->InsertNextValue(0.0f);
+  half->InsertNextValue(1.0f);
+  pd->GetCellData()->AddArray(half);
+  const fs::path file = dir_ / "halves.vtp";
+  vtkNew<vtkXMLPolyDataWriter> w;
+  w->SetFileName(file.c_str());
+  w->SetInputData(pd);
+  ASSERT_EQ(w->Write(), 1);
+
+  MeshOptions o = file_options(file);
+  o.color_by = MeshColorBy{};
+  o.color_by->array = "Half";
+  o.color_by->association = MeshColorBy::Association::Cell;
+  o.color_by->map = rayscope::ColorMap::Grayscale;
+  TriangleMesh cli = rayscope_vtk::load_mesh(o);
+
+  vtkNew<vtkLookupTable> gray;
+  gray->SetSaturationRange(0.0, 0.0);
+  gray->SetValueRange(0.0, 1.0);
+  vtkNew<vtkDataSetMapper> mapper;
+  mapper->SetScalarModeToUseCellFieldData();
+  mapper->SelectColorArray("Half");
+  mapper->SetColorModeToMapScalars();
+  mapper->SetLookupTable(gray);
+  mapper->SetScalarRange(0.0, 1.0);
+  expect_same(cli, module_mesh<vtkXMLPolyDataReader>(file, mapper));
+
+  ASSERT_EQ(cli.colors.size(), cli.positions.size());
+  for (const glm::uvec3& t : cli.triangles) {
+    const float x = (cli.positions[t.x].x + cli.positions[t.y].x + cli.positions[t.z].x) / 3.0f;
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(cli.colors[t[k]], glm::vec3(x < 0.0f ? 0.0f : 1.0f));
+  }
+}
+
+// The scene parser passes color_by to the loader as parsed; the defaults are
+// point association, the array's range and the cool-warm map.
+TEST_F(VtkMeshFiles, SceneFileColorByReachesTheLoader) {
+  std::vector<MeshOptions> seen;
+  rayscope::MeshLoader capture = [&](const MeshOptions& o) {
+    seen.push_back(o);
+    TriangleMesh m;
+    m.positions = {glm::vec3(0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0)};
+    m.triangles = {glm::uvec3(0, 1, 2)};
+    return m;
+  };
+  rayscope::parse_scene(R"({"objects": [
+      {"type": "mesh", "file": "a.vtp", "smooth": false,
+       "color_by": {"array": "T", "association": "cell", "range": [-1, 2.5], "map": "rainbow"}},
+      {"type": "mesh", "file": "b.vtu", "color_by": {"array": "Elevation"}},
+      {"type": "mesh", "file": "c.stl"}]})",
+                        "inline", dir_, capture);
+  ASSERT_EQ(seen.size(), 3u);
+  EXPECT_EQ(seen[0].file, dir_ / "a.vtp");
+  EXPECT_FALSE(seen[0].smooth);
+  ASSERT_TRUE(seen[0].color_by);
+  EXPECT_EQ(seen[0].color_by->array, "T");
+  EXPECT_EQ(seen[0].color_by->association, MeshColorBy::Association::Cell);
+  ASSERT_TRUE(seen[0].color_by->range);
+  EXPECT_EQ((*seen[0].color_by->range)[0], -1.0);
+  EXPECT_EQ((*seen[0].color_by->range)[1], 2.5);
+  EXPECT_EQ(seen[0].color_by->map, rayscope::ColorMap::Rainbow);
+  ASSERT_TRUE(seen[1].color_by);
+  EXPECT_TRUE(seen[1].smooth);
+  EXPECT_EQ(seen[1].color_by->association, MeshColorBy::Association::Point);
+  EXPECT_FALSE(seen[1].color_by->range);
+  EXPECT_EQ(seen[1].color_by->map, rayscope::ColorMap::CoolWarm);
+  EXPECT_FALSE(seen[2].color_by);
+}
+
+// Bad color_by values and arrays the file lacks: one SceneError line naming
+// the scene, the key and the problem.
+TEST_F(VtkMeshFiles, ColorByErrorsNameTheFileAndKey) {
+  const fs::path file = sphere_vtp();
+  struct Case {
+    std::string color_by, problem;
+  };
+  const Case cases[] = {
+      {R"("oops")", "objects[0].color_by: expected an object"},
+      {R"({"array": "A", "colour": 1})", "objects[0].color_by: unknown key 'colour'"},
+      {R"({"array": ""})", "objects[0].color_by.array: must not be empty"},
+      {R"({"array": "A", "range": [0]})", "objects[0].color_by.range: expected [lo, hi]"},
+      {R"({"array": "A", "range": [0, 1e999]})", "malformed JSON"},
+      {R"({"array": "A", "range": [2, 2]})", "objects[0].color_by.range: lo must be less than hi"},
+      {R"({"array": "Nope"})", "objects[0].color_by.array: " + file.string() +
+                                   " has no point array 'Nope' (it has no point arrays)"},
+      {R"({"array": "Nope", "association": "cell"})",
+       "objects[0].color_by.array: " + file.string() +
+           " has no cell array 'Nope' (it has no cell arrays)"},
+  };
+  for (const Case& c : cases) {
+    const std::string text = R"({"objects": [{"type": "mesh", "file": ")" + file.string() +
+                             R"(", "color_by": )" + c.color_by + "}]}";
+    try {
+      rayscope::parse_scene(text, "scene.json", dir_, rayscope_vtk::load_mesh);
+      ADD_FAILURE() << c.color_by << ": no error";
+    } catch (const rayscope::SceneError& e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+      EXPECT_EQ(msg.rfind("scene.json: ", 0), 0u) << msg;
+      EXPECT_NE(msg.find(c.problem), std::string::npos) << msg << "\nexpected: " << c.problem;
+    }
+  }
+}

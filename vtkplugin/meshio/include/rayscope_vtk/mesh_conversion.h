@@ -1,0 +1,46 @@
+// Datasets to the triangles the ray tracer intersects. The one conversion of
+// RayScope's VTK side: the VTK module's vtkRayScopeMeshConverter and the
+// rayscope command's mesh files (mesh_files.h) both call it, so a file gives
+// the same triangles, normals and colors in both.
+#pragma once
+
+class vtkDataSet;
+class vtkMapper;
+class vtkPolyData;
+
+namespace rayscope {
+struct TriangleMesh;
+}
+
+namespace rayscope_vtk {
+
+/// How the surface is made (vtkRayScopeMeshConverter documents each setting).
+struct SurfaceOptions {
+  /// Compute point normals (vtkPolyDataNormals) when the data has none.
+  bool compute_normals = true;
+  /// Split sharp edges whose dihedral angle exceeds feature_angle degrees.
+  bool splitting = true;
+  double feature_angle = 30.0;
+  /// Tessellation level of non-linear cells (vtkDataSetSurfaceFilter).
+  int nonlinear_subdivision_level = 1;
+};
+
+/// Where the colors of a conversion came from.
+enum class ColorSource { None = 0, Point = 1, Cell = 2, Field = 3 };
+
+/// The triangulated surface of `input` in `output` (replaced): float points,
+/// triangles only (vertices and lines dropped), point data "Normals" (the
+/// data's own or computed; absent without either), "Colors" (RGBA unsigned
+/// char, sRGB as `coloring` maps the scalars, per point) and "LinearColors"
+/// (float RGB). `coloring` (may be null: no colors) is not modified: a copy
+/// of it, with a copy of its lookup table, maps the scalars with
+/// vtkMapper::MapScalars(). Cell colors duplicate a point shared by cells of
+/// different colors, once per color. Returns where the colors came from.
+ColorSource convert_dataset(vtkDataSet* input, const SurfaceOptions& options, vtkMapper* coloring,
+                            vtkPolyData* output);
+
+/// A core mesh from polydata made by convert_dataset(): positions,
+/// triangles, normals and linear colors.
+void mesh_from_converted(vtkPolyData* converted, rayscope::TriangleMesh& mesh);
+
+}  // namespace rayscope_vtk

@@ -1,0 +1,284 @@
+#include "rayscope_vtk/mesh_conversion.h"
+
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataSetMapper.h>
+#include <vtkDataSetSurfaceFilter.h>
+#include <vtkFloatArray.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataNormals.h>
+#include <vtkScalarsToColors.h>
+#include <vtkSmartPointer.h>
+#include <vtkTriangleFilter.h>
+#include <vtkUnsignedCharArray.h>
+
+#include "rayscope/scene.h"
+#include "rayscope_vtk/srgb.h"
+
+namespace rayscope_vtk {
+namespace {
+
+bool finite_point(vtkPolyData* pd, vtkIdType id) {
+  double p[3];
+  pd->GetPoint(id, p);
+  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+}
+
+vtkSmartPointer<vtkPolyData> compute_normals(vtkPolyData* tri, const SurfaceOptions& o) {
+  vtkNew<vtkPolyDataNormals> pn;
+  pn->SetInputData(tri);
+  pn->SetSplitting(o.splitting);
+  pn->SetFeatureAngle(o.feature_angle);
+  pn->ComputePointNormalsOn();
+  pn->ComputeCellNormalsOff();
+  pn->AutoOrientNormalsOff();
+  pn->Update();
+  return pn->GetOutput();
+}
+
+// Point normals of the triangles whose corners are all finite: vtkPolyDataNormals
+// averages the triangles around a point, so one non-finite corner would make
+// the normals of all its neighbours NaN. The other triangles (the tracer skips
+// them, with a warning) are appended afterwards with their cell data.
+vtkSmartPointer<vtkPolyData> normals_of_finite_triangles(vtkPolyData* tri,
+                                                         const SurfaceOptions& o) {
+  std::vector<vtkIdType> bad;
+  vtkNew<vtkCellArray> good_polys;
+  vtkNew<vtkIdList> ids;
+  vtkCellArray* polys = tri->GetPolys();
+  vtkIdType cell = 0;
+  std::vector<vtkIdType> good;
+  for (polys->InitTraversal(); polys->GetNextCell(ids); ++cell) {
+    bool finite = true;
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds() && finite; ++k)
+      finite = finite_point(tri, ids->GetId(k));
+    if (finite) {
+      good_polys->InsertNextCell(ids);
+      good.push_back(cell);
+    } else {
+      bad.push_back(cell);
+    }
+  }
+  if (bad.empty()) return compute_normals(tri, o);
+
+  vtkNew<vtkPolyData> finite;
+  finite->SetPoints(tri->GetPoints());
+  finite->GetPointData()->PassData(tri->GetPointData());
+  finite->SetPolys(good_polys);
+  vtkCellData* cd = finite->GetCellData();
+  cd->CopyAllocate(tri->GetCellData(), vtkIdType(good.size()));
+  for (size_t k = 0; k < good.size(); ++k) cd->CopyData(tri->GetCellData(), good[k], vtkIdType(k));
+  vtkSmartPointer<vtkPolyData> out = compute_normals(finite, o);
+  // vtkPolyDataNormals keeps every input point at its index (split copies are
+  // appended), so the skipped triangles keep their corners.
+  vtkCellArray* out_polys = out->GetPolys();
+  vtkCellData* out_cd = out->GetCellData();
+  for (vtkIdType c : bad) {
+    tri->GetCellPoints(c, ids);
+    const vtkIdType id = out_polys->InsertNextCell(ids);
+    out_cd->CopyData(tri->GetCellData(), c, id);
+  }
+  return out;
+}
+
+// The surface the mapper would draw: triangles only, with point normals.
+vtkSmartPointer<vtkPolyData> triangulate(vtkDataSet* input, const SurfaceOptions& o) {
+  vtkSmartPointer<vtkPolyData> surface = vtkPolyData::SafeDownCast(input);
+  if (!surface) {
+    vtkNew<vtkDataSetSurfaceFilter> sf;
+    sf->SetInputData(input);
+    sf->SetNonlinearSubdivisionLevel(o.nonlinear_subdivision_level);
+    sf->Update();
+    surface = sf->GetOutput();
+  }
+  vtkNew<vtkTriangleFilter> tf;
+  tf->SetInputData(surface);
+  tf->PassVertsOff();
+  tf->PassLinesOff();
+  tf->Update();
+  vtkSmartPointer<vtkPolyData> tri = tf->GetOutput();
+  vtkDataArray* n = tri->GetPointData()->GetNormals();
+  if (o.compute_normals && (!n || n->GetNumberOfComponents() != 3) && tri->GetNumberOfPolys() > 0)
+    tri = normals_of_finite_triangles(tri, o);
+  return tri;
+}
+
+}  // namespace
+
+ColorSource convert_dataset(vtkDataSet* input, const SurfaceOptions& options, vtkMapper* coloring,
+                            vtkPolyData* output) {
+  vtkSmartPointer<vtkPolyData> tri = triangulate(input, options);
+
+  // Colors by the mapper's own code, on the very surface it would draw.
+  // The copy maps with a private copy of the lookup table: the mapper sets the
+  // table's range, which must not modify the caller's table on every
+  // conversion.
+  vtkSmartPointer<vtkUnsignedCharArray> mapped;
+  int cell_flag = 0;
+  if (coloring) {
+    vtkNew<vtkDataSetMapper> mapper;
+    mapper->ShallowCopy(coloring);
+    if (vtkScalarsToColors* lut = coloring->GetLookupTable()) {
+      vtkSmartPointer<vtkScalarsToColors> copy = vtk::TakeSmartPointer(lut->NewInstance());
+      copy->DeepCopy(lut);
+      mapper->SetLookupTable(copy);
+    }
+    mapper->SetInterpolateScalarsBeforeMapping(0);
+    mapper->SetInputData(tri);
+    mapped = mapper->MapScalars(tri, 1.0, cell_flag);
+  }
+
+  const vtkIdType ntri = tri->GetNumberOfPolys();
+  const vtkIdType npts = tri->GetNumberOfPoints();
+  // One RGBA color per triangle (cell colors) or per point, or none.
+  ColorSource source_of_colors = ColorSource::None;
+  vtkSmartPointer<vtkUnsignedCharArray> cell_colors, point_colors;
+  if (mapped && mapped->GetNumberOfComponents() == 4) {
+    const vtkIdType field_tuple = coloring->GetFieldDataTupleId();
+    if (cell_flag == 0 && mapped->GetNumberOfTuples() == npts) {
+      point_colors = mapped;
+      source_of_colors = ColorSource::Point;
+    } else if (cell_flag == 1 && mapped->GetNumberOfTuples() == ntri) {
+      cell_colors = mapped;
+      source_of_colors = ColorSource::Cell;
+    } else if (cell_flag == 2 && field_tuple >= 0 && field_tuple < mapped->GetNumberOfTuples()) {
+      point_colors = vtkSmartPointer<vtkUnsignedCharArray>::New();
+      point_colors->SetNumberOfComponents(4);
+      point_colors->SetNumberOfTuples(npts);
+      for (vtkIdType i = 0; i < npts; ++i)
+        for (int k = 0; k < 4; ++k)
+          point_colors->SetTypedComponent(i, k, mapped->GetTypedComponent(field_tuple, k));
+      source_of_colors = ColorSource::Field;
+    } else if (cell_flag == 2 && field_tuple < 0 && mapped->GetNumberOfTuples() >= ntri) {
+      cell_colors = mapped;  // one field tuple per cell, as VTK draws it
+      source_of_colors = ColorSource::Field;
+    }
+  }
+
+  vtkDataArray* in_normals = tri->GetPointData()->GetNormals();
+  if (in_normals && in_normals->GetNumberOfComponents() != 3) in_normals = nullptr;
+
+  // With cell colors, each (point, color) pair becomes one output point, so a
+  // point shared by cells of different colors is duplicated once per color.
+  std::vector<vtkIdType> source;    // output point -> input point
+  std::vector<vtkIdType> color_of;  // output point -> color tuple (or -1)
+  vtkNew<vtkCellArray> polys;
+  polys->AllocateEstimate(ntri, 3);
+  vtkNew<vtkIdList> ids;
+  vtkCellArray* in_polys = tri->GetPolys();
+  if (cell_colors) {
+    std::unordered_map<uint64_t, vtkIdType> index;
+    index.reserve(size_t(npts));
+    vtkIdType cell = 0;
+    for (in_polys->InitTraversal(); in_polys->GetNextCell(ids); ++cell) {
+      if (ids->GetNumberOfIds() != 3) continue;
+      uint32_t rgb = 0;
+      for (int k = 0; k < 3; ++k) rgb = (rgb << 8) | cell_colors->GetTypedComponent(cell, k);
+      vtkIdType out[3];
+      for (int v = 0; v < 3; ++v) {
+        vtkIdType p = ids->GetId(v);
+        uint64_t key = (uint64_t(p) << 24) | rgb;
+        auto [it, inserted] = index.emplace(key, vtkIdType(source.size()));
+        if (inserted) {
+          source.push_back(p);
+          color_of.push_back(cell);
+        }
+        out[v] = it->second;
+      }
+      polys->InsertNextCell(3, out);
+    }
+  } else {
+    source.resize(size_t(npts));
+    for (vtkIdType i = 0; i < npts; ++i) source[size_t(i)] = i;
+    if (point_colors) color_of = source;
+    for (in_polys->InitTraversal(); in_polys->GetNextCell(ids);)
+      if (ids->GetNumberOfIds() == 3) polys->InsertNextCell(ids);
+  }
+
+  const vtkIdType nout = vtkIdType(source.size());
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToFloat();
+  points->SetNumberOfPoints(nout);
+  for (vtkIdType i = 0; i < nout; ++i) points->SetPoint(i, tri->GetPoint(source[size_t(i)]));
+
+  output->Initialize();
+  output->SetPoints(points);
+  output->SetPolys(polys);
+  if (in_normals) {
+    vtkNew<vtkFloatArray> normals;
+    normals->SetName("Normals");
+    normals->SetNumberOfComponents(3);
+    normals->SetNumberOfTuples(nout);
+    for (vtkIdType i = 0; i < nout; ++i)
+      normals->SetTuple(i, in_normals->GetTuple(source[size_t(i)]));
+    output->GetPointData()->SetNormals(normals);
+  }
+  vtkUnsignedCharArray* colors_in = cell_colors ? cell_colors.Get() : point_colors.Get();
+  if (colors_in) {
+    const auto& table = srgb_byte_table();
+    vtkNew<vtkUnsignedCharArray> colors;
+    colors->SetName("Colors");
+    colors->SetNumberOfComponents(4);
+    colors->SetNumberOfTuples(nout);
+    vtkNew<vtkFloatArray> linear;
+    linear->SetName("LinearColors");
+    linear->SetNumberOfComponents(3);
+    linear->SetNumberOfTuples(nout);
+    for (vtkIdType i = 0; i < nout; ++i) {
+      const vtkIdType c = color_of[size_t(i)];
+      for (int k = 0; k < 4; ++k) {
+        unsigned char b = colors_in->GetTypedComponent(c, k);
+        colors->SetTypedComponent(i, k, b);
+        if (k < 3) linear->SetTypedComponent(i, k, table[b]);
+      }
+    }
+    output->GetPointData()->SetScalars(colors);
+    output->GetPointData()->AddArray(linear);
+  }
+  return source_of_colors;
+}
+
+void mesh_from_converted(vtkPolyData* pd, rayscope::TriangleMesh& m) {
+  m.positions.clear();
+  m.triangles.clear();
+  m.normals.clear();
+  m.colors.clear();
+  if (!pd) return;
+  const vtkIdType np = pd->GetNumberOfPoints();
+  m.positions.resize(size_t(np));
+  for (vtkIdType i = 0; i < np; ++i) {
+    double p[3];
+    pd->GetPoint(i, p);
+    m.positions[size_t(i)] = rayscope::Vec3(float(p[0]), float(p[1]), float(p[2]));
+  }
+  vtkCellArray* polys = pd->GetPolys();
+  m.triangles.reserve(size_t(polys->GetNumberOfCells()));
+  vtkNew<vtkIdList> ids;
+  for (polys->InitTraversal(); polys->GetNextCell(ids);)
+    if (ids->GetNumberOfIds() == 3)
+      m.triangles.emplace_back(uint32_t(ids->GetId(0)), uint32_t(ids->GetId(1)),
+                               uint32_t(ids->GetId(2)));
+  // Color and Vec3 are both 3-vectors of floats.
+  auto vectors = [&](vtkDataArray* a, std::vector<rayscope::Vec3>& out) {
+    if (!a || a->GetNumberOfComponents() != 3 || a->GetNumberOfTuples() != np) return;
+    out.resize(size_t(np));
+    for (vtkIdType i = 0; i < np; ++i) {
+      double v[3];
+      a->GetTuple(i, v);
+      out[size_t(i)] = rayscope::Vec3(float(v[0]), float(v[1]), float(v[2]));
+    }
+  };
+  vectors(pd->GetPointData()->GetNormals(), m.normals);
+  vectors(pd->GetPointData()->GetArray("LinearColors"), m.colors);
+}
+
+}  // namespace rayscope_vtk

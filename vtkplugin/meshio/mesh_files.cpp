@@ -1,0 +1,209 @@
+#include "rayscope_vtk/mesh_files.h"
+
+#include <algorithm>
+#include <cctype>
+#include <stdexcept>
+#include <string>
+
+#include <vtkCellData.h>
+#include <vtkColorTransferFunction.h>
+#include <vtkDataArray.h>
+#include <vtkDataSet.h>
+#include <vtkDataSetMapper.h>
+#include <vtkDataSetReader.h>
+#include <vtkLookupTable.h>
+#include <vtkNew.h>
+#include <vtkOBJReader.h>
+#include <vtkPLYReader.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkSTLReader.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkXMLReader.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include "rayscope_vtk/mesh_conversion.h"
+
+namespace rayscope_vtk {
+namespace {
+
+using rayscope::MeshColorBy;
+
+// The lookup table of a named map over [lo, hi], from VTK's own tables.
+vtkSmartPointer<vtkScalarsToColors> color_map(rayscope::ColorMap map, double lo, double hi) {
+  switch (map) {
+    case rayscope::ColorMap::CoolWarm: {
+      // VTK's diverging color space between the end colors Moreland proposed
+      // for it (the map ParaView calls "Cool to Warm").
+      auto ctf = vtkSmartPointer<vtkColorTransferFunction>::New();
+      ctf->SetColorSpaceToDiverging();
+      ctf->AddRGBPoint(lo, 0.230, 0.299, 0.754);
+      ctf->AddRGBPoint(hi, 0.706, 0.016, 0.150);
+      return ctf;
+    }
+    case rayscope::ColorMap::Rainbow:
+    case rayscope::ColorMap::Grayscale: {
+      auto lut = vtkSmartPointer<vtkLookupTable>::New();
+      if (map == rayscope::ColorMap::Rainbow) {
+        lut->SetHueRange(2.0 / 3.0, 0.0);  // blue to red
+      } else {
+        lut->SetHueRange(0.0, 0.0);
+        lut->SetSaturationRange(0.0, 0.0);
+        lut->SetValueRange(0.0, 1.0);  // black to white
+      }
+      lut->SetTableRange(lo, hi);
+      lut->Build();
+      return lut;
+    }
+  }
+  return nullptr;
+}
+
+std::string array_names(vtkFieldData* fd) {
+  std::string names;
+  for (int i = 0; i < fd->GetNumberOfArrays(); ++i)
+    if (const char* n = fd->GetArrayName(i)) names += std::string(names.empty() ? "" : ", ") + n;
+  return names;
+}
+
+// The mapper that colors `data` as `color_by` says.
+vtkSmartPointer<vtkMapper> color_by_mapper(vtkDataSet* data, const MeshColorBy& c,
+                                           const std::string& file) {
+  const bool cell = c.association == MeshColorBy::Association::Cell;
+  vtkFieldData* fd = cell ? static_cast<vtkFieldData*>(data->GetCellData())
+                          : static_cast<vtkFieldData*>(data->GetPointData());
+  const char* kind = cell ? "cell" : "point";
+  vtkAbstractArray* a = fd->GetAbstractArray(c.array.c_str());
+  if (!a) {
+    const std::string names = array_names(fd);
+    throw rayscope::MeshOptionError("color_by.array: " + file + " has no " + kind + " array '" +
+                                    c.array + "' (" +
+                                    (names.empty() ? std::string("it has no ") + kind + " arrays"
+                                                   : std::string(kind) + " arrays: " + names) +
+                                    ")");
+  }
+  auto* values = vtkDataArray::SafeDownCast(a);
+  if (!values)
+    throw rayscope::MeshOptionError("color_by.array: " + std::string(kind) + " array '" + c.array +
+                                    "' of " + file + " is not numeric");
+  const int component = values->GetNumberOfComponents() == 1 ? 0 : -1;  // -1: magnitude
+  double range[2];
+  if (c.range) {
+    range[0] = (*c.range)[0];
+    range[1] = (*c.range)[1];
+  } else {
+    values->GetRange(range, component);
+  }
+  vtkSmartPointer<vtkScalarsToColors> lut = color_map(c.map, range[0], range[1]);
+  if (component < 0) lut->SetVectorModeToMagnitude();
+  auto mapper = vtkSmartPointer<vtkDataSetMapper>::New();
+  mapper->ScalarVisibilityOn();
+  mapper->SetColorModeToMapScalars();
+  if (cell)
+    mapper->SetScalarModeToUseCellFieldData();
+  else
+    mapper->SetScalarModeToUsePointFieldData();
+  mapper->SelectColorArray(c.array.c_str());
+  mapper->SetLookupTable(lut);
+  mapper->UseLookupTableScalarRangeOn();
+  return mapper;
+}
+
+// The mapper that shows RGB(A) unsigned-char point scalars as they are, or
+// null when the data has none.
+vtkSmartPointer<vtkMapper> direct_color_mapper(vtkDataSet* data) {
+  auto* c = vtkUnsignedCharArray::SafeDownCast(data->GetPointData()->GetScalars());
+  if (!c || (c->GetNumberOfComponents() != 3 && c->GetNumberOfComponents() != 4)) return nullptr;
+  auto mapper = vtkSmartPointer<vtkDataSetMapper>::New();
+  mapper->ScalarVisibilityOn();
+  mapper->SetColorModeToDefault();  // unsigned char scalars are colors
+  mapper->SetScalarModeToUsePointData();
+  return mapper;
+}
+
+rayscope::TriangleMesh convert(vtkDataSet* data, const std::filesystem::path& path,
+                               const SurfaceOptions& surface, vtkMapper* coloring) {
+  vtkNew<vtkPolyData> converted;
+  convert_dataset(data, surface, coloring, converted);
+  rayscope::TriangleMesh m;
+  mesh_from_converted(converted, m);
+  m.name = path.filename().string();
+  if (m.triangles.empty())
+    throw std::runtime_error(path.string() + ": contains no surface triangles");
+  return m;
+}
+
+}  // namespace
+
+vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path) {
+  const std::string f = path.string();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw std::runtime_error(f + ": file not found");
+  if (!std::filesystem::is_regular_file(path, ec)) throw std::runtime_error(f + ": not a file");
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  vtkSmartPointer<vtkDataSet> data;
+  if (ext == ".stl") {
+    vtkNew<vtkSTLReader> r;
+    r->SetFileName(f.c_str());
+    r->Update();
+    data = r->GetOutput();
+  } else if (ext == ".ply") {
+    if (!vtkPLYReader::CanReadFile(f.c_str())) throw std::runtime_error(f + ": not a PLY file");
+    vtkNew<vtkPLYReader> r;
+    r->SetFileName(f.c_str());
+    r->Update();
+    data = r->GetOutput();
+  } else if (ext == ".obj") {
+    vtkNew<vtkOBJReader> r;
+    r->SetFileName(f.c_str());
+    r->Update();
+    data = r->GetOutput();
+  } else if (ext == ".vtk") {
+    vtkNew<vtkDataSetReader> r;
+    r->SetFileName(f.c_str());
+    r->Update();
+    data = r->GetOutput();
+  } else if (ext == ".vtp" || ext == ".vtu") {
+    // The format-specific XML readers: vtkXMLGenericDataObjectReader::CanReadFile
+    // rejects every file in VTK 9.1.
+    vtkSmartPointer<vtkXMLReader> r;
+    if (ext == ".vtp")
+      r = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+    else
+      r = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+    if (!r->CanReadFile(f.c_str()))
+      throw std::runtime_error(f + ": not a VTK XML " + ext + " file");
+    r->SetFileName(f.c_str());
+    r->Update();
+    data = vtkDataSet::SafeDownCast(r->GetOutputDataObject(0));
+  } else {
+    throw std::runtime_error(f + ": unsupported mesh format '" + ext +
+                             "' (use .vtp, .vtu, .vtk, .stl, .ply or .obj)");
+  }
+  if (!data) throw std::runtime_error(f + ": could not read a dataset");
+  return data;
+}
+
+rayscope::TriangleMesh load_mesh(const rayscope::MeshOptions& options) {
+  vtkSmartPointer<vtkDataSet> data = read_dataset_file(options.file);
+  SurfaceOptions surface;
+  surface.compute_normals = options.smooth;
+  vtkSmartPointer<vtkMapper> coloring =
+      options.color_by ? color_by_mapper(data, *options.color_by, options.file.string())
+                       : direct_color_mapper(data);
+  rayscope::TriangleMesh m = convert(data, options.file, surface, coloring);
+  if (!options.smooth) m.normals.clear();  // the file's own normals too
+  return m;
+}
+
+rayscope::TriangleMesh read_mesh_file(const std::filesystem::path& path) {
+  vtkSmartPointer<vtkDataSet> data = read_dataset_file(path);
+  SurfaceOptions surface;
+  surface.compute_normals = false;
+  return convert(data, path, surface, direct_color_mapper(data));
+}
+
+}  // namespace rayscope_vtk

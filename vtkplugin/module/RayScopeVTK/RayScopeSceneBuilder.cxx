@@ -1,0 +1,187 @@
+#include "RayScopeSceneBuilder.h"
+
+#include <algorithm>
+#include <exception>
+#include <string>
+
+#include "vtkDataSet.h"
+#include "vtkMath.h"
+
+#include "rayscope/render.h"
+#include "rayscope_vtk/srgb.h"
+#include "vtkRayScopeImageAlgorithm.h"
+#include "vtkRayScopeMaterial.h"
+#include "vtkRayScopeMeshConverter.h"
+
+namespace rayscope_vtk {
+
+bool SceneLight::operator==(const SceneLight& o) const {
+  return point == o.point && std::equal(v, v + 3, o.v) && std::equal(color, color + 3, o.color) &&
+         intensity == o.intensity && std::equal(attenuation, attenuation + 3, o.attenuation);
+}
+
+namespace {
+
+bool same_material(const rayscope::Material& a, const rayscope::Material& b) {
+  return a.name == b.name && a.color == b.color && a.ambient == b.ambient &&
+         a.diffuse == b.diffuse && a.specular == b.specular &&
+         a.specular_color == b.specular_color && a.shininess == b.shininess &&
+         a.reflectivity == b.reflectivity && a.transparency == b.transparency && a.ior == b.ior &&
+         a.model == b.model && a.checker == b.checker;
+}
+
+bool same_light(const rayscope::Light& a, const rayscope::Light& b) {
+  return a.type == b.type && a.name == b.name && a.position == b.position &&
+         a.direction == b.direction && a.color == b.color && a.intensity == b.intensity &&
+         a.attenuation == b.attenuation && a.casts_shadows == b.casts_shadows;
+}
+
+template <class T, class Eq>
+bool same_list(const std::vector<T>& a, const std::vector<T>& b, Eq eq) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (!eq(a[i], b[i])) return false;
+  return true;
+}
+
+rayscope::Color linear_color(const double c[3]) {
+  return rayscope::Color(srgb_to_linear(c[0]), srgb_to_linear(c[1]), srgb_to_linear(c[2]));
+}
+
+rayscope::Vec3 vec3(const double v[3]) {
+  return rayscope::Vec3(float(v[0]), float(v[1]), float(v[2]));
+}
+
+// The headlight (if on) and the other lights, as core lights.
+std::vector<rayscope::Light> core_lights(vtkRayScopeImageAlgorithm* alg,
+                                         const std::vector<SceneLight>& lights) {
+  std::vector<rayscope::Light> out;
+  const bool shadows = alg->GetShadows() != 0;
+  if (alg->GetHeadlight()) {
+    rayscope::Light l;
+    l.type = rayscope::Light::Type::Directional;
+    l.name = "headlight";
+    const double* p = alg->GetPosition();
+    const double* f = alg->GetFocalPoint();
+    double d[3] = {f[0] - p[0], f[1] - p[1], f[2] - p[2]};
+    vtkMath::Normalize(d);
+    l.direction = vec3(d);
+    l.color = rayscope::Color(1.0f);
+    l.intensity = float(alg->GetHeadlightIntensity());
+    l.casts_shadows = shadows;
+    out.push_back(l);
+  }
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const SceneLight& u = lights[i];
+    rayscope::Light l;
+    l.type = u.point ? rayscope::Light::Type::Point : rayscope::Light::Type::Directional;
+    l.name = "light " + std::to_string(i);
+    (u.point ? l.position : l.direction) = vec3(u.v);
+    l.color = linear_color(u.color);
+    l.intensity = float(u.intensity);
+    l.attenuation = vec3(u.attenuation);
+    l.casts_shadows = shadows;
+    out.push_back(l);
+  }
+  return out;
+}
+
+}  // namespace
+
+int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<SceneLight>& lights) {
+  const int n = alg->GetNumberOfInputConnections(0);
+  if (n == 0) {
+    vtkErrorWithObjectMacro(alg, << "no input: connect at least one vtkDataSet to port 0");
+    return 0;
+  }
+  std::vector<vtkDataSet*> inputs(size_t(n), nullptr);
+  for (int i = 0; i < n; ++i) {
+    inputs[size_t(i)] = vtkDataSet::SafeDownCast(alg->GetInputDataObject(0, i));
+    if (!inputs[size_t(i)]) {
+      vtkErrorWithObjectMacro(alg, << "input " << i << " is not a vtkDataSet");
+      return 0;
+    }
+  }
+
+  // Geometry is converted again only when an input or its converter changed.
+  auto converter_of = [&](int i) {
+    vtkRayScopeMeshConverter* c = alg->GetInputConverter(i);
+    return c ? c : alg->GetConverter();
+  };
+  bool regeometry = !this->HasScene || inputs != this->GeometryInputs;
+  for (int i = 0; i < n; ++i)
+    regeometry |= inputs[size_t(i)]->GetMTime() > this->GeometryTime.GetMTime() ||
+                  converter_of(i)->GetMTime() > this->GeometryTime.GetMTime();
+  std::vector<rayscope::TriangleMesh> meshes;
+  if (regeometry) {
+    meshes.resize(size_t(n));
+    for (int i = 0; i < n; ++i) {
+      if (!converter_of(i)->ConvertToMesh(inputs[size_t(i)], meshes[size_t(i)])) {
+        vtkErrorWithObjectMacro(alg, << "input " << i << " could not be converted to triangles");
+        return 0;
+      }
+      meshes[size_t(i)].name = alg->GetObjectName(i);
+      meshes[size_t(i)].material = uint32_t(i);
+    }
+  }
+
+  std::vector<rayscope::Material> materials(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    vtkRayScopeMaterial* m = alg->GetInputMaterial(i);
+    materials[size_t(i)] = (m ? m : alg->GetMaterial())->ToCore();
+    materials[size_t(i)].name = alg->GetObjectName(i);
+  }
+  std::vector<rayscope::Light> core = core_lights(alg, lights);
+
+  // Other material and light values (a headlight following the camera, a new
+  // color) are read while tracing and are simply replaced.
+  rayscope::Scene& s = this->Scene;
+  bool recommit =
+      regeometry || materials.size() != s.materials.size() || core.size() != s.lights.size();
+  for (size_t i = 0; !recommit && i < materials.size(); ++i)
+    recommit = materials[i].reflective() != s.materials[i].reflective() ||
+               materials[i].refractive() != s.materials[i].refractive();
+  if (!recommit) {
+    if (!same_list(materials, s.materials, same_material)) s.materials = std::move(materials);
+    if (!same_list(core, s.lights, same_light)) s.lights = std::move(core);
+  } else {
+    this->HasScene = false;
+    if (regeometry) {
+      s.meshes = std::move(meshes);
+      this->GeometryInputs.clear();
+    }
+    s.materials = std::move(materials);
+    s.lights = std::move(core);
+    try {
+      s.commit();
+    } catch (const std::exception& e) {
+      vtkErrorWithObjectMacro(alg, << "invalid scene: " << e.what());
+      return 0;
+    }
+    // Input data the scene worked around (non-finite points, normals, colors):
+    // rendered without it, reported once per problem and input.
+    for (const std::string& w : s.summary().warnings) vtkWarningWithObjectMacro(alg, << w);
+    if (regeometry) {
+      this->GeometryInputs = inputs;
+      this->GeometryTime.Modified();
+    }
+  }
+  s.camera.eye = vec3(alg->GetPosition());
+  s.camera.look_at = vec3(alg->GetFocalPoint());
+  s.camera.up = vec3(alg->GetViewUp());
+  s.camera.vfov_degrees = float(alg->GetViewAngle());
+  s.camera.parallel = alg->GetParallelProjection() != 0;
+  s.camera.parallel_scale = float(alg->GetParallelScale());
+  s.background = linear_color(alg->GetBackground());
+  s.ambient_light = linear_color(alg->GetAmbientLight());
+  try {
+    rayscope::prepare_frame(s, alg->GetRenderSettings());
+  } catch (const std::exception& e) {
+    vtkErrorWithObjectMacro(alg, << "invalid camera: " << e.what());
+    return 0;
+  }
+  this->HasScene = true;
+  return 1;
+}
+
+}  // namespace rayscope_vtk

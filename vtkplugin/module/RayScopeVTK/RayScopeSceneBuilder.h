@@ -1,0 +1,50 @@
+// The core scene of a vtkRayScopeImageAlgorithm (private header): built from
+// its inputs, converters, materials, lights and camera, and updated in place
+// so that only what changed is redone.
+#pragma once
+
+#include <vector>
+
+#include "vtkTimeStamp.h"
+
+#include "rayscope/scene.h"
+
+class vtkDataSet;
+class vtkRayScopeImageAlgorithm;
+
+namespace rayscope_vtk {
+
+/// A light besides the headlight, in VTK terms (sRGB color).
+struct SceneLight {
+  bool point = true;
+  double v[3] = {0.0, 0.0, 0.0};  // position (point) or direction of travel (directional)
+  double color[3] = {1.0, 1.0, 1.0};
+  double intensity = 1.0;
+  double attenuation[3] = {1.0, 0.0, 0.0};
+
+  bool operator==(const SceneLight& o) const;
+};
+
+class SceneBuilder {
+ public:
+  /// Builds the scene of `alg` from its updated inputs, or updates the
+  /// previous one: meshes are converted again only when an input or its
+  /// converter changed, and the BVH is rebuilt only when the meshes or what
+  /// commit() summarises changed (number of lights, whether any material
+  /// reflects or refracts); then the camera is prepared for the image size.
+  /// The parameters of `alg` must have been validated. Reports problems with
+  /// vtkErrorMacro (and worked-around input with vtkWarningMacro) on `alg`;
+  /// returns 1 on success, 0 after an error (the scene is then unusable).
+  int Update(vtkRayScopeImageAlgorithm* alg, const std::vector<SceneLight>& lights);
+
+  /// The scene of the last successful Update(), else null.
+  rayscope::Scene* GetScene() { return this->HasScene ? &this->Scene : nullptr; }
+
+ private:
+  rayscope::Scene Scene;
+  bool HasScene = false;
+  vtkTimeStamp GeometryTime;  // when the meshes were last converted
+  std::vector<vtkDataSet*> GeometryInputs;
+};
+
+}  // namespace rayscope_vtk

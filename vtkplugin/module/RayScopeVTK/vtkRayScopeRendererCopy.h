@@ -1,0 +1,31 @@
+// What vtkRayScopeImageAlgorithm::CopyRenderer() (vtkRayScopeRendererCopy.cxx)
+// keeps between calls (private header).
+#pragma once
+
+#include <vector>
+
+#include "vtkSmartPointer.h"
+#include "vtkWeakPointer.h"
+
+class vtkActor;
+class vtkRayScopeMaterial;
+class vtkRayScopeMeshConverter;
+class vtkTransformFilter;
+
+namespace rayscope_vtk {
+
+/// One actor of the copied renderer: an unchanged actor keeps the same input,
+/// converter and material, so its geometry is not converted again and the
+/// BVH is not rebuilt.
+struct CopiedActor {
+  vtkWeakPointer<vtkActor> actor;
+  vtkSmartPointer<vtkTransformFilter> transform;  // null while the matrix is the identity
+  vtkSmartPointer<vtkRayScopeMeshConverter> converter;
+  vtkSmartPointer<vtkRayScopeMaterial> material;
+  bool used = false;
+};
+
+/// The actors of the last CopyRenderer() call.
+using CopiedActors = std::vector<CopiedActor>;
+
+}  // namespace rayscope_vtk
