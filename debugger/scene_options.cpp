@@ -1,5 +1,8 @@
 #include "scene_options.h"
 
+#include <charconv>
+#include <cstdio>
+
 #include "rayscope/shapes.h"
 #include "rayscope/vtk_mesh.h"
 
@@ -18,6 +21,17 @@ void parse_size(const std::string& s, int& w, int& h) {
   }
   if (pw != x || ph != s.size() - x - 1)
     throw std::invalid_argument("--size: expected WIDTHxHEIGHT, got '" + s + "'");
+}
+
+// The shortest text of a float ("1", not "1.000000").
+std::string shortest(float v) {
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+}
+
+// " (LO..HI)" for the help text, from the named limits.
+std::string in(long long lo, long long hi) {
+  return " (" + std::to_string(lo) + ".." + std::to_string(hi) + ")";
 }
 
 }  // namespace
@@ -40,21 +54,25 @@ bool parse_ints(const std::string& s, int n, int* out) {
 }
 
 void SceneOptions::add_to(CLI::App* cmd) {
+  using RS = RenderSettings;
   cmd->add_option("scene", scene, "Scene file (JSON); omit for the default scene");
   cmd->add_option("--size", size, "Image size WIDTHxHEIGHT");
-  cmd->add_option("-W,--width", width, "Image width in pixels")->check(CLI::Range(1, 32768));
-  cmd->add_option("-H,--height", height, "Image height in pixels")->check(CLI::Range(1, 32768));
-  cmd->add_option("-s,--spp", samples, "N: N x N stratified samples per pixel")
-      ->check(CLI::Range(1, 64));
-  cmd->add_option("-d,--max-depth", max_depth, "Maximum recursion depth")->check(CLI::Range(0, 64));
+  const std::string pixels = ", at most " + std::to_string(RS::kMaxPixels) + " pixels in all";
+  cmd->add_option("-W,--width", width, "Image width in pixels" + in(1, RS::kMaxImageSide) + pixels);
+  cmd->add_option("-H,--height", height,
+                  "Image height in pixels" + in(1, RS::kMaxImageSide) + pixels);
+  cmd->add_option("-s,--spp", samples,
+                  "N: N x N stratified samples per pixel" + in(1, RS::kMaxSamples));
+  cmd->add_option("-d,--max-depth", max_depth, "Maximum recursion depth" + in(0, RS::kMaxDepth));
   cmd->add_option("--min-contribution", min_contribution,
-                  "Skip secondary rays whose weight within their sample is below this")
-      ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--seed", seed, "Seed of the sample jitter")->check(CLI::Range(0, 2147483647));
-  cmd->add_option("-t,--threads", threads, "Threads (0: all)")->check(CLI::Range(0, 1024));
+                  "Skip secondary rays whose weight within their sample is below this (0.." +
+                      shortest(RS::kMaxMinContribution) + ")");
+  cmd->add_option("--seed", seed, "Seed of the sample jitter" + in(0, RS::kMaxSeed));
+  cmd->add_option("-t,--threads", threads, "Threads, 0: all" + in(0, RS::kMaxThreads));
 }
 
 LoadedScene SceneOptions::load() const {
+  const std::string name = scene.empty() ? std::string("default scene") : scene;
   LoadedScene loaded;
   if (scene.empty()) {
     loaded.scene = make_default_scene();
@@ -62,21 +80,30 @@ LoadedScene SceneOptions::load() const {
   } else {
     loaded = load_scene(scene, read_mesh_file);
   }
+  // The options override the scene's settings one by one; after each, the one
+  // RenderSettings::validate() checks the result, so that its message (the
+  // setting, its range, the value) comes with the option that broke it.
   RenderSettings& rs = loaded.settings;
-  if (!size.empty()) parse_size(size, rs.width, rs.height);
-  if (width) rs.width = *width;
-  if (height) rs.height = *height;
-  if (samples) rs.samples = *samples;
-  if (max_depth) rs.max_depth = *max_depth;
-  if (seed) rs.seed = uint32_t(*seed);
-  if (min_contribution) rs.min_contribution = *min_contribution;
-  rs.threads = threads;
-  rs.validate();
+  auto set = [&rs](const char* option, auto apply) {
+    apply();
+    try {
+      rs.validate();
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string(option) + ": " + e.what());
+    }
+  };
+  if (!size.empty()) set("--size", [&] { parse_size(size, rs.width, rs.height); });
+  if (width) set("--width", [&] { rs.width = *width; });
+  if (height) set("--height", [&] { rs.height = *height; });
+  if (samples) set("--spp", [&] { rs.samples = *samples; });
+  if (max_depth) set("--max-depth", [&] { rs.max_depth = *max_depth; });
+  if (min_contribution) set("--min-contribution", [&] { rs.min_contribution = *min_contribution; });
+  if (seed) set("--seed", [&] { rs.seed = *seed; });
+  set("--threads", [&] { rs.threads = threads; });
   try {
     loaded.scene.commit();
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error((scene.empty() ? std::string("default scene") : scene) + ": " +
-                             e.what());
+    throw std::runtime_error(name + ": " + e.what());
   }
   return loaded;
 }

@@ -1,6 +1,7 @@
 // Options shared by the subcommands that load a scene and render settings.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -17,7 +18,8 @@ bool parse_ints(const std::string& s, int n, int* out);
 struct SceneOptions {
   std::string scene;  ///< Empty: the built-in default scene.
   std::string size;
-  std::optional<int> width, height, samples, max_depth, seed;
+  std::optional<int> width, height, samples, max_depth;
+  std::optional<uint32_t> seed;
   std::optional<float> min_contribution;
   int threads = 0;
 

@@ -318,12 +318,25 @@ TEST_F(SceneIo, EveryBadInputIsOneLineNamingFileAndProblem) {
   expect_error("too_reflective.json",
                R"({"materials": {"m": {"reflectivity": 0.6, "transparency": 0.5}}})",
                "materials.m: reflectivity + transparency must not exceed 1");
+  // Ranges of render settings: the parser reports RenderSettings::validate()'s
+  // message after "render: " (tests/cli/test_settings_ranges.cpp checks every
+  // limit against the core and the command line).
   expect_error("zero_width.json", R"({"render": {"width": 0}})",
-               "render.width: value 0 is outside [1, 32768]");
-  expect_error("huge_width.json", R"({"render": {"width": 100000}})",
-               "render.width: value 100000 is outside [1, 32768]");
-  expect_error("too_many_pixels.json", R"({"render": {"width": 32768, "height": 32768}})",
-               "image is too large");
+               "render: image size 0x480 is invalid: width and height must be in 1..");
+  const std::string side = std::to_string(RenderSettings::kMaxImageSide);
+  expect_error("huge_width.json", R"({"render": {"height": 100, "width": )" + side + "1}}",
+               "render: image size " + side + "1x100 is invalid");
+  expect_error("too_many_pixels.json",
+               R"({"render": {"width": )" + side + R"(, "height": )" + side + "}}",
+               "render: image size " + side + "x" + side + " is invalid");
+  expect_error("zero_samples.json", R"({"render": {"samples": 0}})",
+               "render: samples must be in 1..");
+  expect_error("negative_cutoff.json", R"({"render": {"min_contribution": -0.5}})",
+               "render: min_contribution must be in 0..1, got -0.5");
+  expect_error("negative_seed.json", R"({"render": {"seed": -1}})",
+               "render.seed: -1 is not a 32-bit unsigned integer");
+  expect_error("huge_depth.json", R"({"render": {"max_depth": 1e3}})",
+               "render.max_depth: expected an integer");
   expect_error("bad_object_type.json", R"({"objects": [{"type": "cube"}]})",
                "objects[0].type: expected \"sphere\", \"plane\" or \"mesh\", got \"cube\"");
   expect_error("zero_normal.json", R"({"objects": [{"type": "plane", "normal": [0, 0, 0]}]})",

@@ -1,5 +1,6 @@
 #include "rayscope/render_settings.h"
 
+#include <charconv>
 #include <cmath>
 #include <string>
 
@@ -11,6 +12,11 @@ namespace {
 }
 std::string range(long long lo, long long hi) {
   return std::to_string(lo) + ".." + std::to_string(hi);
+}
+// The shortest text that reads back as the same float ("0.001", not "0.001000").
+std::string shortest(float v) {
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
 }
 }  // namespace
 
@@ -26,7 +32,8 @@ void RenderSettings::validate() const {
   if (max_depth < 0 || max_depth > kMaxDepth)
     fail("max_depth must be in " + range(0, kMaxDepth) + ", got " + std::to_string(max_depth));
   if (!(min_contribution >= 0.0f && min_contribution <= kMaxMinContribution))
-    fail("min_contribution must be in [0, 1], got " + std::to_string(min_contribution));
+    fail("min_contribution must be in 0.." + shortest(kMaxMinContribution) + ", got " +
+         shortest(min_contribution));
   if (threads < 0 || threads > kMaxThreads)
     fail("threads must be in " + range(0, kMaxThreads) + " (0: all), got " +
          std::to_string(threads));
