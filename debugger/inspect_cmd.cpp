@@ -96,8 +96,12 @@ void add_inspect_command(CLI::App& app, int& exit_code) {
   CLI::App* cmd = app.add_subcommand(
       "inspect", "Replay one pixel and print its ray tree (every ray, hit, weight and BVH walk)");
   opts->scene.add_to(cmd);
-  cmd->add_option("--pixel", opts->pixels, "X,Y: a pixel (0,0 is the top-left); repeatable");
-  cmd->add_option("--rect", opts->rect, "X,Y,WIDTH,HEIGHT: every pixel of a rectangle");
+  cmd->add_option("--pixel", opts->pixels,
+                  "X,Y: a pixel (0,0 is the top-left pixel; y grows downward); repeatable");
+  cmd->add_option("--rect", opts->rect,
+                  "X,Y,WIDTH,HEIGHT: every pixel of a rectangle whose top-left pixel is X,Y "
+                  "(0,0 is the top-left pixel of the image; y grows downward), at most " +
+                      std::to_string(kMaxRectPixels) + " pixels");
   // Its range (0..N*N-1) is record_pixel()'s check.
   cmd->add_option("--sample", opts->sample, "Only this sample (0..N*N-1); default: all");
   cmd->add_option("--format", opts->format, "text or json")

@@ -1,7 +1,6 @@
 #include "scene_options.h"
 
 #include <charconv>
-#include <cstdio>
 
 #include "rayscope/shapes.h"
 #include "rayscope/vtk_mesh.h"
@@ -23,18 +22,17 @@ void parse_size(const std::string& s, int& w, int& h) {
     throw std::invalid_argument("--size: expected WIDTHxHEIGHT, got '" + s + "'");
 }
 
-// The shortest text of a float ("1", not "1.000000").
-std::string shortest(float v) {
-  char buf[32];
-  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
-}
-
 // " (LO..HI)" for the help text, from the named limits.
 std::string in(long long lo, long long hi) {
   return " (" + std::to_string(lo) + ".." + std::to_string(hi) + ")";
 }
 
 }  // namespace
+
+std::string shortest(float v) {
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+}
 
 bool parse_ints(const std::string& s, int n, int* out) {
   size_t pos = 0;
@@ -113,9 +111,7 @@ std::string SceneOptions::replay_args(const std::string& scene, const RenderSett
   a += "--size " + std::to_string(s.width) + "x" + std::to_string(s.height);
   a += " --spp " + std::to_string(s.samples);
   a += " --max-depth " + std::to_string(s.max_depth);
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", double(s.min_contribution));
-  a += " --min-contribution " + std::string(buf);
+  a += " --min-contribution " + shortest(s.min_contribution);
   a += " --seed " + std::to_string(s.seed);
   return a;
 }

@@ -11,6 +11,11 @@
 
 namespace rayscope::cli {
 
+/// The shortest text that reads back as the same float (std::to_chars): what a
+/// printed command line or value needs to reproduce it exactly ("0.001", not
+/// "0.00100000005").
+std::string shortest(float v);
+
 /// Parses n comma-separated integers ("X,Y" or "X,Y,W,H") into out; false when
 /// the text is not exactly that.
 bool parse_ints(const std::string& s, int n, int* out);
