@@ -1,6 +1,9 @@
 #include "scene_options.h"
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
+#include <filesystem>
 
 #include "rayscope/shapes.h"
 #include "rayscope/vtk_mesh.h"
@@ -25,6 +28,34 @@ void parse_size(const std::string& s, int& w, int& h) {
 // " (LO..HI)" for the help text, from the named limits.
 std::string in(long long lo, long long hi) {
   return " (" + std::to_string(lo) + ".." + std::to_string(hi) + ")";
+}
+
+// A scene argument that is not a .json file is a mesh file.
+bool is_mesh_path(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return ext != ".json";
+}
+
+// The view of a mesh file: its mesh in the default material, seen from the
+// front (+z), a little from the right and above, so that no axis-aligned face
+// is seen edge-on; the camera frames it (frame_bounds, once the image size is
+// known) and a headlight shines along the view, as VTK's default light does.
+void frame_mesh(Scene& s, const RenderSettings& rs) {
+  Bounds3 b;
+  for (const TriangleMesh& m : s.meshes)
+    for (const Vec3& p : m.positions)
+      if (all_finite(p)) b.extend(p);
+  Camera view;
+  view.look_at = Vec3(0.0f);
+  view.eye = Vec3(0.5f, 0.5f, 1.0f);
+  s.camera = frame_bounds(b, float(rs.width) / float(rs.height), view);
+  Light head;
+  head.type = Light::Type::Directional;
+  head.name = "headlight";
+  head.direction = glm::normalize(s.camera.look_at - s.camera.eye);
+  s.lights = {head};
 }
 
 }  // namespace
@@ -53,7 +84,10 @@ bool parse_ints(const std::string& s, int n, int* out) {
 
 void SceneOptions::add_to(CLI::App* cmd) {
   using RS = RenderSettings;
-  cmd->add_option("scene", scene, "Scene file (JSON); omit for the default scene");
+  cmd->add_option("scene", scene,
+                  "Scene file (.json), or a mesh file (.obj .stl .ply .vtp .vtu .vtk) shown in "
+                  "the default material with a camera that frames it and a headlight; omit for "
+                  "the default scene");
   cmd->add_option("--size", size, "Image size WIDTHxHEIGHT");
   const std::string pixels = ", at most " + std::to_string(RS::kMaxPixels) + " pixels in all";
   cmd->add_option("-W,--width", width, "Image width in pixels" + in(1, RS::kMaxImageSide) + pixels);
@@ -71,10 +105,13 @@ void SceneOptions::add_to(CLI::App* cmd) {
 
 LoadedScene SceneOptions::load() const {
   const std::string name = scene.empty() ? std::string("default scene") : scene;
+  const bool mesh = !scene.empty() && is_mesh_path(scene);
   LoadedScene loaded;
   if (scene.empty()) {
     loaded.scene = make_default_scene();
     loaded.settings.samples = 2;
+  } else if (mesh) {
+    loaded.scene.meshes.push_back(read_mesh_file(scene));
   } else {
     loaded = load_scene(scene, read_mesh_file);
   }
@@ -98,8 +135,13 @@ LoadedScene SceneOptions::load() const {
   if (min_contribution) set("--min-contribution", [&] { rs.min_contribution = *min_contribution; });
   if (seed) set("--seed", [&] { rs.seed = *seed; });
   set("--threads", [&] { rs.threads = threads; });
+  if (mesh) frame_mesh(loaded.scene, rs);
   try {
     loaded.scene.commit();
+    // The camera checks render() runs, here with the file's name (a framed
+    // mesh of float-overflowing extent gets a camera that cannot be prepared).
+    Camera probe = loaded.scene.camera;
+    probe.prepare(rs.width, rs.height);
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(name + ": " + e.what());
   }
