@@ -1,4 +1,4 @@
-// rayscope: render scenes and inspect the ray tree behind any pixel.
+// rayscope: render scenes and inspect the ray tree behind any pixel (see README.md).
 #include <cstdio>
 #include <exception>
 
