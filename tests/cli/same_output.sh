@@ -12,7 +12,7 @@ cmd=("${@:1:$#-1}")
 rm -f "$prefix.plain.exr" "$prefix.flag.exr"
 "${cmd[@]}" -o "$prefix.plain.exr" > /dev/null
 "${cmd[@]}" "$flag" -o "$prefix.flag.exr" > /dev/null
-info() { oiiotool --info -v "$1" | sed -e 1d -e 's/^[^:]*:/:/' | grep -v DateTime; }
+info() { oiiotool --info -v "$1" | sed -e 1d -e '2s/^[^:]*:/:/' | grep -v DateTime; }
 if ! diff <(info "$prefix.plain.exr") <(info "$prefix.flag.exr"); then
   echo "FAIL: '$flag' changed the size, channels or metadata of the output file"
   exit 1
