@@ -92,7 +92,7 @@
 #include "rayscope/render.h"
 #include "rayscope/scene_io.h"
 #include "rayscope/shapes.h"
-#include "rayscope/vtk_mesh.h"
+#include "rayscope_vtk/mesh_files.h"
 
 #ifndef RAYSCOPE_SOURCE_DIR
 #define RAYSCOPE_SOURCE_DIR "."
@@ -188,7 +188,7 @@ LoadedScene load_case(const std::string& name, const fs::path& file) {
     l.scene = make_default_scene();
     return l;
   }
-  return load_scene(file, read_mesh_file);
+  return load_scene(file, rayscope_vtk::load_mesh);
 }
 
 // ---------------------------------------------------------------------------

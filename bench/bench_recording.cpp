@@ -21,10 +21,10 @@
 #include <string>
 #include <vector>
 
-#include "rayscope/replay.h"
 #include "rayscope/render.h"
+#include "rayscope/replay.h"
 #include "rayscope/shapes.h"
-#include "rayscope/vtk_mesh.h"
+#include "rayscope_vtk/mesh_files.h"
 
 using namespace rayscope;
 
@@ -45,7 +45,9 @@ double median_seconds(int runs, const std::function<void()>& f) {
 
 Scene bunny_scene(const char* path) {
   Scene s = make_default_scene();
-  TriangleMesh bunny = read_mesh_file(path);
+  MeshOptions bunny_file;
+  bunny_file.file = path;
+  TriangleMesh bunny = rayscope_vtk::load_mesh(bunny_file);
   for (Vec3& p : bunny.positions) p = p * 0.9f + Vec3(-0.2f, 0.89f, -2.0f);
   for (Vec3& n : bunny.normals) n = glm::normalize(n);
   bunny.material = 3;

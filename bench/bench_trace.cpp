@@ -47,7 +47,7 @@
 #include "rayscope/camera.h"
 #include "rayscope/scene.h"
 #include "rayscope/shapes.h"
-#include "rayscope/vtk_mesh.h"
+#include "rayscope_vtk/mesh_files.h"
 
 namespace {
 
@@ -777,7 +777,7 @@ int main(int argc, char** argv) {
 
   TriangleMesh base;
   try {
-    base = read_mesh_file(opt.mesh);
+    base = rayscope_vtk::read_mesh_file(opt.mesh);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_trace: %s\n", e.what());
     return 2;

@@ -13,6 +13,10 @@
 namespace rayscope::cli {
 namespace {
 
+// At most this many pixels per --rect: the text of a few thousand ray trees is
+// already more than anyone reads, and its JSON tens of megabytes.
+constexpr int64_t kMaxRectPixels = 4096;
+
 struct InspectOptions {
   SceneOptions scene;
   std::vector<std::string> pixels;
@@ -34,8 +38,9 @@ int run_inspect(const InspectOptions& o) {
     if (!parse_ints(o.rect, 4, v) || v[2] <= 0 || v[3] <= 0)
       throw std::invalid_argument("--rect: expected X,Y,WIDTH,HEIGHT with positive size, got '" +
                                   o.rect + "'");
-    if (int64_t(v[2]) * v[3] > 4096)
-      throw std::invalid_argument("--rect: at most 4096 pixels at a time");
+    if (int64_t(v[2]) * v[3] > kMaxRectPixels)
+      throw std::invalid_argument("--rect: at most " + std::to_string(kMaxRectPixels) +
+                                  " pixels at a time");
     for (int y = v[1]; y < v[1] + v[3]; ++y)
       for (int x = v[0]; x < v[0] + v[2]; ++x) pixels.emplace_back(x, y);
   }
@@ -92,10 +97,14 @@ void add_inspect_command(CLI::App& app, int& exit_code) {
   CLI::App* cmd = app.add_subcommand(
       "inspect", "Replay one pixel and print its ray tree (every ray, hit, weight and BVH walk)");
   opts->scene.add_to(cmd);
-  cmd->add_option("--pixel", opts->pixels, "X,Y: a pixel (0,0 is the top-left); repeatable");
-  cmd->add_option("--rect", opts->rect, "X,Y,WIDTH,HEIGHT: every pixel of a rectangle");
-  cmd->add_option("--sample", opts->sample, "Only this sample (0..N*N-1); default: all")
-      ->check(CLI::Range(0, 4095));
+  cmd->add_option("--pixel", opts->pixels,
+                  "X,Y: a pixel (0,0 is the top-left pixel; y grows downward); repeatable");
+  cmd->add_option("--rect", opts->rect,
+                  "X,Y,WIDTH,HEIGHT: every pixel of a rectangle whose top-left pixel is X,Y "
+                  "(0,0 is the top-left pixel of the image; y grows downward), at most " +
+                      std::to_string(kMaxRectPixels) + " pixels");
+  // Its range (0..N*N-1) is record_pixel()'s check.
+  cmd->add_option("--sample", opts->sample, "Only this sample (0..N*N-1); default: all");
   cmd->add_option("--format", opts->format, "text or json")
       ->check(CLI::IsMember({"text", "json"}))
       ->capture_default_str();

@@ -1,12 +1,19 @@
-// rayscope: render scenes and inspect the ray tree behind any pixel.
+// rayscope: render scenes and inspect the ray tree behind any pixel (see README.md).
 #include <cstdio>
 #include <exception>
 
+#include <vtkLogger.h>
+#include <vtkOutputWindow.h>
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
 
 int main(int argc, char** argv) {
+  // VTK's readers print multi-line reports of a bad mesh file to standard
+  // error; rayscope_vtk::load_mesh() turns every failure into one exception naming the
+  // file and the problem, printed below as the one error line.
+  vtkOutputWindow::GetInstance()->SetDisplayModeToNever();
+  vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
   CLI::App app{"RayScope: a Whitted ray tracer and ray-tree debugger for VTK data"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "rayscope 0.1.0");

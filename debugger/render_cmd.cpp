@@ -48,9 +48,14 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
       "BVH:       %u nodes, %u leaves, depth %u, %.1f prims/leaf, SAH cost %.2f, built in %.3f "
       "s\n",
       q.nodes, q.leaves, q.depth, q.mean_leaf_prims, q.sah_cost, build_s);
-  std::printf("Walk:      %s: %zu %d-wide nodes, depth %u; %.2f MiB held in all\n",
-              to_string(accel.kind()), accel.walk().nodes.size(), accel.walk().arity(),
-              accel.walk().depth(), double(accel.memory_bytes()) / (1024.0 * 1024.0));
+  if (accel.walks_structure())
+    std::printf("Walk:      %s: %zu %d-wide nodes, depth %u%s\n", to_string(accel.kind()),
+                accel.walk().nodes.size(), accel.walk().arity(), accel.walk().depth(),
+                accel.kind() == AccelKind::Bvh ? " (what renders walk)" : "");
+  else
+    std::printf("Walk:      none: every primitive is tested against every ray\n");
+  std::printf("Memory:    %.2f MiB for the BVH, its walk and the primitive records\n",
+              double(accel.memory_bytes()) / (1024.0 * 1024.0));
   std::printf("%-22s %14s\n", "Rays", "count");
   for (int k = 0; k < kRayKindCount; ++k)
     std::printf("  %-20s %14llu\n", to_string(RayKind(k)), (unsigned long long)c.rays[size_t(k)]);
@@ -163,7 +168,7 @@ int run_render(const RenderOptions& o) {
   if (!fs::is_directory(dir, ec))
     throw std::runtime_error(o.output + ": folder '" + dir.string() + "' does not exist");
   if (out.extension().empty())
-    throw std::runtime_error(o.output + ": no file extension (use .png or .exr)");
+    throw std::runtime_error(o.output + ": no file extension (use .png, .jpg or .exr)");
 
   for (const std::string& a : o.aovs)
     if (a != "cost") throw std::invalid_argument("--aov: unknown AOV '" + a + "' (known: cost)");
@@ -179,6 +184,9 @@ int run_render(const RenderOptions& o) {
   if (!o.quiet && ::isatty(STDERR_FILENO)) progress = print_progress;
   Framebuffer fb = render(scene, rs, &counters, progress);
   auto t2 = std::chrono::steady_clock::now();
+  // --stats counts the traversal, which fills the cost AOVs too; only --aov
+  // cost puts them in the output file.
+  if (!cost_aov) fb.cost.clear();
   write_image(out, fb);
   if (cost_aov) {
     fs::path heat = out;
@@ -196,18 +204,21 @@ int run_render(const RenderOptions& o) {
   for (int y = 0; y < rs.height; ++y)
     for (int x = 0; x < rs.width; ++x)
       if (!all_finite(fb.color[fb.index(x, y)])) {
-        std::fprintf(stderr,
-                     "rayscope: warning: pixel (%d, %d) is not finite; replay it with:\n  "
-                     "rayscope inspect %s --pixel %d,%d\n",
-                     x, y, SceneOptions::replay_args(o.scene.scene, rs).c_str(), x, y);
+        std::fprintf(
+            stderr,
+            "rayscope: warning: pixel (%d, %d) is not finite; replay it with:\n  "
+            "rayscope inspect %s --pixel %d,%d\n",
+            x, y, SceneOptions::replay_args(o.scene.scene, rs, scene.accel().kind()).c_str(), x, y);
         y = rs.height;
         break;
       }
   if (!o.pixel.empty()) {
+    // Shortest round-trip text: the replay's color can be compared bit for bit.
     Color c = fb.color[fb.index(px, py)];
     std::printf(
-        "pixel (%d, %d) = (%.6g, %.6g, %.6g); its ray tree:\n  rayscope inspect %s --pixel %d,%d\n",
-        px, py, c.r, c.g, c.b, SceneOptions::replay_args(o.scene.scene, rs).c_str(), px, py);
+        "pixel (%d, %d) = (%s, %s, %s); its ray tree:\n  rayscope inspect %s --pixel %d,%d\n", px,
+        py, shortest_text(c.r).c_str(), shortest_text(c.g).c_str(), shortest_text(c.b).c_str(),
+        SceneOptions::replay_args(o.scene.scene, rs, scene.accel().kind()).c_str(), px, py);
   }
   if (!o.quiet) std::fprintf(stderr, "wrote %s (%dx%d)\n", o.output.c_str(), rs.width, rs.height);
   return 0;
@@ -219,13 +230,19 @@ void add_render_command(CLI::App& app, int& exit_code) {
   auto opts = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Render a scene (or the built-in default scene)");
   opts->scene.add_to(cmd);
-  cmd->add_option("-o,--output", opts->output, "Output image (.png, .exr)")->capture_default_str();
-  cmd->add_option("--pixel", opts->pixel, "X,Y: print this pixel's value and its inspect command");
+  cmd->add_option("-o,--output", opts->output,
+                  "Output image: .png or .jpg (8-bit sRGB color), .exr (32-bit float linear color "
+                  "plus Z, N.x N.y N.z and objectId channels)")
+      ->capture_default_str();
+  cmd->add_option("--pixel", opts->pixel,
+                  "X,Y: print this pixel's value and its inspect command (0,0 is the top-left "
+                  "pixel; y grows downward)");
   cmd->add_flag("--stats", opts->stats,
-                "Print ray counts, traversal counts, BVH figures, time and Mrays/s");
+                "Print ray counts, traversal counts, BVH figures, time and Mrays/s (the image "
+                "file is the same as without it)");
   cmd->add_option("--aov", opts->aovs,
                   "Extra outputs: 'cost' writes OUT.cost.png (heat map of BVH nodes visited, with "
-                  "legend) and cost channels in .exr output");
+                  "legend) and adds cost.* channels to .exr output");
   cmd->add_flag("--explain", opts->explain,
                 "Print what the renderer skipped for this scene and why, with counts");
   cmd->add_flag("-q,--quiet", opts->quiet, "No progress bar or messages");

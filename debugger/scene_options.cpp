@@ -1,5 +1,9 @@
 #include "scene_options.h"
 
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
 #include "rayscope/shapes.h"
 #include "rayscope_vtk/mesh_files.h"
 
@@ -18,6 +22,39 @@ void parse_size(const std::string& s, int& w, int& h) {
   }
   if (pw != x || ph != s.size() - x - 1)
     throw std::invalid_argument("--size: expected WIDTHxHEIGHT, got '" + s + "'");
+}
+
+// " (LO..HI)" for the help text, from the named limits.
+std::string in(long long lo, long long hi) {
+  return " (" + std::to_string(lo) + ".." + std::to_string(hi) + ")";
+}
+
+// A scene argument that is not a .json file is a mesh file.
+bool is_mesh_path(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return ext != ".json";
+}
+
+// The view of a mesh file: its mesh in the default material, seen from the
+// front (+z), a little from the right and above, so that no axis-aligned face
+// is seen edge-on; the camera frames it (frame_bounds, once the image size is
+// known) and a headlight shines along the view, as VTK's default light does.
+void frame_mesh(Scene& s, const RenderSettings& rs) {
+  Bounds3 b;
+  for (const TriangleMesh& m : s.meshes)
+    for (const Vec3& p : m.positions)
+      if (all_finite(p)) b.extend(p);
+  Camera view;
+  view.look_at = Vec3(0.0f);
+  view.eye = Vec3(0.5f, 0.5f, 1.0f);
+  s.camera = frame_bounds(b, float(rs.width) / float(rs.height), view);
+  Light head;
+  head.type = Light::Type::Directional;
+  head.name = "headlight";
+  head.direction = glm::normalize(s.camera.look_at - s.camera.eye);
+  s.lights = {head};
 }
 
 }  // namespace
@@ -40,56 +77,96 @@ bool parse_ints(const std::string& s, int n, int* out) {
 }
 
 void SceneOptions::add_to(CLI::App* cmd) {
-  cmd->add_option("scene", scene, "Scene file (JSON); omit for the default scene");
+  using RS = RenderSettings;
+  cmd->add_option("scene", scene,
+                  "Scene file (.json), or a mesh file (.obj .stl .ply .vtp .vtu .vtk) shown in "
+                  "the default material with a camera that frames it and a headlight; omit for "
+                  "the default scene");
   cmd->add_option("--size", size, "Image size WIDTHxHEIGHT");
-  cmd->add_option("-W,--width", width, "Image width in pixels")->check(CLI::Range(1, 32768));
-  cmd->add_option("-H,--height", height, "Image height in pixels")->check(CLI::Range(1, 32768));
-  cmd->add_option("-s,--spp", samples, "N: N x N stratified samples per pixel")
-      ->check(CLI::Range(1, 64));
-  cmd->add_option("-d,--max-depth", max_depth, "Maximum recursion depth")->check(CLI::Range(0, 64));
+  const std::string pixels = ", at most " + std::to_string(RS::kMaxPixels) + " pixels in all";
+  cmd->add_option("-W,--width", width, "Image width in pixels" + in(1, RS::kMaxImageSide) + pixels);
+  cmd->add_option("-H,--height", height,
+                  "Image height in pixels" + in(1, RS::kMaxImageSide) + pixels);
+  cmd->add_option("-s,--spp", samples,
+                  "N: N x N stratified samples per pixel" + in(1, RS::kMaxSamples));
+  cmd->add_option("-d,--max-depth", max_depth, "Maximum recursion depth" + in(0, RS::kMaxDepth));
   cmd->add_option("--min-contribution", min_contribution,
-                  "Skip secondary rays whose weight within their sample is below this")
-      ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--seed", seed, "Seed of the sample jitter")->check(CLI::Range(0, 2147483647));
-  cmd->add_option("-t,--threads", threads, "Threads (0: all)")->check(CLI::Range(0, 1024));
+                  "Skip secondary rays whose weight within their sample is below this (0.." +
+                      shortest_text(RS::kMaxMinContribution) + ")");
+  cmd->add_option("--seed", seed, "Seed of the sample jitter" + in(0, RS::kMaxSeed));
+  cmd->add_option("-t,--threads", threads, "Threads, 0: all" + in(0, RS::kMaxThreads));
+  cmd->add_option("--accel", accel,
+                  "Structure the rays walk: bvh (the BVH in 4-wide nodes, what renders use; "
+                  "default), bvh2 (the same BVH node by node, two boxes per node: the "
+                  "lecture's walk, for teaching; same image), none (every primitive tested)")
+      ->check(CLI::Validator(
+          [](std::string& name) {
+            AccelKind k;
+            return parse_accel_kind(name, k) ? std::string()
+                                             : "expected bvh, bvh2 or none, got '" + name + "'";
+          },
+          "bvh|bvh2|none"));
 }
 
 LoadedScene SceneOptions::load() const {
+  const std::string name = scene.empty() ? std::string("default scene") : scene;
+  const bool mesh = !scene.empty() && is_mesh_path(scene);
   LoadedScene loaded;
   if (scene.empty()) {
     loaded.scene = make_default_scene();
     loaded.settings.samples = 2;
+  } else if (mesh) {
+    // The mesh as a scene file's mesh object with default options gives it.
+    rayscope::MeshOptions options;
+    options.file = scene;
+    loaded.scene.meshes.push_back(rayscope_vtk::load_mesh(options));
   } else {
     loaded = load_scene(scene, rayscope_vtk::load_mesh);
   }
+  // The options override the scene's settings one by one; after each, the one
+  // RenderSettings::validate() checks the result, so that its message (the
+  // setting, its range, the value) comes with the option that broke it.
   RenderSettings& rs = loaded.settings;
-  if (!size.empty()) parse_size(size, rs.width, rs.height);
-  if (width) rs.width = *width;
-  if (height) rs.height = *height;
-  if (samples) rs.samples = *samples;
-  if (max_depth) rs.max_depth = *max_depth;
-  if (seed) rs.seed = uint32_t(*seed);
-  if (min_contribution) rs.min_contribution = *min_contribution;
-  rs.threads = threads;
-  rs.validate();
+  auto set = [&rs](const char* option, auto apply) {
+    apply();
+    try {
+      rs.validate();
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string(option) + ": " + e.what());
+    }
+  };
+  if (!size.empty()) set("--size", [&] { parse_size(size, rs.width, rs.height); });
+  if (width) set("--width", [&] { rs.width = *width; });
+  if (height) set("--height", [&] { rs.height = *height; });
+  if (samples) set("--spp", [&] { rs.samples = *samples; });
+  if (max_depth) set("--max-depth", [&] { rs.max_depth = *max_depth; });
+  if (min_contribution) set("--min-contribution", [&] { rs.min_contribution = *min_contribution; });
+  if (seed) set("--seed", [&] { rs.seed = *seed; });
+  set("--threads", [&] { rs.threads = threads; });
+  if (mesh) frame_mesh(loaded.scene, rs);
+  AccelConfig accel_config;
+  parse_accel_kind(accel, accel_config.kind);  // checked by the option's validator
   try {
-    loaded.scene.commit();
+    loaded.scene.commit(accel_config);
+    // The camera checks render() runs, here with the file's name (a framed
+    // mesh of float-overflowing extent gets a camera that cannot be prepared).
+    Camera probe = loaded.scene.camera;
+    probe.prepare(rs.width, rs.height);
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error((scene.empty() ? std::string("default scene") : scene) + ": " +
-                             e.what());
+    throw std::runtime_error(name + ": " + e.what());
   }
   return loaded;
 }
 
-std::string SceneOptions::replay_args(const std::string& scene, const RenderSettings& s) {
+std::string SceneOptions::replay_args(const std::string& scene, const RenderSettings& s,
+                                      AccelKind accel) {
   std::string a = scene.empty() ? std::string() : "'" + scene + "' ";
   a += "--size " + std::to_string(s.width) + "x" + std::to_string(s.height);
   a += " --spp " + std::to_string(s.samples);
   a += " --max-depth " + std::to_string(s.max_depth);
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", double(s.min_contribution));
-  a += " --min-contribution " + std::string(buf);
+  a += " --min-contribution " + shortest_text(s.min_contribution);
   a += " --seed " + std::to_string(s.seed);
+  if (accel != AccelKind::Bvh) a += std::string(" --accel ") + to_string(accel);
   return a;
 }
 

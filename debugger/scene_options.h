@@ -1,6 +1,7 @@
 // Options shared by the subcommands that load a scene and render settings.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -17,17 +18,23 @@ bool parse_ints(const std::string& s, int n, int* out);
 struct SceneOptions {
   std::string scene;  ///< Empty: the built-in default scene.
   std::string size;
-  std::optional<int> width, height, samples, max_depth, seed;
+  std::optional<int> width, height, samples, max_depth;
+  std::optional<uint32_t> seed;
   std::optional<float> min_contribution;
   int threads = 0;
+  /// The structure rays walk (rayscope::parse_accel_kind names it): "bvh",
+  /// "bvh2" (the binary teaching walk) or "none".
+  std::string accel = to_string(AccelKind::Bvh);
 
   /// Adds the scene argument and the render-setting options to a subcommand.
   void add_to(CLI::App* cmd);
   /// Loads (and commits) the scene and applies the option overrides. Throws
   /// std::exception with a one-line message naming the file.
   LoadedScene load() const;
-  /// The options that reproduce `settings` on another command line.
-  static std::string replay_args(const std::string& scene, const RenderSettings& settings);
+  /// The options that reproduce `settings` and the scene's walk (`accel`) on
+  /// another command line.
+  static std::string replay_args(const std::string& scene, const RenderSettings& settings,
+                                 AccelKind accel);
 };
 
 }  // namespace rayscope::cli

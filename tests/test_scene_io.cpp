@@ -1,4 +1,4 @@
-// Scene files (scene_io.h) with the VTK mesh reader (vtk_mesh.h): a valid
+// Scene files (scene_io.h) with the VTK-side mesh loader (rayscope_vtk/mesh_files.h): a valid
 // scene parses to the expected values; every kind of bad input throws a
 // SceneError whose what() is one line "FILE: problem" naming the problem.
 // Mesh files are written at run time into a temporary folder.
@@ -13,7 +13,7 @@
 #include <string>
 
 #include "rayscope/scene_io.h"
-#include "rayscope/vtk_mesh.h"
+#include "rayscope_vtk/mesh_files.h"
 
 namespace {
 
@@ -107,7 +107,7 @@ class SceneIo : public ::testing::Test {
   void expect_error(const std::string& name, const std::string& text, const std::string& problem) {
     fs::path p = write(name, text);
     try {
-      load_scene(p, read_mesh_file);
+      load_scene(p, rayscope_vtk::load_mesh);
       ADD_FAILURE() << name << ": no error, expected one about \"" << problem << "\"";
     } catch (const SceneError& e) {
       std::string msg = e.what();
@@ -125,13 +125,13 @@ class SceneIo : public ::testing::Test {
 };
 
 TEST_F(SceneIo, MeshReaderTriangleCounts) {
-  TriangleMesh tetra = read_mesh_file(dir_ / "tetra.stl");
+  TriangleMesh tetra = rayscope_vtk::read_mesh_file(dir_ / "tetra.stl");
   EXPECT_EQ(tetra.triangles.size(), 4u);
   EXPECT_EQ(tetra.positions.size(), 4u);  // the STL reader merges shared corners
-  TriangleMesh quad = read_mesh_file(dir_ / "quad.obj");
+  TriangleMesh quad = rayscope_vtk::read_mesh_file(dir_ / "quad.obj");
   EXPECT_EQ(quad.triangles.size(), 3u);
   EXPECT_EQ(quad.positions.size(), 5u);
-  TriangleMesh hex = read_mesh_file(dir_ / "hex.vtk");
+  TriangleMesh hex = rayscope_vtk::read_mesh_file(dir_ / "hex.vtk");
   EXPECT_EQ(hex.triangles.size(), 12u);
   EXPECT_EQ(hex.positions.size(), 8u);
   for (const TriangleMesh* m : {&tetra, &quad, &hex})
@@ -147,13 +147,13 @@ TEST_F(SceneIo, MeshReaderTriangleCounts) {
   }
   // Errors: "FILE: problem".
   try {
-    read_mesh_file(dir_ / "missing.obj");
+    rayscope_vtk::read_mesh_file(dir_ / "missing.obj");
     ADD_FAILURE() << "no error for a missing file";
   } catch (const std::exception& e) {
     EXPECT_EQ(std::string(e.what()), (dir_ / "missing.obj").string() + ": file not found");
   }
   try {
-    read_mesh_file(dir_ / "mesh.xyz");
+    rayscope_vtk::read_mesh_file(dir_ / "mesh.xyz");
     ADD_FAILURE() << "no error for an unsupported format";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("unsupported mesh format '.xyz'"), std::string::npos)
@@ -189,7 +189,7 @@ TEST_F(SceneIo, ValidSceneParsesToTheExpectedValues) {
     ]
   })";
   fs::path p = write("good.json", text);
-  LoadedScene ls = load_scene(p, read_mesh_file);
+  LoadedScene ls = load_scene(p, rayscope_vtk::load_mesh);
   const Scene& s = ls.scene;
   EXPECT_EQ(s.camera.eye, Vec3(1, 2, 3));
   EXPECT_EQ(s.camera.look_at, Vec3(0, 0.5f, 0));
@@ -318,12 +318,25 @@ TEST_F(SceneIo, EveryBadInputIsOneLineNamingFileAndProblem) {
   expect_error("too_reflective.json",
                R"({"materials": {"m": {"reflectivity": 0.6, "transparency": 0.5}}})",
                "materials.m: reflectivity + transparency must not exceed 1");
+  // Ranges of render settings: the parser reports RenderSettings::validate()'s
+  // message after "render: " (tests/cli/test_settings_ranges.cpp checks every
+  // limit against the core and the command line).
   expect_error("zero_width.json", R"({"render": {"width": 0}})",
-               "render.width: value 0 is outside [1, 32768]");
-  expect_error("huge_width.json", R"({"render": {"width": 100000}})",
-               "render.width: value 100000 is outside [1, 32768]");
-  expect_error("too_many_pixels.json", R"({"render": {"width": 32768, "height": 32768}})",
-               "image is too large");
+               "render: image size 0x480 is invalid: width and height must be at least 1");
+  const std::string side = std::to_string(RenderSettings::kMaxImageSide);
+  expect_error("huge_width.json", R"({"render": {"height": 100, "width": )" + side + "1}}",
+               "render: image size " + side + "1x100 is too large");
+  expect_error("too_many_pixels.json",
+               R"({"render": {"width": )" + side + R"(, "height": )" + side + "}}",
+               "render: image size " + side + "x" + side + " is too large");
+  expect_error("zero_samples.json", R"({"render": {"samples": 0}})",
+               "render: samples must be in 1..");
+  expect_error("negative_cutoff.json", R"({"render": {"min_contribution": -0.5}})",
+               "render: min_contribution must be in 0..1, got -0.5");
+  expect_error("negative_seed.json", R"({"render": {"seed": -1}})",
+               "render.seed: -1 is not a 32-bit unsigned integer");
+  expect_error("huge_depth.json", R"({"render": {"max_depth": 1e3}})",
+               "render.max_depth: expected an integer");
   expect_error("bad_object_type.json", R"({"objects": [{"type": "cube"}]})",
                "objects[0].type: expected \"sphere\", \"plane\" or \"mesh\", got \"cube\"");
   expect_error("zero_normal.json", R"({"objects": [{"type": "plane", "normal": [0, 0, 0]}]})",
@@ -335,7 +348,7 @@ TEST_F(SceneIo, EveryBadInputIsOneLineNamingFileAndProblem) {
 TEST_F(SceneIo, MissingOrDirectoryScene) {
   for (const fs::path& p : {dir_ / "no_such_scene.json", dir_}) {
     try {
-      load_scene(p, read_mesh_file);
+      load_scene(p, rayscope_vtk::load_mesh);
       ADD_FAILURE() << p << ": no error";
     } catch (const SceneError& e) {
       std::string msg = e.what();
@@ -349,18 +362,18 @@ TEST_F(SceneIo, MissingOrDirectoryScene) {
 
 TEST_F(SceneIo, ParseSceneUsesTheGivenName) {
   try {
-    parse_scene("{\"bogus\": 1}", "inline scene", dir_, read_mesh_file);
+    parse_scene("{\"bogus\": 1}", "inline scene", dir_, rayscope_vtk::load_mesh);
     ADD_FAILURE() << "no error";
   } catch (const SceneError& e) {
     EXPECT_EQ(std::string(e.what()), "inline scene: unknown key 'bogus'");
   }
   // Relative mesh paths resolve against base_dir.
   LoadedScene ls = parse_scene(R"({"objects": [{"type": "mesh", "file": "quad.obj"}]})", "x", dir_,
-                               read_mesh_file);
+                               rayscope_vtk::load_mesh);
   ASSERT_EQ(ls.scene.meshes.size(), 1u);
   EXPECT_EQ(ls.scene.meshes[0].triangles.size(), 3u);
   // Defaults when the file says nothing.
-  LoadedScene empty = parse_scene("{}", "empty", dir_, read_mesh_file);
+  LoadedScene empty = parse_scene("{}", "empty", dir_, rayscope_vtk::load_mesh);
   EXPECT_EQ(empty.settings.width, RenderSettings{}.width);
   EXPECT_EQ(empty.scene.materials.size(), 1u);
   EXPECT_TRUE(empty.scene.lights.empty());

@@ -1,5 +1,6 @@
 #include "rayscope/camera.h"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace rayscope {
@@ -31,6 +32,30 @@ void Camera::prepare(int width, int height) {
   half_width_ = half_height_ * aspect;
   inv_width_ = 1.0f / float(width);
   inv_height_ = 1.0f / float(height);
+}
+
+Camera frame_bounds(const Bounds3& bounds, float aspect, const Camera& view) {
+  Vec3 center(0.0f);
+  float radius = 1.0f;
+  if (!bounds.empty()) {
+    center = bounds.center();
+    radius = 0.5f * glm::length(bounds.extent());
+    if (radius == 0.0f) radius = 1.0f;
+  }
+  Vec3 dir = view.eye - view.look_at;
+  dir = dir == Vec3(0.0f) ? Vec3(0.0f, 0.0f, 1.0f) : normalize_any_length(dir);
+  Camera c = view;
+  c.look_at = center;
+  if (view.parallel) {
+    // Half the image height; a tall image is narrower than it is high.
+    c.parallel_scale = aspect < 1.0f ? radius / aspect : radius;
+    c.eye = center + 2.0f * radius * dir;  // outside the sphere: nothing lies behind the eye
+  } else {
+    float half = 0.5f * glm::radians(view.vfov_degrees);
+    if (aspect < 1.0f) half = std::atan(std::tan(half) * aspect);  // the horizontal half-angle
+    c.eye = center + radius / std::sin(half) * dir;
+  }
+  return c;
 }
 
 }  // namespace rayscope

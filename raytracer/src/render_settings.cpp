@@ -1,5 +1,6 @@
 #include "rayscope/render_settings.h"
 
+#include <charconv>
 #include <cmath>
 #include <string>
 
@@ -13,6 +14,11 @@ std::string range(long long lo, long long hi) {
   return std::to_string(lo) + ".." + std::to_string(hi);
 }
 }  // namespace
+
+std::string shortest_text(float v) {
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+}
 
 void RenderSettings::validate() const {
   const std::string size = std::to_string(width) + "x" + std::to_string(height);
@@ -28,7 +34,8 @@ void RenderSettings::validate() const {
   if (max_depth < 0 || max_depth > kMaxDepth)
     fail("max_depth must be in " + range(0, kMaxDepth) + ", got " + std::to_string(max_depth));
   if (!(min_contribution >= 0.0f && min_contribution <= kMaxMinContribution))
-    fail("min_contribution must be in [0, 1], got " + std::to_string(min_contribution));
+    fail("min_contribution must be in 0.." + shortest_text(kMaxMinContribution) + ", got " +
+         shortest_text(min_contribution));
   if (threads < 0 || threads > kMaxThreads)
     fail("threads must be in " + range(0, kMaxThreads) + " (0: all), got " +
          std::to_string(threads));

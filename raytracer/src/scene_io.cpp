@@ -6,6 +6,8 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <type_traits>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
@@ -45,13 +47,16 @@ struct Reader {
     }
     return v;
   }
-  int integer(const json& j, const std::string& where, int lo, int hi) {
+  /// An integer that fits T (a type check: the setting's range is checked elsewhere).
+  template <class T>
+  T integer(const json& j, const std::string& where) {
     if (!j.is_number_integer()) fail(where, "expected an integer");
-    long long v = j.get<long long>();
-    if (v < lo || v > hi)
-      fail(where, "value " + std::to_string(v) + " is outside [" + std::to_string(lo) + ", " +
-                      std::to_string(hi) + "]");
-    return int(v);
+    const bool fits = j.is_number_unsigned() ? std::in_range<T>(j.get<uint64_t>())
+                                             : std::in_range<T>(j.get<int64_t>());
+    if (!fits)
+      fail(where, j.dump() + " is not a " + std::to_string(sizeof(T) * 8) + "-bit " +
+                      (std::is_signed_v<T> ? "" : "unsigned ") + "integer");
+    return j.get<T>();
   }
   bool boolean(const json& j, const std::string& where) {
     if (!j.is_boolean()) fail(where, "expected true or false");
@@ -195,17 +200,21 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
   }
 
   if (root.contains("render")) {
+    // Only types here; the ranges are RenderSettings::validate()'s.
     const json& j = root["render"];
     r.keys(j, "render", {"width", "height", "samples", "max_depth", "min_contribution", "seed"});
-    if (j.contains("width")) rs.width = r.integer(j["width"], "render.width", 1, 32768);
-    if (j.contains("height")) rs.height = r.integer(j["height"], "render.height", 1, 32768);
-    if (j.contains("samples")) rs.samples = r.integer(j["samples"], "render.samples", 1, 64);
-    if (j.contains("max_depth"))
-      rs.max_depth = r.integer(j["max_depth"], "render.max_depth", 0, 64);
+    if (j.contains("width")) rs.width = r.integer<int>(j["width"], "render.width");
+    if (j.contains("height")) rs.height = r.integer<int>(j["height"], "render.height");
+    if (j.contains("samples")) rs.samples = r.integer<int>(j["samples"], "render.samples");
+    if (j.contains("max_depth")) rs.max_depth = r.integer<int>(j["max_depth"], "render.max_depth");
     if (j.contains("min_contribution"))
-      rs.min_contribution = r.number(j["min_contribution"], "render.min_contribution", 0.0f, 1.0f);
-    if (j.contains("seed")) rs.seed = uint32_t(r.integer(j["seed"], "render.seed", 0, 2147483647));
-    if (double(rs.width) * rs.height > 268435456.0) r.fail("render", "image is too large");
+      rs.min_contribution = r.number(j["min_contribution"], "render.min_contribution");
+    if (j.contains("seed")) rs.seed = r.integer<uint32_t>(j["seed"], "render.seed");
+    try {
+      rs.validate();
+    } catch (const std::invalid_argument& e) {
+      r.fail("render", e.what());
+    }
   }
 
   std::map<std::string, uint32_t> material_ids;

@@ -1,5 +1,7 @@
-"""Writes a sphere as .vtp (polydata) and a tetrahedralised sphere as .vtu
-(unstructured grid) with VTK's own writers, for the mesh-reader CLI tests."""
+"""Writes test meshes with VTK's own writers: a sphere as .vtp (polydata),
+.vtk (legacy), .stl and .ply, a tetrahedralised sphere as .vtu (unstructured
+grid), and for .vtp and .vtu a scene file that uses the mesh. Usage:
+write_vtk_meshes.py OUTPUT_FOLDER"""
 import sys
 
 import vtk
@@ -7,10 +9,12 @@ import vtk
 out = sys.argv[1]
 sphere = vtk.vtkSphereSource()
 sphere.Update()
-w = vtk.vtkXMLPolyDataWriter()
-w.SetFileName(out + "/sphere.vtp")
-w.SetInputData(sphere.GetOutput())
-assert w.Write() == 1
+for ext, writer in (("vtp", vtk.vtkXMLPolyDataWriter), ("vtk", vtk.vtkPolyDataWriter),
+                    ("stl", vtk.vtkSTLWriter), ("ply", vtk.vtkPLYWriter)):
+    w = writer()
+    w.SetFileName(f"{out}/sphere.{ext}")
+    w.SetInputData(sphere.GetOutput())
+    assert w.Write() == 1, ext
 tets = vtk.vtkDelaunay3D()
 tets.SetInputData(sphere.GetOutput())
 tets.Update()

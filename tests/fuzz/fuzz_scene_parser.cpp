@@ -64,7 +64,7 @@ rayscope::TriangleMesh fake_mesh(const rayscope::MeshOptions& options) {
 void check_accepted_scene(rayscope::LoadedScene& loaded) {
   rayscope::Scene& scene = loaded.scene;
   try {
-    loaded.settings.validate();
+    loaded.settings.validate();  // the parser checks the "render" block with it
     scene.commit();
   } catch (const std::exception& e) {
     finding("commit of an accepted scene", e.what());
@@ -84,8 +84,8 @@ void check_accepted_scene(rayscope::LoadedScene& loaded) {
       finding("light", ("light '" + l.name + "': direction does not normalise").c_str());
 
   // Every pixel of a tiny image (the middle one looks at look_at), with a
-  // bounded ray tree: max_depth up to 64 with min_contribution 0 is a
-  // legitimate, exponentially expensive request.
+  // bounded ray tree: max_depth up to RenderSettings::kMaxDepth with
+  // min_contribution 0 is a legitimate, exponentially expensive request.
   rayscope::RenderSettings rs = loaded.settings;
   rs.width = 5;
   rs.height = 3;

@@ -226,8 +226,8 @@ TEST(VtkImage, RejectsBadParameters) {
       {"samples must be in 1..64", [](auto* a) { a->SetSamples(0); }},
       {"samples must be in 1..64", [](auto* a) { a->SetSamples(65); }},
       {"max_depth must be in 0..64", [](auto* a) { a->SetMaxDepth(-1); }},
-      {"min_contribution must be in [0, 1]", [](auto* a) { a->SetMinContribution(-1.0); }},
-      {"min_contribution must be in [0, 1]", [](auto* a) { a->SetMinContribution(1.5); }},
+      {"min_contribution must be in 0..1, got", [](auto* a) { a->SetMinContribution(-1.0); }},
+      {"min_contribution must be in 0..1, got", [](auto* a) { a->SetMinContribution(1.5); }},
       {"threads must be in 0..1024", [](auto* a) { a->SetThreads(1025); }},
       // The checks only VTK has.
       {"Position and FocalPoint coincide", [](auto* a) { a->SetPosition(0, 0, 0); }},

@@ -39,4 +39,14 @@ struct Camera {
   float inv_width_ = 1.0f, inv_height_ = 1.0f;
 };
 
+/// A camera that shows all of `bounds`, as VTK's vtkRenderer::ResetCamera does:
+/// it looks at the center of the box from along `view`'s direction (eye - look_at,
+/// +z if they coincide), keeps `view`'s up vector, field of view and projection,
+/// and stands just far enough away (central projection) or zooms out just enough
+/// (parallel projection) for the box's bounding sphere to fit the smaller of the
+/// vertical and horizontal field of view of an image of width / height = aspect.
+/// An empty box frames the unit sphere at the origin; a single point, the unit
+/// sphere around it.
+Camera frame_bounds(const Bounds3& bounds, float aspect, const Camera& view = Camera{});
+
 }  // namespace rayscope

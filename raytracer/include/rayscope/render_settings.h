@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <stdexcept>
+#include <string>
 
 namespace rayscope {
 
@@ -51,5 +52,10 @@ struct RenderSettings {
   /// the value, e.g. "samples must be in 1..64 (N for N x N per pixel), got 65".
   void validate() const;
 };
+
+/// The shortest text that reads back as the same float ("0.001", not
+/// "0.00100000005"): how settings are printed, in validate()'s messages and in
+/// command lines that must reproduce them exactly.
+std::string shortest_text(float v);
 
 }  // namespace rayscope
