@@ -229,4 +229,24 @@ TEST(VtkBVH, VisitCounts) {
   EXPECT_EQ(visits(), first);
   // It equals the pixel's Cost in the image too.
   EXPECT_EQ(nodes, c->GetTuple1(14 * 48 + 24));
+
+  // The binary teaching walk (Accel): the same image; the frame's visits are
+  // again the image's Cost, now of the binary walk, which enters more nodes.
+  vtkNew<vtkImageData> wide_image;
+  wide_image->DeepCopy(s.alg->GetOutput());
+  s.alg->SetAccelToBinaryBvh();
+  s.alg->Update();
+  vtkDataArray* wide_rgb = wide_image->GetPointData()->GetScalars();
+  vtkDataArray* binary_rgb = s.alg->GetOutput()->GetPointData()->GetScalars();
+  ASSERT_EQ(wide_rgb->GetNumberOfTuples(), binary_rgb->GetNumberOfTuples());
+  for (vtkIdType k = 0; k < wide_rgb->GetNumberOfTuples(); ++k)
+    for (int j = 0; j < wide_rgb->GetNumberOfComponents(); ++j)
+      ASSERT_EQ(wide_rgb->GetComponent(k, j), binary_rgb->GetComponent(k, j)) << "pixel " << k;
+  double binary_cost = 0.0;
+  c = s.alg->GetOutput()->GetPointData()->GetArray("Cost");
+  for (vtkIdType k = 0; k < c->GetNumberOfTuples(); ++k) binary_cost += c->GetTuple1(k);
+  bvh->SetVisitModeToFrame();
+  bvh->Update();
+  EXPECT_EQ(visits(), binary_cost);
+  EXPECT_GT(binary_cost, cost);
 }

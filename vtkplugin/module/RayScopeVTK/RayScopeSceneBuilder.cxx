@@ -136,8 +136,14 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
   // Other material and light values (a headlight following the camera, a new
   // color) are read while tracing and are simply replaced.
   rayscope::Scene& s = this->Scene;
-  bool recommit =
-      regeometry || materials.size() != s.materials.size() || core.size() != s.lights.size();
+  static_assert(int(rayscope::AccelKind::Bvh) == vtkRayScopeImageAlgorithm::ACCEL_BVH &&
+                int(rayscope::AccelKind::BinaryBvh) ==
+                    vtkRayScopeImageAlgorithm::ACCEL_BINARY_BVH &&
+                int(rayscope::AccelKind::None) == vtkRayScopeImageAlgorithm::ACCEL_NONE);
+  rayscope::AccelConfig accel;
+  accel.kind = rayscope::AccelKind(alg->GetAccel());
+  bool recommit = regeometry || materials.size() != s.materials.size() ||
+                  core.size() != s.lights.size() || s.accel().kind() != accel.kind;
   for (size_t i = 0; !recommit && i < materials.size(); ++i)
     recommit = materials[i].reflective() != s.materials[i].reflective() ||
                materials[i].refractive() != s.materials[i].refractive();
@@ -153,7 +159,7 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
     s.materials = std::move(materials);
     s.lights = std::move(core);
     try {
-      s.commit();
+      s.commit(accel);
     } catch (const std::exception& e) {
       vtkErrorWithObjectMacro(alg, << "invalid scene: " << e.what());
       return 0;

@@ -24,7 +24,8 @@
  *   Counted on the walk renders do: with the default 4-wide walk a ray enters
  *   only the binary nodes at the top of each 4-wide node (and the leaves), so
  *   the nodes a 4-wide node swallows keep a count of 0; with the scene's
- *   binary walk (accel "bvh2") every binary node a ray reaches is counted.
+ *   binary walk (the scene source's SetAccelToBinaryBvh()) every binary node a
+ *   ray reaches is counted.
  *
  * Field data also holds "BVHUsed" (0 when the scene is so small that the
  * tracer tests every primitive instead, in which case no ray visits a node)

@@ -45,6 +45,7 @@ vtkRayScopeImageAlgorithm::vtkRayScopeImageAlgorithm()
       Threads(0),
       Seed(0),
       ComputeCost(1),
+      Accel(ACCEL_BVH),
       Position{0.0, 0.0, 1.0},
       FocalPoint{0.0, 0.0, 0.0},
       ViewUp{0.0, 1.0, 0.0},
@@ -408,6 +409,7 @@ void vtkRayScopeImageAlgorithm::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "Threads: " << this->Threads << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "ComputeCost: " << this->ComputeCost << "\n";
+  os << indent << "Accel: " << rayscope::to_string(rayscope::AccelKind(this->Accel)) << "\n";
   v3("Position", this->Position);
   v3("FocalPoint", this->FocalPoint);
   v3("ViewUp", this->ViewUp);

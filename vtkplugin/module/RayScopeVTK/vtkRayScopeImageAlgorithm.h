@@ -116,6 +116,21 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   ///@}
 
   ///@{
+  /// The structure rays walk (rayscope::AccelKind, docs/acceleration.md):
+  /// ACCEL_BVH, the BVH in 4-wide nodes, what renders use (default);
+  /// ACCEL_BINARY_BVH, the same BVH node by node, the lecture's binary walk,
+  /// so that ray trees, the "Cost" arrays and vtkRayScopeBVHSource's visit
+  /// counts show every binary node a ray enters; ACCEL_NONE, every primitive
+  /// tested against every ray. The image is the same for all three.
+  enum AccelKinds { ACCEL_BVH = 0, ACCEL_BINARY_BVH = 1, ACCEL_NONE = 2 };
+  vtkSetClampMacro(Accel, int, ACCEL_BVH, ACCEL_NONE);
+  vtkGetMacro(Accel, int);
+  void SetAccelToBvh() { this->SetAccel(ACCEL_BVH); }
+  void SetAccelToBinaryBvh() { this->SetAccel(ACCEL_BINARY_BVH); }
+  void SetAccelToNone() { this->SetAccel(ACCEL_NONE); }
+  ///@}
+
+  ///@{
   /// Produce the "Cost" arrays (default on).
   vtkSetMacro(ComputeCost, vtkTypeBool);
   vtkGetMacro(ComputeCost, vtkTypeBool);
@@ -289,6 +304,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   int Threads;
   int Seed;
   vtkTypeBool ComputeCost;
+  int Accel;
   double Position[3];
   double FocalPoint[3];
   double ViewUp[3];
