@@ -336,14 +336,20 @@ TEST(VtkImage, FollowsPipelineChanges) {
   alg->SetSize(32, 32);
   alg->SetPosition(0, 0, 3);
   alg->Update();
+  EXPECT_EQ(alg->GetNumberOfGeometryConversions(), 1);
+  EXPECT_EQ(alg->GetNumberOfSceneCommits(), 1);
   const int before = count_object(alg->GetOutput(), 0);
   alg->SetPosition(0, 0, 6);  // farther: smaller
   alg->Update();
   const int farther = count_object(alg->GetOutput(), 0);
   EXPECT_LT(farther, before / 2);
+  EXPECT_EQ(alg->GetNumberOfGeometryConversions(), 1);  // the camera only: nothing rebuilt
+  EXPECT_EQ(alg->GetNumberOfSceneCommits(), 1);
   s->SetRadius(1.0);  // upstream change
   alg->Update();
   EXPECT_GT(count_object(alg->GetOutput(), 0), 3 * farther);
+  EXPECT_EQ(alg->GetNumberOfGeometryConversions(), 2);
+  EXPECT_EQ(alg->GetNumberOfSceneCommits(), 2);
 }
 
 // Updating a scene in place (camera with its headlight, material values,
@@ -371,6 +377,8 @@ TEST(VtkImage, InPlaceUpdatesMatchFreshRender) {
   vtkNew<vtkRayScopeImageAlgorithm> reused;
   setup(reused, 0.0, 1.0, 3.0);
   reused->Update();
+  ASSERT_EQ(reused->GetNumberOfGeometryConversions(), 1);
+  ASSERT_EQ(reused->GetNumberOfSceneCommits(), 1);
   for (auto [x, color, light_y] :
        {std::tuple{0.4, 1.0, 3.0}, std::tuple{0.4, 0.2, 3.0}, std::tuple{-0.3, 0.6, 1.5}}) {
     setup(reused, x, color, light_y);
@@ -379,5 +387,8 @@ TEST(VtkImage, InPlaceUpdatesMatchFreshRender) {
     setup(fresh, x, color, light_y);
     fresh->Update();
     EXPECT_EQ(colors(reused), colors(fresh)) << x << " " << color << " " << light_y;
+    // Updated in place: the geometry is not converted again, the BVH not rebuilt.
+    EXPECT_EQ(reused->GetNumberOfGeometryConversions(), 1);
+    EXPECT_EQ(reused->GetNumberOfSceneCommits(), 1);
   }
 }

@@ -123,6 +123,7 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
       meshes[size_t(i)].name = alg->GetObjectName(i);
       meshes[size_t(i)].material = uint32_t(i);
     }
+    ++this->Conversions;
   }
 
   std::vector<rayscope::Material> materials(static_cast<size_t>(n));
@@ -160,6 +161,7 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
     s.lights = std::move(core);
     try {
       s.commit(accel);
+      ++this->Commits;
     } catch (const std::exception& e) {
       vtkErrorWithObjectMacro(alg, << "invalid scene: " << e.what());
       return 0;

@@ -39,12 +39,17 @@ class SceneBuilder {
 
   /// The scene of the last successful Update(), else null.
   rayscope::Scene* GetScene() { return this->HasScene ? &this->Scene : nullptr; }
+  /// How often Update() converted the inputs to triangles, and committed the
+  /// scene (building its BVH), since construction.
+  size_t GetConversions() const { return this->Conversions; }
+  size_t GetCommits() const { return this->Commits; }
 
  private:
   rayscope::Scene Scene;
   bool HasScene = false;
   vtkTimeStamp GeometryTime;  // when the meshes were last converted
   std::vector<vtkDataSet*> GeometryInputs;
+  size_t Conversions = 0, Commits = 0;
 };
 
 }  // namespace rayscope_vtk

@@ -308,6 +308,14 @@ rayscope::Scene* vtkRayScopeImageAlgorithm::GetCoreScene() {
   return this->Internal->builder.GetScene();
 }
 
+vtkIdType vtkRayScopeImageAlgorithm::GetNumberOfGeometryConversions() {
+  return vtkIdType(this->Internal->builder.GetConversions());
+}
+
+vtkIdType vtkRayScopeImageAlgorithm::GetNumberOfSceneCommits() {
+  return vtkIdType(this->Internal->builder.GetCommits());
+}
+
 int vtkRayScopeImageAlgorithm::BuildScene() {
   // The one check of the parameters per update: the render settings by the
   // core's own RenderSettings::validate(), then what only VTK has.

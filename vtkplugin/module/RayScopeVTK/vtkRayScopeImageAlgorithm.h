@@ -275,6 +275,15 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// GetRenderSettings()).
   std::string ValidateParameters();
 
+  ///@{
+  /// How often the inputs were converted to triangles, and the scene committed
+  /// (its BVH built), since construction. An update that changes only the
+  /// camera, material values or light values reuses both; a changed input
+  /// converts and commits again.
+  vtkIdType GetNumberOfGeometryConversions();
+  vtkIdType GetNumberOfSceneCommits();
+  ///@}
+
 #ifndef __VTK_WRAP__
   /// The scene built by the last successful UpdateScene() or render (null
   /// before). Owned by this algorithm; valid until the next update.
