@@ -42,8 +42,8 @@
 #include <tbb/parallel_for.h>
 
 #include "rayscope/image.h"
-#include "rayscope/replay.h"
 #include "rayscope/render.h"
+#include "rayscope/replay.h"
 #include "rayscope/scene.h"
 #include "rayscope/shapes.h"
 #include "test_util.h"

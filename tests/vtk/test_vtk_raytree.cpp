@@ -25,8 +25,8 @@
 #include <vtkStringArray.h>
 
 #include "rayscope/raytree_format.h"
-#include "rayscope/replay.h"
 #include "rayscope/render.h"
+#include "rayscope/replay.h"
 #include "rayscope/scene.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeMaterial.h"

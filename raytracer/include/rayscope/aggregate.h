@@ -113,7 +113,6 @@ class Aggregate {
   /// empty for None).
   const WideBvh& walk() const { return walk_; }
   const std::vector<PrimRecord>& records() const { return records_; }
-  const std::vector<PlaneRecord>& planes() const { return planes_; }
   /// Every byte the aggregate holds: binary nodes, leaf order, wide nodes,
   /// primitive records and planes.
   size_t memory_bytes() const;

@@ -42,7 +42,8 @@ struct FramePolicy {
   static constexpr bool kSelects = false;
   NullRecorder recorder() { return {}; }
   void begin(Framebuffer&) {}
-  void finish(size_t, NullRecorder&, RayCounters&, Framebuffer&) {}
+  template <class Recorder>
+  void finish(size_t, Recorder&, RayCounters&, Framebuffer&) {}
   bool tile_selected(size_t) const { return false; }
   template <bool kShadows, bool kSecondary>
   bool select(int, int, const Scene&, const RenderSettings&, RayCounters&, Color&, SurfaceHit&,

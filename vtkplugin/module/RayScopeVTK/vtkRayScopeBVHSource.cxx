@@ -79,9 +79,9 @@ struct NodeVisitRecorder {
 struct NodeVisitPolicy : rayscope::FramePolicy {
   using Recorder = NodeVisitRecorder;
   tbb::enumerable_thread_specific<std::vector<uint32_t>> local;
-  explicit NodeVisitPolicy(size_t nodes) : local([nodes] { return std::vector<uint32_t>(nodes); }) {}
+  explicit NodeVisitPolicy(size_t nodes)
+      : local([nodes] { return std::vector<uint32_t>(nodes); }) {}
   NodeVisitRecorder recorder() { return NodeVisitRecorder{&local.local()}; }
-  void finish(size_t, NodeVisitRecorder&, rayscope::RayCounters&, rayscope::Framebuffer&) {}
 };
 
 // Node visits of every ray of the image: the frame loop of render() (same

@@ -22,8 +22,8 @@
 #include "vtkUnsignedCharArray.h"
 
 #include "RayScopeArrays.h"
-#include "rayscope/replay.h"
 #include "rayscope/render.h"
+#include "rayscope/replay.h"
 #include "rayscope/scene.h"
 #include "vtkRayScopeImageAlgorithm.h"
 
