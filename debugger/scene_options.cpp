@@ -4,7 +4,12 @@
 #include <cctype>
 #include <filesystem>
 
+#include <vtkDataSet.h>
+#include <vtkSmartPointer.h>
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "rayscope/shapes.h"
+#include "rayscope_vtk/mesh_conversion.h"
 #include "rayscope_vtk/mesh_files.h"
 
 namespace rayscope::cli {
@@ -116,10 +121,16 @@ LoadedScene SceneOptions::load() const {
     loaded.scene = make_default_scene();
     loaded.settings.samples = 2;
   } else if (mesh) {
-    // The mesh as a scene file's mesh object with default options gives it.
+    // The mesh as a scene file's mesh object with default options gives it,
+    // around a local origin at the center of its bounds when it lies far from
+    // the world's origin (Scene::origin), so that such data keeps its
+    // precision.
     rayscope::MeshOptions options;
     options.file = scene;
-    loaded.scene.meshes.push_back(rayscope_vtk::load_mesh(options));
+    vtkSmartPointer<vtkDataSet> data = rayscope_vtk::read_dataset_file(options.file);
+    loaded.scene.origin = rayscope_vtk::local_origin({data.Get()});
+    options.to_scene = glm::translate(glm::dmat4(1.0), -loaded.scene.origin);
+    loaded.scene.meshes.push_back(rayscope_vtk::load_mesh_from(options, data));
   } else {
     loaded = load_scene(scene, rayscope_vtk::load_mesh);
   }

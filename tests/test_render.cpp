@@ -129,8 +129,11 @@ TEST(Render, MatchesReferenceImage) {
   // 0.5% of the pixels off by more than 2 levels in some channel. A real change
   // of the shading (a wrong Fresnel weight, a light term, an offset that lets
   // shadow acne through) moves whole regions by many levels and fails both.
+  // Pixels more than kFarOff levels off: at most kMaxFarOff of them, none
+  // more than kMaxLevels off (see the end of the test).
+  constexpr int kFarOff = 8, kMaxFarOff = 6, kMaxLevels = 64;
   double sum = 0;
-  int big = 0, max_diff = 0;
+  int big = 0, far_off = 0, max_diff = 0;
   for (int i = 0; i < w * h; ++i) {
     int worst = 0;
     for (int c = 0; c < 3; ++c) {
@@ -141,13 +144,26 @@ TEST(Render, MatchesReferenceImage) {
       worst = std::max(worst, d);
     }
     if (worst > 2) ++big;
+    if (worst > kFarOff) ++far_off;
     max_diff = std::max(max_diff, worst);
   }
   double mean = sum / (3.0 * w * h);
-  std::printf("reference: mean abs diff %.4f levels, %d pixels > 2 levels, max %d\n", mean, big,
-              max_diff);
+  std::printf(
+      "reference: mean abs diff %.4f levels, %d pixels > 2 levels, %d > %d levels, max %d\n", mean,
+      big, far_off, kFarOff, max_diff);
   EXPECT_LT(mean, 0.5);
   EXPECT_LE(big, w * h / 200);
+  // The largest differences. One flipped sample of the 2x2 moves a pixel by at
+  // most a quarter of the range between the two colors it falls between (the
+  // default scene's strongest edge, sky against the dark checker, is ~200
+  // levels: <= 50 levels); a handful of such flips is what another compiler
+  // or libm can cause. Measured with this build: max 0 levels. Replacing the
+  // error-bound ray offset with a fixed 1e-4 epsilon moved 32 pixels by more
+  // than 2 levels, 22 by more than 8, up to 37 (the issue measured up to 50):
+  // the mean and the 0.5% above let that through; these fail it (and so does
+  // AnalyticMirrorImage below).
+  EXPECT_LE(far_off, kMaxFarOff);
+  EXPECT_LE(max_diff, kMaxLevels);
 }
 
 // Pixel coordinates (continuous) where the point p appears, for the prepared
@@ -280,3 +296,134 @@ TEST(Render, DepthLimitStopsSecondaryRays) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------------------
+// Pixels whose value is known from the scene alone: shading, shadow and
+// mirror image computed here in double precision from the lecture's model
+// (ambient + diffuse per visible light, plus reflectivity times the reflected
+// ray's color), not from the renderer. One sample per pixel, whose primary
+// ray is the camera's (camera mapping is tested in test_frame and
+// SemanticFacts); everything after the primary ray is independent.
+// ---------------------------------------------------------------------------
+
+constexpr int kAW = 96, kAH = 72;
+const Color kClay(0.8f, 0.5f, 0.3f), kSky(0.2f, 0.3f, 0.4f);
+constexpr float kClayAmbient = 0.1f, kClayDiffuse = 0.9f;
+const DVec3 kBallCenter(0.0, 1.0, 0.0);
+constexpr double kBallRadius = 0.5;
+
+// A clay ball above a floor, lit straight from above by one directional light
+// (so the ball's shadow is the disc of its radius under it); the floor is
+// white and matte, or a perfect mirror.
+Scene ball_scene(bool mirror_floor) {
+  Scene s;
+  s.camera.eye = Vec3(0.3f, 2.2f, 3.5f);
+  s.camera.look_at = Vec3(0.0f, 0.5f, 0.0f);
+  s.background = kSky;
+  Material clay;
+  clay.name = "clay";
+  clay.color = kClay;
+  clay.ambient = kClayAmbient;
+  clay.diffuse = kClayDiffuse;
+  clay.specular = 0.0f;
+  Material floor;
+  floor.name = "floor";
+  floor.color = Color(1.0f);
+  floor.ambient = mirror_floor ? 0.0f : 0.2f;
+  floor.diffuse = mirror_floor ? 0.0f : 0.8f;
+  floor.specular = 0.0f;
+  floor.reflectivity = mirror_floor ? 1.0f : 0.0f;
+  s.materials = {clay, floor};
+  s.spheres.push_back(Sphere{"ball", Vec3(kBallCenter), float(kBallRadius), 0});
+  s.planes.push_back(Plane{"floor", Vec3(0.0f), Vec3(0.0f, 1.0f, 0.0f), 1});
+  Light sun;
+  sun.type = Light::Type::Directional;
+  sun.direction = Vec3(0.0f, -1.0f, 0.0f);
+  s.lights = {sun};
+  s.commit();
+  return s;
+}
+
+// The clay's color at a point of the ball with outward normal n: ambient, and
+// diffuse where the light (from +y) reaches it; the upper half is unshadowed.
+DVec3 clay_color(const DVec3& n) {
+  return (double(kClayAmbient) + double(kClayDiffuse) * std::max(0.0, n.y)) * DVec3(kClay);
+}
+
+struct AnalyticCounts {
+  int ball = 0, shadow = 0, lit = 0, mirrored_ball = 0, mirrored_sky = 0;
+};
+
+// Compares every pixel whose analytic value is well defined (not within
+// 1e-3 of a silhouette or of the shadow's edge, where the pixel's one sample
+// may fall either side) with the render; returns how many of each kind.
+AnalyticCounts check_analytic(bool mirror_floor) {
+  Scene s = ball_scene(mirror_floor);
+  RenderSettings rs;
+  rs.width = kAW;
+  rs.height = kAH;
+  rs.samples = 1;
+  const Framebuffer fb = render(s, rs);
+  AnalyticCounts n;
+  // Float shading of unit-size quantities: errors ~1e-6; 1e-4 of the range
+  // is far below any real difference (a missing term is >= 0.02).
+  constexpr double kTol = 1e-4;
+  auto expect_color = [&](int x, int y, const DVec3& want, const char* what) {
+    const Color got = fb.color[fb.index(x, y)];
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(got[k], want[k], kTol) << what << " at pixel " << x << "," << y;
+  };
+  for (int y = 0; y < kAH; ++y)
+    for (int x = 0; x < kAW; ++x) {
+      const Vec2 sp = sample_position(x, y, 0, 1, rs.seed);
+      const Ray ray = s.camera.generate_ray(sp.x, sp.y);
+      const DVec3 o = to_d(ray.origin), d = glm::normalize(to_d(ray.dir));
+      double t0, t1, impact;
+      const bool ball = rstest::ref_ray_sphere(o, d, kBallCenter, kBallRadius, t0, t1, impact);
+      if (std::abs(impact - kBallRadius) < 1e-3) continue;  // silhouette
+      if (ball && t0 > 0.0) {
+        ++n.ball;
+        expect_color(x, y, clay_color((o + t0 * d - kBallCenter) / kBallRadius), "ball");
+        continue;
+      }
+      if (d.y >= 0.0) continue;              // sky: SemanticFacts checks it
+      const DVec3 p = o + (-o.y / d.y) * d;  // on the floor
+      if (!mirror_floor) {
+        const double rho = std::hypot(p.x - kBallCenter.x, p.z - kBallCenter.z);
+        if (std::abs(rho - kBallRadius) < 1e-3) continue;  // the shadow's edge
+        const bool shadowed = rho < kBallRadius;
+        ++(shadowed ? n.shadow : n.lit);
+        expect_color(x, y, DVec3(shadowed ? 0.2 : 1.0), shadowed ? "shadow" : "lit floor");
+      } else {
+        const DVec3 r(d.x, -d.y, d.z);  // the mirror image of the ray
+        double u0, u1, rimpact;
+        const bool sees = rstest::ref_ray_sphere(p, r, kBallCenter, kBallRadius, u0, u1, rimpact);
+        if (std::abs(rimpact - kBallRadius) < 1e-3) continue;
+        if (sees && u0 > 0.0) {
+          ++n.mirrored_ball;
+          expect_color(x, y, clay_color((p + u0 * r - kBallCenter) / kBallRadius), "mirrored ball");
+        } else {
+          ++n.mirrored_sky;
+          expect_color(x, y, DVec3(kSky), "mirrored sky");
+        }
+      }
+    }
+  return n;
+}
+
+TEST(Render, AnalyticShadingAndShadowBoundary) {
+  const AnalyticCounts n = check_analytic(false);
+  std::printf("checked %d ball, %d shadow, %d lit floor pixels\n", n.ball, n.shadow, n.lit);
+  EXPECT_GT(n.ball, 300);
+  EXPECT_GT(n.shadow, 100);
+  EXPECT_GT(n.lit, 1000);
+}
+
+TEST(Render, AnalyticMirrorImage) {
+  const AnalyticCounts n = check_analytic(true);
+  std::printf("checked %d ball, %d mirrored ball, %d mirrored sky pixels\n", n.ball,
+              n.mirrored_ball, n.mirrored_sky);
+  EXPECT_GT(n.ball, 300);
+  EXPECT_GT(n.mirrored_ball, 100);
+  EXPECT_GT(n.mirrored_sky, 1000);
+}

@@ -23,6 +23,14 @@ std::string fmt(const char* f, ...) {
 std::string v3(const Vec3& v) {
   return fmt("(%.4g, %.4g, %.4g)", v.x, v.y, v.z);
 }
+// A scene-local position in world coordinates (Scene::origin); with more
+// digits when the scene is far from the world's origin, where four would show
+// only where the scene is, not where in it.
+std::string world(const Scene& s, const Vec3& local) {
+  const DVec3 w = s.to_world(local);
+  if (s.origin == DVec3(0.0)) return v3(local);
+  return fmt("(%.10g, %.10g, %.10g)", w.x, w.y, w.z);
+}
 float degrees_from_cos(float c) {
   return glm::degrees(std::acos(std::clamp(c, -1.0f, 1.0f)));
 }
@@ -58,7 +66,7 @@ void text_ray(const PixelRecord& rec, const Scene& s, int id, int indent, std::s
     line += fmt("  hit \"%s\" (%s", s.object_name(r.object).c_str(), object_kind(s, r.object));
     if (s.object_type(r.object) == ObjectType::Mesh) line += fmt(" triangle %u", r.prim);
     line += fmt(", material \"%s\") t=%.5g", s.materials[r.material].name.c_str(), r.t);
-    line += "\n" + pad + "   at " + v3(r.point) + "  normal " + v3(r.ns);
+    line += "\n" + pad + "   at " + world(s, r.point) + "  normal " + v3(r.ns);
     if (r.ns != r.ng) line += "  geometric " + v3(r.ng);
     line += "\n" + pad + "   returned " + v3(r.color);
   } else {
@@ -103,6 +111,11 @@ std::string walk_legend(const Scene& s) {
 nlohmann::json jv(const Vec3& v) {
   return {v.x, v.y, v.z};
 }
+nlohmann::json jworld(const Scene& s, const Vec3& local) {
+  if (s.origin == DVec3(0.0)) return jv(local);
+  const DVec3 w = s.to_world(local);
+  return {w.x, w.y, w.z};
+}
 nlohmann::json jf(float f) {
   if (std::isfinite(f)) return f;
   return nullptr;
@@ -133,7 +146,7 @@ std::string format_json(const PixelRecord& rec, const Scene& s, int indent) {
               {"kind", to_string(r.kind)},
               {"depth", r.depth},
               {"sample", r.sample},
-              {"origin", jv(r.origin)},
+              {"origin", jworld(s, r.origin)},
               {"direction", jv(r.dir)},
               {"tmin", jf(r.tmin)},
               {"tmax", jf(r.tmax)},
@@ -156,7 +169,7 @@ std::string format_json(const PixelRecord& rec, const Scene& s, int indent) {
       j["hit"] = r.hit;
       if (r.hit) {
         j["t"] = r.t;
-        j["point"] = jv(r.point);
+        j["point"] = jworld(s, r.point);
         j["geometric_normal"] = jv(r.ng);
         j["shading_normal"] = jv(r.ns);
         j["object"] = r.object;

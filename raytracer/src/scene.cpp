@@ -9,6 +9,8 @@ namespace rayscope {
 
 void Scene::commit(const AccelConfig& config) {
   if (materials.empty()) throw std::invalid_argument("scene has no materials");
+  if (!std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.z))
+    throw std::invalid_argument("the scene's origin is not finite");
   auto check_material = [&](uint32_t m, const std::string& what) {
     if (m >= materials.size())
       throw std::invalid_argument(what + ": material index " + std::to_string(m) + " out of range");
@@ -205,7 +207,14 @@ SurfaceHit Scene::surface_hit(const Ray& ray, const PrimHit& ph) const {
     uint32_t si = r.id - num_triangles_;
     const Sphere& s = spheres[si];
     hit.p = sphere_point(ray, t, s.center, s.radius, hit.p_error);
-    hit.ng = hit.ns = (hit.p - s.center) / s.radius;
+    // The normal from the unrounded offset to the center, in double: (p -
+    // center) / radius in float loses the direction, and the unit length,
+    // when p is rounded to a spacing comparable to the radius (a unit sphere
+    // at 1e7, where the spacing is 1: the normal came out (-1, 1, 1) and the
+    // specular term infinite).
+    const DVec3 v = DVec3(ray.origin) + double(t) * DVec3(ray.dir) - DVec3(s.center);
+    const double len = glm::length(v);
+    hit.ng = hit.ns = len > 0.0 ? Vec3(v / len) : Vec3(0.0f, 1.0f, 0.0f);
     hit.object = uint32_t(meshes.size()) + si;
     hit.prim = 0;
     hit.material = s.material;

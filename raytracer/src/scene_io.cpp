@@ -32,12 +32,14 @@ struct Reader {
       if (!ok.count(it.key())) fail(where, "unknown key '" + it.key() + "'");
   }
 
-  float number(const json& j, const std::string& where) {
+  /// A finite number that float can hold, kept in double.
+  double number_d(const json& j, const std::string& where) {
     if (!j.is_number()) fail(where, "expected a number");
     double v = j.get<double>();
     if (!std::isfinite(v) || std::abs(v) > 3.0e38) fail(where, "number is not finite");
-    return float(v);
+    return v;
   }
+  float number(const json& j, const std::string& where) { return float(number_d(j, where)); }
   float number(const json& j, const std::string& where, float lo, float hi) {
     float v = number(j, where);
     if (v < lo || v > hi) {
@@ -66,11 +68,14 @@ struct Reader {
     if (!j.is_string()) fail(where, "expected a string");
     return j.get<std::string>();
   }
-  Vec3 vec3(const json& j, const std::string& where) {
+  /// Three numbers in double: positions stay in double until they are made
+  /// scene-local (Scene::to_local).
+  DVec3 dvec3(const json& j, const std::string& where) {
     if (!j.is_array() || j.size() != 3) fail(where, "expected an array of 3 numbers");
-    return Vec3(number(j[0], where + "[0]"), number(j[1], where + "[1]"),
-                number(j[2], where + "[2]"));
+    return DVec3(number_d(j[0], where + "[0]"), number_d(j[1], where + "[1]"),
+                 number_d(j[2], where + "[2]"));
   }
+  Vec3 vec3(const json& j, const std::string& where) { return Vec3(dvec3(j, where)); }
   Color color(const json& j, const std::string& where) {
     Vec3 c = vec3(j, where);
     if (c.r < 0 || c.g < 0 || c.b < 0) fail(where, "color components must be >= 0");
@@ -78,36 +83,38 @@ struct Reader {
   }
 };
 
-glm::mat4 parse_transform(Reader& r, const json& j, const std::string& where) {
+// An object's transform, in double precision: it is applied to the file's
+// points before they are rounded to float (MeshOptions::to_scene).
+glm::dmat4 parse_transform(Reader& r, const json& j, const std::string& where) {
   r.keys(j, where, {"translate", "rotate", "scale", "matrix"});
   if (j.contains("matrix")) {
     if (j.size() != 1) r.fail(where, "'matrix' cannot be combined with translate/rotate/scale");
     const json& m = j["matrix"];
     if (!m.is_array() || m.size() != 16)
       r.fail(where + ".matrix", "expected 16 numbers (row-major)");
-    glm::mat4 out(1.0f);
+    glm::dmat4 out(1.0);
     for (int row = 0; row < 4; ++row)
       for (int col = 0; col < 4; ++col)
         out[col][row] =
-            r.number(m[row * 4 + col], where + ".matrix[" + std::to_string(row * 4 + col) + "]");
+            r.number_d(m[row * 4 + col], where + ".matrix[" + std::to_string(row * 4 + col) + "]");
     return out;
   }
-  glm::mat4 t(1.0f);
-  if (j.contains("translate")) t = glm::translate(t, r.vec3(j["translate"], where + ".translate"));
+  glm::dmat4 t(1.0);
+  if (j.contains("translate")) t = glm::translate(t, r.dvec3(j["translate"], where + ".translate"));
   if (j.contains("rotate")) {
-    Vec3 a = r.vec3(j["rotate"], where + ".rotate");  // degrees about x, then y, then z
-    t = glm::rotate(t, glm::radians(a.z), Vec3(0, 0, 1));
-    t = glm::rotate(t, glm::radians(a.y), Vec3(0, 1, 0));
-    t = glm::rotate(t, glm::radians(a.x), Vec3(1, 0, 0));
+    DVec3 a = r.dvec3(j["rotate"], where + ".rotate");  // degrees about x, then y, then z
+    t = glm::rotate(t, glm::radians(a.z), DVec3(0, 0, 1));
+    t = glm::rotate(t, glm::radians(a.y), DVec3(0, 1, 0));
+    t = glm::rotate(t, glm::radians(a.x), DVec3(1, 0, 0));
   }
   if (j.contains("scale")) {
-    Vec3 s;
+    DVec3 sc;
     if (j["scale"].is_number())
-      s = Vec3(r.number(j["scale"], where + ".scale"));
+      sc = DVec3(r.number_d(j["scale"], where + ".scale"));
     else
-      s = r.vec3(j["scale"], where + ".scale");
-    if (s.x == 0 || s.y == 0 || s.z == 0) r.fail(where + ".scale", "scale must be non-zero");
-    t = glm::scale(t, s);
+      sc = r.dvec3(j["scale"], where + ".scale");
+    if (sc.x == 0 || sc.y == 0 || sc.z == 0) r.fail(where + ".scale", "scale must be non-zero");
+    t = glm::scale(t, sc);
   }
   return t;
 }
@@ -182,8 +189,16 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
   if (root.contains("camera")) {
     const json& c = root["camera"];
     r.keys(c, "camera", {"eye", "look_at", "up", "fov", "parallel", "parallel_scale"});
-    if (c.contains("eye")) s.camera.eye = r.vec3(c["eye"], "camera.eye");
-    if (c.contains("look_at")) s.camera.look_at = r.vec3(c["look_at"], "camera.look_at");
+    // The scene's local origin, when it is far from the world's, is the
+    // point the camera looks at: what is rendered lies around it (within
+    // about the viewing distance), and a scene moved as a whole then keeps
+    // the same local coordinates (Scene::origin).
+    DVec3 eye = DVec3(s.camera.eye), look_at = DVec3(s.camera.look_at);
+    if (c.contains("eye")) eye = r.dvec3(c["eye"], "camera.eye");
+    if (c.contains("look_at")) look_at = r.dvec3(c["look_at"], "camera.look_at");
+    s.origin = choose_local_origin(look_at, glm::length(eye - look_at));
+    s.camera.eye = s.to_local(eye);
+    s.camera.look_at = s.to_local(look_at);
     if (c.contains("up")) s.camera.up = r.vec3(c["up"], "camera.up");
     if (c.contains("fov")) s.camera.vfov_degrees = r.number(c["fov"], "camera.fov", 1e-3f, 179.0f);
     if (c.contains("parallel")) s.camera.parallel = r.boolean(c["parallel"], "camera.parallel");
@@ -294,7 +309,7 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
       if (type == "point") {
         l.type = Light::Type::Point;
         if (!j.contains("position")) r.fail(w, "a point light needs a position");
-        l.position = r.vec3(j["position"], w + ".position");
+        l.position = s.to_local(r.dvec3(j["position"], w + ".position"));
         if (j.contains("direction")) r.fail(w, "a point light has no direction");
       } else if (type == "directional") {
         l.type = Light::Type::Directional;
@@ -337,7 +352,7 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
         sp.name = oname;
         if (!j.contains("center") || !j.contains("radius"))
           r.fail(w, "a sphere needs center and radius");
-        sp.center = r.vec3(j["center"], w + ".center");
+        sp.center = s.to_local(r.dvec3(j["center"], w + ".center"));
         sp.radius = r.number(j["radius"], w + ".radius", 1e-30f, 1e30f);
         sp.material = material_ref(j, w);
         s.spheres.push_back(sp);
@@ -345,7 +360,7 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
         r.keys(j, w, {"type", "name", "point", "normal", "material"});
         Plane p;
         p.name = oname;
-        if (j.contains("point")) p.point = r.vec3(j["point"], w + ".point");
+        p.point = s.to_local(j.contains("point") ? r.dvec3(j["point"], w + ".point") : DVec3(0.0));
         if (j.contains("normal")) p.normal = r.vec3(j["normal"], w + ".normal");
         if (glm::dot(p.normal, p.normal) == 0.0f) r.fail(w + ".normal", "must be non-zero");
         p.material = material_ref(j, w);
@@ -359,6 +374,13 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
         if (j.contains("smooth")) mo.smooth = r.boolean(j["smooth"], w + ".smooth");
         if (j.contains("color_by")) mo.color_by = parse_color_by(r, j["color_by"], w + ".color_by");
         if (!mesh_loader) r.fail(w, "no mesh reader available for '" + mo.file.string() + "'");
+        glm::dmat4 t(1.0);
+        if (j.contains("transform")) {
+          t = parse_transform(r, j["transform"], w + ".transform");
+          if (glm::determinant(glm::dmat3(t)) == 0.0)
+            r.fail(w + ".transform", "transform is singular");
+        }
+        mo.to_scene = glm::translate(glm::dmat4(1.0), -s.origin) * t;
         TriangleMesh m;
         try {
           m = mesh_loader(mo);
@@ -368,18 +390,6 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
         } catch (const std::exception& e) {
           std::string msg = e.what();
           throw SceneError(name + ": " + w + ".file: " + msg);
-        }
-        if (j.contains("transform")) {
-          glm::mat4 t = parse_transform(r, j["transform"], w + ".transform");
-          glm::mat3 nt = glm::transpose(glm::inverse(glm::mat3(t)));
-          for (Vec3& p : m.positions) p = Vec3(t * glm::vec4(p, 1.0f));
-          for (Vec3& n : m.normals) {
-            n = nt * n;
-            float l = glm::length(n);
-            if (l > 0.0f) n /= l;
-          }
-          if (glm::determinant(glm::mat3(t)) == 0.0f)
-            r.fail(w + ".transform", "transform is singular");
         }
         m.name = oname;
         m.material = material_ref(j, w);

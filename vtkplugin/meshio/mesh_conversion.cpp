@@ -2,11 +2,13 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <unordered_map>
 #include <vector>
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkDataSet.h>
 #include <vtkDataSetMapper.h>
 #include <vtkDataSetSurfaceFilter.h>
 #include <vtkFloatArray.h>
@@ -205,8 +207,12 @@ ColorSource convert_dataset(vtkDataSet* input, const SurfaceOptions& options, vt
   }
 
   const vtkIdType nout = vtkIdType(source.size());
+  // Points keep the input's precision: double stays double until the points
+  // are made scene-local (mesh_from_converted), so that data far from the
+  // origin keeps its detail.
   vtkNew<vtkPoints> points;
-  points->SetDataTypeToFloat();
+  points->SetDataType(
+      tri->GetPoints() && tri->GetPoints()->GetDataType() == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT);
   points->SetNumberOfPoints(nout);
   for (vtkIdType i = 0; i < nout; ++i) points->SetPoint(i, tri->GetPoint(source[size_t(i)]));
 
@@ -247,7 +253,22 @@ ColorSource convert_dataset(vtkDataSet* input, const SurfaceOptions& options, vt
   return source_of_colors;
 }
 
-void mesh_from_converted(vtkPolyData* pd, rayscope::TriangleMesh& m) {
+glm::dvec3 local_origin(const std::vector<vtkDataSet*>& data) {
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (vtkDataSet* d : data) {
+    if (!d || d->GetNumberOfPoints() == 0) continue;
+    double b[6];
+    d->GetBounds(b);
+    lo = glm::min(lo, glm::dvec3(b[0], b[2], b[4]));
+    hi = glm::max(hi, glm::dvec3(b[1], b[3], b[5]));
+  }
+  const glm::dvec3 c = 0.5 * (lo + hi);
+  const bool ok = lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z && std::isfinite(c.x) &&
+                  std::isfinite(c.y) && std::isfinite(c.z);
+  return ok ? rayscope::choose_local_origin(c, glm::length(hi - lo)) : glm::dvec3(0.0);
+}
+
+void mesh_from_converted(vtkPolyData* pd, rayscope::TriangleMesh& m, const glm::dmat4& to_scene) {
   m.positions.clear();
   m.triangles.clear();
   m.normals.clear();
@@ -255,10 +276,13 @@ void mesh_from_converted(vtkPolyData* pd, rayscope::TriangleMesh& m) {
   if (!pd) return;
   const vtkIdType np = pd->GetNumberOfPoints();
   m.positions.resize(size_t(np));
+  const bool identity = to_scene == glm::dmat4(1.0);
   for (vtkIdType i = 0; i < np; ++i) {
     double p[3];
     pd->GetPoint(i, p);
-    m.positions[size_t(i)] = rayscope::Vec3(float(p[0]), float(p[1]), float(p[2]));
+    const glm::dvec3 q = identity ? glm::dvec3(p[0], p[1], p[2])
+                                  : glm::dvec3(to_scene * glm::dvec4(p[0], p[1], p[2], 1.0));
+    m.positions[size_t(i)] = rayscope::Vec3(q);
   }
   vtkCellArray* polys = pd->GetPolys();
   m.triangles.reserve(size_t(polys->GetNumberOfCells()));
@@ -278,6 +302,14 @@ void mesh_from_converted(vtkPolyData* pd, rayscope::TriangleMesh& m) {
     }
   };
   vectors(pd->GetPointData()->GetNormals(), m.normals);
+  if (!identity) {
+    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(to_scene)));
+    for (rayscope::Vec3& n : m.normals) {
+      const glm::dvec3 t = normal_matrix * glm::dvec3(n);
+      const double len = glm::length(t);
+      n = rayscope::Vec3(len > 0.0 ? t / len : t);
+    }
+  }
   vectors(pd->GetPointData()->GetArray("LinearColors"), m.colors);
 }
 

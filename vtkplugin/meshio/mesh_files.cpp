@@ -123,11 +123,12 @@ vtkSmartPointer<vtkMapper> direct_color_mapper(vtkDataSet* data) {
 }
 
 rayscope::TriangleMesh convert(vtkDataSet* data, const std::filesystem::path& path,
-                               const SurfaceOptions& surface, vtkMapper* coloring) {
+                               const SurfaceOptions& surface, vtkMapper* coloring,
+                               const glm::dmat4& to_scene = glm::dmat4(1.0)) {
   vtkNew<vtkPolyData> converted;
   convert_dataset(data, surface, coloring, converted);
   rayscope::TriangleMesh m;
-  mesh_from_converted(converted, m);
+  mesh_from_converted(converted, m, to_scene);
   m.name = path.filename().string();
   if (m.triangles.empty())
     throw std::runtime_error(path.string() + ": contains no surface triangles");
@@ -188,13 +189,16 @@ vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path)
 }
 
 rayscope::TriangleMesh load_mesh(const rayscope::MeshOptions& options) {
-  vtkSmartPointer<vtkDataSet> data = read_dataset_file(options.file);
+  return load_mesh_from(options, read_dataset_file(options.file));
+}
+
+rayscope::TriangleMesh load_mesh_from(const rayscope::MeshOptions& options, vtkDataSet* data) {
   SurfaceOptions surface;
   surface.compute_normals = options.smooth;
   vtkSmartPointer<vtkMapper> coloring =
       options.color_by ? color_by_mapper(data, *options.color_by, options.file.string())
                        : direct_color_mapper(data);
-  rayscope::TriangleMesh m = convert(data, options.file, surface, coloring);
+  rayscope::TriangleMesh m = convert(data, options.file, surface, coloring, options.to_scene);
   if (!options.smooth) m.normals.clear();  // the file's own normals too
   return m;
 }

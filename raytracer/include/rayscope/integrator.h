@@ -93,7 +93,8 @@ class WhittedIntegrator {
     const Vec3 ng = front ? hit.ng : -hit.ng;  // both normals face the incoming ray
     Vec3 ns = front ? hit.ns : -hit.ns;
     if (glm::dot(ns, v) <= 0.0f) ns = ng;
-    const Color albedo = hit.has_vertex_color ? hit.vertex_color : material_color(m, hit.p);
+    const Color albedo =
+        hit.has_vertex_color ? hit.vertex_color : material_color(m, hit.p, scene_.origin);
     const float opaque = std::max(0.0f, 1.0f - m.reflectivity - m.transparency);
 
     // Local illumination: ambient + (diffuse + specular) per visible light.

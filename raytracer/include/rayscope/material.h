@@ -71,15 +71,29 @@ inline float critical_angle(float n1, float n2) {
   return n2 < n1 ? std::asin(n2 / n1) : 0.5f * kPi;
 }
 
-/// Surface color of a material at point p (checkerboard evaluated in world space).
-inline Color material_color(const Material& m, const Vec3& p) {
+/// Surface color of a material at the scene-local point p of a scene whose
+/// local origin is `origin` (Scene::origin): the checkerboard is evaluated in
+/// world space, in double precision, so it stays where it is in the world
+/// whatever origin the scene is traced around.
+inline Color material_color(const Material& m, const Vec3& p, const DVec3& origin) {
   if (!m.checker) return m.color;
-  Vec3 c = glm::floor(p / m.checker_size);
-  // The parity of each cell index. Converting c to an integer type instead is
+  // The cell of each world coordinate. A point on a cell face (a floor at
+  // y = 0, any plane at a multiple of the size) belongs to the cell above
+  // it: its world coordinate, rebuilt from the rounded local one, lies a few
+  // float ulps of p either side of the face, and flooring that would flip
+  // the face's color with the choice of origin or a last-bit difference.
+  const double size = double(m.checker_size);
+  const double tol = 4.0 * double(kMachineEpsilon) * double(max_component(glm::abs(p))) / size;
+  auto cell = [&](double world) {
+    const double u = world / size, r = std::round(u);
+    return std::abs(u - r) <= tol ? r : std::floor(u);
+  };
+  const DVec3 w = DVec3(p) + origin;
+  // The parity of each cell index. Converting to an integer type instead is
   // undefined beyond the type's range and for NaN (found by fuzz_scene_parser:
-  // a checker size of 1e-30); floats of magnitude >= 2^24 are even integers.
-  auto odd = [](float f) { return std::abs(f) < 16777216.0f && (int32_t(f) & 1) != 0; };
-  return (odd(c.x) != odd(c.y)) != odd(c.z) ? m.checker_color : m.color;
+  // a checker size of 1e-30); doubles of magnitude >= 2^53 are even integers.
+  auto odd = [](double f) { return std::abs(f) < 9007199254740992.0 && std::fmod(f, 2.0) != 0.0; };
+  return (odd(cell(w.x)) != odd(cell(w.y))) != odd(cell(w.z)) ? m.checker_color : m.color;
 }
 
 /// Phong / Blinn-Phong factors for light arriving from unit direction l, seen

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <glm/glm.hpp>
+
 #include "rayscope/integrator.h"
 #include "rayscope/scene.h"
 
@@ -45,6 +47,11 @@ struct MeshOptions {
   /// false: no normals, flat shading.
   bool smooth = true;
   std::optional<MeshColorBy> color_by;  ///< Vertex colors from scalars; none without.
+  /// From the file's coordinates to the scene's local ones (Scene::origin):
+  /// the object's "transform", then the move by -origin. The loader applies it
+  /// to the points in double precision, before they are rounded to float, and
+  /// its inverse transpose to the normals.
+  glm::dmat4 to_scene{1.0};
 };
 
 /// Thrown by a MeshLoader when the file is read but an option does not fit it

@@ -1,13 +1,16 @@
 // The output arrays of the module's algorithms (private header): the image
 // algorithm, the ray-tree source and the BVH source make every point, cell and
-// field array they output with these two functions.
+// field array they output with these functions.
 #pragma once
 
 #include <initializer_list>
 
 #include "vtkFieldData.h"
+#include "vtkPoints.h"
 #include "vtkSmartPointer.h"
 #include "vtkType.h"
+
+#include "rayscope/scene.h"
 
 namespace rayscope_vtk {
 
@@ -31,6 +34,24 @@ void add_field_tuple(vtkFieldData* fd, const char* name,
   int k = 0;
   for (typename A::ValueType v : values) a->SetTypedComponent(0, k++, v);
   fd->AddArray(a);
+}
+
+/// Points in world coordinates for `n` positions of `scene` (local to
+/// Scene::origin; set them with set_world_point): float, or double when the
+/// scene's origin is not the world's, where float would lose the precision
+/// the local coordinates keep.
+inline vtkSmartPointer<vtkPoints> make_world_points(const rayscope::Scene& scene, vtkIdType n) {
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataType(scene.origin == rayscope::DVec3(0.0) ? VTK_FLOAT : VTK_DOUBLE);
+  points->SetNumberOfPoints(n);
+  return points;
+}
+
+/// Point i of `points` at the world position of the scene-local `local`.
+inline void set_world_point(vtkPoints* points, vtkIdType i, const rayscope::Scene& scene,
+                            const rayscope::Vec3& local) {
+  const rayscope::DVec3 w = scene.to_world(local);
+  points->SetPoint(i, w.x, w.y, w.z);
 }
 
 }  // namespace rayscope_vtk

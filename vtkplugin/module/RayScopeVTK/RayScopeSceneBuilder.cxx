@@ -8,6 +8,7 @@
 #include "vtkMath.h"
 
 #include "rayscope/render.h"
+#include "rayscope_vtk/mesh_conversion.h"
 #include "rayscope_vtk/srgb.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeMaterial.h"
@@ -52,9 +53,15 @@ rayscope::Vec3 vec3(const double v[3]) {
   return rayscope::Vec3(float(v[0]), float(v[1]), float(v[2]));
 }
 
+// A VTK world position in the scene's local coordinates (Scene::origin).
+rayscope::Vec3 local(const rayscope::Scene& s, const double v[3]) {
+  return s.to_local(rayscope::DVec3(v[0], v[1], v[2]));
+}
+
 // The headlight (if on) and the other lights, as core lights.
 std::vector<rayscope::Light> core_lights(vtkRayScopeImageAlgorithm* alg,
-                                         const std::vector<SceneLight>& lights) {
+                                         const std::vector<SceneLight>& lights,
+                                         const rayscope::Scene& s) {
   std::vector<rayscope::Light> out;
   const bool shadows = alg->GetShadows() != 0;
   if (alg->GetHeadlight()) {
@@ -76,7 +83,7 @@ std::vector<rayscope::Light> core_lights(vtkRayScopeImageAlgorithm* alg,
     rayscope::Light l;
     l.type = u.point ? rayscope::Light::Type::Point : rayscope::Light::Type::Directional;
     l.name = "light " + std::to_string(i);
-    (u.point ? l.position : l.direction) = vec3(u.v);
+    (u.point ? l.position : l.direction) = u.point ? local(s, u.v) : vec3(u.v);
     l.color = linear_color(u.color);
     l.intensity = float(u.intensity);
     l.attenuation = vec3(u.attenuation);
@@ -113,10 +120,16 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
     regeometry |= inputs[size_t(i)]->GetMTime() > this->GeometryTime.GetMTime() ||
                   converter_of(i)->GetMTime() > this->GeometryTime.GetMTime();
   std::vector<rayscope::TriangleMesh> meshes;
+  // The local origin (the center of the inputs' bounds, for data far from the
+  // world's origin) keeps float's precision there; it changes only with the
+  // geometry (a camera move converts nothing).
+  rayscope::DVec3 origin = this->Scene.origin;
   if (regeometry) {
+    origin = local_origin(inputs);
+    const double o[3] = {origin.x, origin.y, origin.z};
     meshes.resize(size_t(n));
     for (int i = 0; i < n; ++i) {
-      if (!converter_of(i)->ConvertToMesh(inputs[size_t(i)], meshes[size_t(i)])) {
+      if (!converter_of(i)->ConvertToMesh(inputs[size_t(i)], meshes[size_t(i)], o)) {
         vtkErrorWithObjectMacro(alg, << "input " << i << " could not be converted to triangles");
         return 0;
       }
@@ -132,11 +145,11 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
     materials[size_t(i)] = (m ? m : alg->GetMaterial())->ToCore();
     materials[size_t(i)].name = alg->GetObjectName(i);
   }
-  std::vector<rayscope::Light> core = core_lights(alg, lights);
-
   // Other material and light values (a headlight following the camera, a new
   // color) are read while tracing and are simply replaced.
   rayscope::Scene& s = this->Scene;
+  if (regeometry) s.origin = origin;
+  std::vector<rayscope::Light> core = core_lights(alg, lights, s);
   static_assert(int(rayscope::AccelKind::Bvh) == vtkRayScopeImageAlgorithm::ACCEL_BVH &&
                 int(rayscope::AccelKind::BinaryBvh) ==
                     vtkRayScopeImageAlgorithm::ACCEL_BINARY_BVH &&
@@ -174,8 +187,8 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
       this->GeometryTime.Modified();
     }
   }
-  s.camera.eye = vec3(alg->GetPosition());
-  s.camera.look_at = vec3(alg->GetFocalPoint());
+  s.camera.eye = local(s, alg->GetPosition());
+  s.camera.look_at = local(s, alg->GetFocalPoint());
   s.camera.up = vec3(alg->GetViewUp());
   s.camera.vfov_degrees = float(alg->GetViewAngle());
   s.camera.parallel = alg->GetParallelProjection() != 0;

@@ -106,6 +106,8 @@ std::vector<uint32_t> frame_visits(const rayscope::Scene& scene,
 
 using rayscope_vtk::add_field_tuple;
 using rayscope_vtk::make_array;
+using rayscope_vtk::make_world_points;
+using rayscope_vtk::set_world_point;
 
 }  // namespace
 
@@ -216,9 +218,7 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector**,
   const int per_box = this->GenerateFaces ? 6 : 12;
   const vtkIdType nboxes = vtkIdType(shown.size());
   const vtkIdType ncells = nboxes * per_box;
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToFloat();
-  points->SetNumberOfPoints(8 * nboxes);
+  vtkSmartPointer<vtkPoints> points = make_world_points(scene, 8 * nboxes);
   vtkNew<vtkCellArray> cells;
   cells->AllocateExact(ncells, ncells * (this->GenerateFaces ? 4 : 2));
   auto a_level = make_array<vtkIntArray>("Level", 1, ncells);
@@ -234,8 +234,9 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector**,
     const uint32_t i = shown[size_t(b)];
     const rayscope::BvhNode& n = nodes[i];
     for (int c = 0; c < 8; ++c)
-      points->SetPoint(8 * b + c, (c & 1) ? n.hi.x : n.lo.x, (c & 2) ? n.hi.y : n.lo.y,
-                       (c & 4) ? n.hi.z : n.lo.z);
+      set_world_point(points, 8 * b + c, scene,
+                      rayscope::Vec3((c & 1) ? n.hi.x : n.lo.x, (c & 2) ? n.hi.y : n.lo.y,
+                                     (c & 4) ? n.hi.z : n.lo.z));
     for (int k = 0; k < per_box; ++k, ++cell) {
       if (this->GenerateFaces) {
         vtkIdType q[4];

@@ -1,5 +1,7 @@
 #include "vtkRayScopeMeshConverter.h"
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "vtkDataSetMapper.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -72,11 +74,18 @@ void vtkRayScopeMeshConverter::MeshFromPolyData(vtkPolyData* pd, rayscope::Trian
   rayscope_vtk::mesh_from_converted(pd, m);
 }
 
-bool vtkRayScopeMeshConverter::ConvertToMesh(vtkDataSet* input, rayscope::TriangleMesh& mesh) {
+bool vtkRayScopeMeshConverter::ConvertToMesh(vtkDataSet* input, rayscope::TriangleMesh& mesh,
+                                             const double origin[3]) {
   vtkNew<vtkPolyData> pd;
   if (!this->Convert(input, pd)) return false;
-  MeshFromPolyData(pd, mesh);
+  rayscope_vtk::mesh_from_converted(
+      pd, mesh, glm::translate(glm::dmat4(1.0), -glm::dvec3(origin[0], origin[1], origin[2])));
   return true;
+}
+
+bool vtkRayScopeMeshConverter::ConvertToMesh(vtkDataSet* input, rayscope::TriangleMesh& mesh) {
+  const double origin[3] = {0.0, 0.0, 0.0};
+  return this->ConvertToMesh(input, mesh, origin);
 }
 
 void vtkRayScopeMeshConverter::PrintSelf(ostream& os, vtkIndent indent) {

@@ -114,7 +114,10 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeMeshConverter : public vtkObject {
   vtkGetMacro(LastColorSource, int);
 
 #ifndef __VTK_WRAP__
-  /// Convert() straight to a core mesh (linear colors, unit normals).
+  /// Convert() straight to a core mesh (linear colors, unit normals), with
+  /// positions relative to `origin` (the scene's local origin,
+  /// rayscope::Scene::origin), subtracted in double precision.
+  bool ConvertToMesh(vtkDataSet* input, rayscope::TriangleMesh& mesh, const double origin[3]);
   bool ConvertToMesh(vtkDataSet* input, rayscope::TriangleMesh& mesh);
   /// A core mesh from polydata made by Convert().
   static void MeshFromPolyData(vtkPolyData* converted, rayscope::TriangleMesh& mesh);

@@ -86,6 +86,8 @@ struct Row {
 };
 
 using rayscope_vtk::make_array;
+using rayscope_vtk::make_world_points;
+using rayscope_vtk::set_world_point;
 
 }  // namespace
 
@@ -182,9 +184,7 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
     }
 
   const vtkIdType nrays = vtkIdType(rows.size());
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToFloat();
-  points->SetNumberOfPoints(2 * nrays);
+  vtkSmartPointer<vtkPoints> points = make_world_points(scene, 2 * nrays);
   auto normals = make_array<vtkFloatArray>("Normals", 3, 2 * nrays);
   auto gnormals = make_array<vtkFloatArray>("GeometricNormals", 3, 2 * nrays);
   normals->Fill(0.0);
@@ -194,8 +194,8 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
   for (vtkIdType k = 0; k < nrays; ++k) {
     const Row& row = rows[size_t(k)];
     const rayscope::RayRecord& r = *row.ray;
-    points->SetPoint(2 * k, r.origin.x, r.origin.y, r.origin.z);
-    points->SetPoint(2 * k + 1, row.end.x, row.end.y, row.end.z);
+    set_world_point(points, 2 * k, scene, r.origin);
+    set_world_point(points, 2 * k + 1, scene, row.end);
     vtkIdType line[2] = {2 * k, 2 * k + 1};
     lines->InsertNextCell(2, line);
     if (row.end_kind == kHit) {

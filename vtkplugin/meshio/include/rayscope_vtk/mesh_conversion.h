@@ -4,6 +4,10 @@
 // the same triangles, normals and colors in both.
 #pragma once
 
+#include <vector>
+
+#include <glm/glm.hpp>
+
 class vtkDataSet;
 class vtkMapper;
 class vtkPolyData;
@@ -28,7 +32,8 @@ struct SurfaceOptions {
 /// Where the colors of a conversion came from.
 enum class ColorSource { None = 0, Point = 1, Cell = 2, Field = 3 };
 
-/// The triangulated surface of `input` in `output` (replaced): float points,
+/// The triangulated surface of `input` in `output` (replaced): points of the
+/// input's precision (double stays double; anything else becomes float),
 /// triangles only (vertices and lines dropped), point data "Normals" (the
 /// data's own or computed; absent without either), "Colors" (RGBA unsigned
 /// char, sRGB as `coloring` maps the scalars, per point) and "LinearColors"
@@ -39,8 +44,19 @@ enum class ColorSource { None = 0, Point = 1, Cell = 2, Field = 3 };
 ColorSource convert_dataset(vtkDataSet* input, const SurfaceOptions& options, vtkMapper* coloring,
                             vtkPolyData* output);
 
+/// The local origin (rayscope::Scene::origin) the rayscope command and the
+/// VTK module trace `data` around (null entries and datasets without points
+/// ignored): rayscope::choose_local_origin() of the center of their bounds,
+/// in double precision, and of their diagonal. The world's origin when there
+/// are no finite bounds.
+glm::dvec3 local_origin(const std::vector<vtkDataSet*>& data);
+
 /// A core mesh from polydata made by convert_dataset(): positions,
-/// triangles, normals and linear colors.
-void mesh_from_converted(vtkPolyData* converted, rayscope::TriangleMesh& mesh);
+/// triangles, normals and linear colors. `to_scene` (e.g. the move to the
+/// scene's local origin, rayscope::Scene::origin) is applied to the points in
+/// double precision before they are rounded to float, and its inverse
+/// transpose to the normals.
+void mesh_from_converted(vtkPolyData* converted, rayscope::TriangleMesh& mesh,
+                         const glm::dmat4& to_scene = glm::dmat4(1.0));
 
 }  // namespace rayscope_vtk

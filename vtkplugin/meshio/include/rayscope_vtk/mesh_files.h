@@ -39,6 +39,9 @@ vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path)
  * it cannot read or that has no surface triangles.
  */
 rayscope::TriangleMesh load_mesh(const rayscope::MeshOptions& options);
+/// The same for `data` already read from options.file by read_dataset_file()
+/// (e.g. to choose options.to_scene from its bounds first).
+rayscope::TriangleMesh load_mesh_from(const rayscope::MeshOptions& options, vtkDataSet* data);
 
 /// The file's triangles as stored: the same conversion without computing
 /// normals (the file's own are kept) and with its RGB(A) unsigned-char point
