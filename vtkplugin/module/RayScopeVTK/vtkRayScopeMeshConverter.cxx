@@ -1,5 +1,7 @@
 #include "vtkRayScopeMeshConverter.h"
 
+#include <exception>
+
 #include "vtkDataSetMapper.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -59,22 +61,51 @@ int vtkRayScopeMeshConverter::Convert(vtkDataSet* input, vtkPolyData* output) {
     vtkErrorMacro(<< "Convert: " << (input ? "output" : "input") << " is null");
     return 0;
   }
+  std::string why;
+  if (!this->ConvertOrExplain(input, output, why)) {
+    vtkErrorMacro(<< "Convert: " << input->GetClassName() << ": " << why);
+    return 0;
+  }
+  return 1;
+}
+
+bool vtkRayScopeMeshConverter::ConvertOrExplain(vtkDataSet* input, vtkPolyData* output,
+                                                std::string& why) {
   rayscope_vtk::SurfaceOptions options;
   options.compute_normals = this->ComputeNormals != 0;
   options.splitting = this->Splitting != 0;
   options.feature_angle = this->FeatureAngle;
   options.nonlinear_subdivision_level = this->NonlinearSubdivisionLevel;
-  this->LastColorSource = int(rayscope_vtk::convert_dataset(input, options, this->Mapper, output));
-  return 1;
+  try {
+    this->LastColorSource =
+        int(rayscope_vtk::convert_dataset(input, options, this->Mapper, output));
+  } catch (const std::exception& e) {  // input the conversion refuses, e.g. bad point ids
+    output->Initialize();
+    this->LastColorSource = NO_COLORS;
+    why = e.what();
+    return false;
+  }
+  return true;
 }
 
 void vtkRayScopeMeshConverter::MeshFromPolyData(vtkPolyData* pd, rayscope::TriangleMesh& m) {
   rayscope_vtk::mesh_from_converted(pd, m);
 }
 
-bool vtkRayScopeMeshConverter::ConvertToMesh(vtkDataSet* input, rayscope::TriangleMesh& mesh) {
+bool vtkRayScopeMeshConverter::ConvertToMesh(vtkDataSet* input, rayscope::TriangleMesh& mesh,
+                                             std::string* why) {
+  if (!why) {
+    vtkNew<vtkPolyData> pd;
+    if (!this->Convert(input, pd)) return false;
+    MeshFromPolyData(pd, mesh);
+    return true;
+  }
+  if (!input) {
+    *why = "the input is null";
+    return false;
+  }
   vtkNew<vtkPolyData> pd;
-  if (!this->Convert(input, pd)) return false;
+  if (!this->ConvertOrExplain(input, pd, *why)) return false;
   MeshFromPolyData(pd, mesh);
   return true;
 }
