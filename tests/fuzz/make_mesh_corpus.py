@@ -63,6 +63,13 @@ def volume():
     return ug
 
 
+def old_legacy():
+    """A legacy writer of the pre-5 format (cells as counts and ids)."""
+    w = vtk.vtkPolyDataWriter()
+    w.SetFileVersion(42)
+    return w
+
+
 def write(writer, data, path, mode=None):
     writer.SetInputData(data)
     writer.SetFileName(path)
@@ -96,6 +103,8 @@ def main(out):
         ("tetra_volume_ascii.vtu", vtk.vtkXMLUnstructuredGridWriter(), volume(), "xml-ascii"),
         ("tetra_volume_binary.vtu", vtk.vtkXMLUnstructuredGridWriter(), volume(), "xml-binary"),
         ("tetra_volume_ascii.vtk", vtk.vtkUnstructuredGridWriter(), volume(), "ascii"),
+        ("quad_v42_ascii.vtk", old_legacy(), quad(), "ascii"),
+        ("quad_v42_binary.vtk", old_legacy(), quad(), "binary"),
     ]
     with tempfile.TemporaryDirectory() as tmp:
         for name, writer, data, mode in cases:

@@ -1,8 +1,10 @@
 #include "rayscope_vtk/mesh_checks.h"
 
 #include <bit>
+#include <cctype>
 #include <charconv>
 #include <climits>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <optional>
@@ -114,8 +116,42 @@ std::optional<long long> integer(std::string_view s) {
 // Face corner lists are checked against the vertex count: VTK's reader copies
 // them into the cells unchecked.
 bool is_corner_list(const PlyElement& e, const PlyProperty& p) {
-  return e.name == "face" && p.count_size > 0 &&
-         (p.name == "vertex_indices" || p.name == "vertex_index");
+  return e.name == "face" && p.count_size > 0 && p.name == "vertex_indices";
+}
+
+// The layout VTK's PLY reader needs (vtkPLYReader.h): a "vertex" element
+// with scalar x, y and z, and a "face" element with the list
+// "vertex_indices". The reader asks for its properties by name, each as a
+// scalar or a list, and the PLY library stores a property of the other kind,
+// or an absent list, through the wrong pointer: so the vertex element may have
+// no list at all and the face element lists only where the reader expects
+// them (vertex_indices, texcoord).
+void check_ply_layout(const fs::path& path, const std::vector<PlyElement>& elements) {
+  const PlyElement* vertex = nullptr;
+  const PlyElement* face = nullptr;
+  for (const PlyElement& e : elements) {
+    if (e.name == "vertex" && !vertex) vertex = &e;
+    if (e.name == "face" && !face) face = &e;
+  }
+  if (!vertex || !face)
+    fail(path, "PLY without a 'vertex' and a 'face' element (VTK's reader needs both)");
+  for (const char* axis : {"x", "y", "z"}) {
+    bool found = false;
+    for (const PlyProperty& p : vertex->properties) found |= p.name == axis && p.count_size == 0;
+    if (!found) fail(path, std::string("PLY vertex element has no scalar property '") + axis + "'");
+  }
+  for (const PlyProperty& p : vertex->properties)
+    if (p.count_size > 0) fail(path, "PLY vertex element has a list property '" + p.name + "'");
+  bool indices = false;
+  for (const PlyProperty& p : face->properties) {
+    const bool may_be_list = p.name == "vertex_indices" || p.name == "texcoord";
+    if (p.count_size > 0 && !may_be_list)
+      fail(path, "PLY face element has an unexpected list property '" + p.name + "'");
+    if (p.count_size == 0 && may_be_list)
+      fail(path, "PLY face property '" + p.name + "' is not a list");
+    indices |= p.name == "vertex_indices";
+  }
+  if (!indices) fail(path, "PLY face element has no list property 'vertex_indices'");
 }
 
 // A scalar of `size` bytes as an integer (the caller knows it is one).
@@ -251,6 +287,7 @@ void check_ply_file(const fs::path& path) {
     }
   }
   if (format == Format::None) fail(path, "PLY header has no 'format' line");
+  check_ply_layout(path, elements);
   std::uintmax_t vertices = 0;
   for (const PlyElement& e : elements)
     if (e.name == "vertex") vertices = e.count;
@@ -342,6 +379,65 @@ void check_ply_file(const fs::path& path) {
         }
       }
     }
+  }
+}
+
+void check_legacy_vtk_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open the file");
+  std::string line;
+  // "# vtk DataFile Version M.m"; VTK reads a missing or unreadable number as
+  // an old version.
+  std::getline(in, line);
+  const size_t v = line.find("Version ");
+  const int major = v == std::string::npos ? 0 : std::atoi(line.c_str() + v + 8);
+  if (major >= 5) return;  // offsets and connectivity, which the reader checks
+  std::getline(in, line);  // title
+  std::getline(in, line);
+  std::vector<std::string_view> w = words(line);
+  const bool binary = !w.empty() && (w[0] == "BINARY" || w[0] == "binary");
+  auto upper = [](std::string_view s) {
+    std::string u(s);
+    for (char& c : u) c = char(std::toupper(static_cast<unsigned char>(c)));
+    return u;
+  };
+  while (std::getline(in, line)) {
+    w = words(line);
+    if (w.size() != 3) continue;
+    const std::string key = upper(w[0]);
+    if (key != "VERTICES" && key != "LINES" && key != "POLYGONS" && key != "TRIANGLE_STRIPS" &&
+        key != "CELLS")
+      continue;
+    const std::optional<long long> cells = integer(w[1]), size = integer(w[2]);
+    if (!cells || !size || *cells < 0 || *size < 0)
+      fail(path, "legacy VTK " + key + " header '" + line + "' is malformed");
+    // Old files list each cell as its point count, then the ids; VTK's
+    // reader trusts the counts. Walked here without storing the values.
+    auto next = [&]() -> long long {
+      if (binary) {
+        unsigned char b[4];
+        if (!in.read(reinterpret_cast<char*>(b), 4)) return -1;
+        return binary_integer(b, 4, true, true);  // legacy binary is big-endian
+      }
+      long long value = -1;
+      if (!(in >> value)) return -1;
+      return value;
+    };
+    long long at = 0, found = 0;
+    while (at < *size) {
+      const long long npts = next();
+      if (npts < 0 || npts > *size - at - 1)
+        fail(path, "legacy VTK " + key + ": cell " + std::to_string(found) +
+                       " has a bad point count or runs past the " + std::to_string(*size) +
+                       " values the section declares");
+      for (long long k = 0; k < npts; ++k)
+        if (next() == -1 && !in) fail(path, "truncated legacy VTK " + key + " section");
+      at += npts + 1;
+      ++found;
+    }
+    if (found != *cells)
+      fail(path, "legacy VTK " + key + " declares " + std::to_string(*cells) + " cells but its " +
+                     std::to_string(*size) + " values hold " + std::to_string(found));
   }
 }
 

@@ -227,6 +227,7 @@ vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path)
     r->SetFileName(f.c_str());
     data = read_with(r, f);
   } else if (ext == ".vtk") {
+    check_legacy_vtk_file(path);
     vtkNew<vtkDataSetReader> r;
     r->SetFileName(f.c_str());
     data = read_with(r, f);

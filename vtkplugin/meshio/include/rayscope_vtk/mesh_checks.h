@@ -34,15 +34,30 @@ inline constexpr std::uintmax_t kStlTriangleBytes = 50;
 void check_stl_file(const std::filesystem::path& path);
 
 /**
- * A PLY file VTK's reader can read without running past its end: the header
- * is complete ("ply", a known format, elements with known property types,
- * "end_header"), and the body holds every element the header declares
+ * A PLY file VTK's reader can read without running past its end or writing
+ * through a wrong pointer: the header is complete ("ply", a known format,
+ * elements with known property types, "end_header") and has the layout the
+ * reader needs (vertex x, y, z scalars, no vertex lists; face list
+ * "vertex_indices", no other face lists but "texcoord"; a property of the
+ * other kind crashes the reader), and the body holds every element the header
+ * declares
  * (binary: the bytes of every item, lists included; ASCII: one line per item
  * with as many numbers as its properties need). VTK's PLY reader trusts the
  * header and crashes on a body that ends early. Throws std::runtime_error
  * "FILE: problem" naming the element and item where the body falls short.
  */
 void check_ply_file(const std::filesystem::path& path);
+
+/**
+ * A legacy .vtk file of a version before 5 (or with no readable version),
+ * whose cell sections list each cell as its point count and its ids: every
+ * section's counts must add up to the values it declares and give the cells
+ * it declares. VTK's legacy reader trusts the counts and reads past its
+ * buffer (a segfault) when they are wrong. Files of version 5 and later
+ * (offsets and connectivity arrays) are left to the reader. Throws
+ * std::runtime_error "FILE: problem".
+ */
+void check_legacy_vtk_file(const std::filesystem::path& path);
 
 /// Empty when every cell of `data` names existing points (ids in
 /// 0..points-1), else the first offending cell and id, e.g. "cell 0 refers to
