@@ -441,6 +441,40 @@ void check_legacy_vtk_file(const fs::path& path) {
   }
 }
 
+void check_obj_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open the file");
+  // Vertices, texture coordinates and normals defined so far: what a face
+  // corner "v/vt/vn" (1-based, or negative: counted back from the last) may
+  // name.
+  long long counts[3] = {0, 0, 0};
+  static constexpr const char* kKinds[3] = {"vertex", "texture coordinate", "normal"};
+  std::string line;
+  for (long long number = 1; std::getline(in, line); ++number) {
+    const std::vector<std::string_view> w = words(line);
+    if (w.empty()) continue;
+    if (w[0] == "v") ++counts[0];
+    if (w[0] == "vt") ++counts[1];
+    if (w[0] == "vn") ++counts[2];
+    if (w[0] != "f" && w[0] != "l" && w[0] != "p") continue;
+    for (size_t c = 1; c < w.size(); ++c) {
+      std::string_view corner = w[c];
+      for (int kind = 0; kind < 3 && !corner.empty(); ++kind) {
+        const size_t slash = corner.find('/');
+        const std::string_view part = corner.substr(0, slash);
+        if (!part.empty()) {
+          const std::optional<long long> i = integer(part);
+          if (!i || *i == 0 || *i > counts[kind] || *i < -counts[kind])
+            fail(path, "line " + std::to_string(number) + ": '" + std::string(w[c]) + "' names " +
+                           kKinds[kind] + " " + std::string(part) + " of " +
+                           std::to_string(counts[kind]) + " defined before it");
+        }
+        corner = slash == std::string_view::npos ? std::string_view() : corner.substr(slash + 1);
+      }
+    }
+  }
+}
+
 std::string check_cell_point_ids(vtkDataSet* data) {
   if (!data) return {};
   const vtkIdType points = data->GetNumberOfPoints();

@@ -223,6 +223,7 @@ vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path)
     r->SetFileName(f.c_str());
     data = read_with(r, f);
   } else if (ext == ".obj") {
+    check_obj_file(path);
     vtkNew<vtkOBJReader> r;
     r->SetFileName(f.c_str());
     data = read_with(r, f);

@@ -59,6 +59,12 @@ void check_ply_file(const std::filesystem::path& path);
  */
 void check_legacy_vtk_file(const std::filesystem::path& path);
 
+/// An OBJ file whose faces, lines and points name only vertices, texture
+/// coordinates and normals defined before them (1-based, or negative and
+/// relative). VTK's OBJ reader copies the named tuples unchecked and crashes
+/// on an index out of range. Throws std::runtime_error "FILE: line N: problem".
+void check_obj_file(const std::filesystem::path& path);
+
 /// Empty when every cell of `data` names existing points (ids in
 /// 0..points-1), else the first offending cell and id, e.g. "cell 0 refers to
 /// point 7 but the data has 3 points". VTK's filters (vtkPolyDataNormals,
