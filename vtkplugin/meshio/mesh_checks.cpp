@@ -21,6 +21,7 @@
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 #include <vtkUnstructuredGrid.h>
+#include <vtksys/SystemTools.hxx>
 
 namespace rayscope_vtk {
 namespace {
@@ -39,13 +40,6 @@ std::uintmax_t size_of(const fs::path& path) {
 }
 
 // ---- STL ------------------------------------------------------------------
-
-bool starts_with_solid(const char* bytes, size_t n) {
-  size_t i = 0;
-  while (i < n && (bytes[i] == ' ' || bytes[i] == '\t' || bytes[i] == '\r' || bytes[i] == '\n'))
-    ++i;
-  return n - i >= 5 && std::memcmp(bytes + i, "solid", 5) == 0;
-}
 
 // ---- PLY ------------------------------------------------------------------
 
@@ -211,11 +205,14 @@ void check_stl_file(const fs::path& path) {
     expected = kStlHeaderBytes + declared * kStlTriangleBytes;
     if (size == expected) return;  // binary, complete
   }
-  // ASCII STL: its reader checks it (the reader's errors are caught).
-  if (starts_with_solid(head, got)) return;
+  // ASCII or binary as VTK's reader decides (by the share of non-text bytes
+  // at the start): ASCII is checked by the reader itself (its errors are
+  // caught), binary must be what its header says.
+  if (vtksys::SystemTools::DetectFileType(path.c_str()) == vtksys::SystemTools::FileTypeText)
+    return;
   if (got < kStlHeaderBytes)
     fail(path, "not an STL file: " + std::to_string(size) +
-                   " bytes, shorter than a binary STL header (84 bytes), and no ASCII 'solid'");
+                   " bytes of binary data, shorter than a binary STL header (84 bytes)");
   if (size < expected) {
     const std::uintmax_t room = (size - kStlHeaderBytes) / kStlTriangleBytes;
     fail(path, "truncated binary STL: the header declares " + std::to_string(declared) +
@@ -488,7 +485,13 @@ std::string check_cell_point_ids(vtkDataSet* data) {
   // 0..points-1, if any. The range of the connectivity array answers for
   // valid data without a walk over the cells.
   auto check = [&](vtkCellArray* cells, vtkIdType first) -> std::string {
-    if (!cells || cells->GetNumberOfConnectivityIds() == 0) return {};
+    if (!cells) return {};
+    // Offsets that start past 0, decrease, or end elsewhere than the
+    // connectivity's end make cells of absurd sizes (a damaged legacy file).
+    if (!cells->IsValid())
+      return "the offsets of the cells from cell " + std::to_string(first) +
+             " on do not match their point ids (a damaged cell array)";
+    if (cells->GetNumberOfConnectivityIds() == 0) return {};
     double range[2];
     cells->GetConnectivityArray()->GetRange(range, 0);
     if (range[0] >= 0.0 && range[1] < double(points)) return {};

@@ -21,9 +21,9 @@ inline constexpr std::uintmax_t kStlHeaderBytes = 84;
 inline constexpr std::uintmax_t kStlTriangleBytes = 50;
 
 /**
- * An STL file VTK's reader can read in full. A file whose first word is
- * "solid" and whose size is not what a binary header would give is ASCII
- * (checked by the reader itself, see mesh_files.cpp). Any other file is
+ * An STL file VTK's reader can read in full. A file VTK's reader takes for
+ * text (vtksys::SystemTools::DetectFileType, as the reader decides) is ASCII
+ * and checked by the reader itself (see mesh_files.cpp). Any other file is
  * binary, and its size must hold exactly the triangles its header declares:
  * VTK's reader reads triangles until the end of the file whatever the header
  * says, so a truncated file would lose triangles without a word and extra
@@ -67,7 +67,8 @@ void check_obj_file(const std::filesystem::path& path);
 
 /// Empty when every cell of `data` names existing points (ids in
 /// 0..points-1), else the first offending cell and id, e.g. "cell 0 refers to
-/// point 7 but the data has 3 points". VTK's filters (vtkPolyDataNormals,
+/// point 7 but the data has 3 points", or a cell array whose offsets do not
+/// fit its ids (vtkCellArray::IsValid()). VTK's filters (vtkPolyDataNormals,
 /// vtkTriangleFilter) index the points with these ids unchecked. Datasets
 /// whose cells are implicit (images, structured grids) always pass.
 std::string check_cell_point_ids(vtkDataSet* data);
