@@ -4,6 +4,7 @@
 #include <cctype>
 #include <charconv>
 #include <climits>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -237,6 +238,7 @@ void check_ply_file(const fs::path& path) {
     if (!std::getline(in, line)) fail(path, std::string("PLY header ends early: ") + what);
     if (line.size() > kPlyMaxLine)
       fail(path, "PLY header line longer than " + std::to_string(kPlyMaxLine) + " characters");
+    if (line.find('\0') != std::string::npos) fail(path, "PLY header line with a NUL byte");
     return words(line);
   };
   std::vector<std::string_view> w = next_line("no 'ply'");
@@ -305,6 +307,9 @@ void check_ply_file(const fs::path& path) {
         if (line.size() > kPlyMaxLine)
           fail(path, e.name + " " + std::to_string(item) + ": line longer than " +
                          std::to_string(kPlyMaxLine) + " characters");
+        // VTK's reader splits C strings: a NUL byte ends the line early.
+        if (line.find('\0') != std::string::npos)
+          fail(path, e.name + " " + std::to_string(item) + ": line with a NUL byte");
         w = words(line);
         // A short last line without its newline is where a truncated file ends.
         const bool last = in.eof();
@@ -383,11 +388,13 @@ void check_legacy_vtk_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open the file");
   std::string line;
-  // "# vtk DataFile Version M.m"; VTK reads a missing or unreadable number as
-  // an old version.
+  // "# vtk DataFile Version M.m"; VTK reads a version without both numbers
+  // as 0.0, an old version.
   std::getline(in, line);
-  const size_t v = line.find("Version ");
-  const int major = v == std::string::npos ? 0 : std::atoi(line.c_str() + v + 8);
+  const size_t v = line.find("Version");
+  int major = 0, minor = 0;
+  if (v == std::string::npos || std::sscanf(line.c_str() + v, "Version %d.%d", &major, &minor) != 2)
+    major = 0;
   if (major >= 5) return;  // offsets and connectivity, which the reader checks
   std::getline(in, line);  // title
   std::getline(in, line);
