@@ -395,7 +395,9 @@ void check_legacy_vtk_file(const fs::path& path) {
   int major = 0, minor = 0;
   if (v == std::string::npos || std::sscanf(line.c_str() + v, "Version %d.%d", &major, &minor) != 2)
     major = 0;
-  if (major >= 5) return;  // offsets and connectivity, which the reader checks
+  // From version 5 on, cells are offsets and connectivity arrays (checked
+  // after reading by check_cell_point_ids()); before, counts and ids.
+  const bool old_cells = major < 5;
   std::getline(in, line);  // title
   std::getline(in, line);
   std::vector<std::string_view> w = words(line);
@@ -407,11 +409,28 @@ void check_legacy_vtk_file(const fs::path& path) {
   };
   while (std::getline(in, line)) {
     w = words(line);
-    if (w.size() != 3) continue;
+    if (w.empty()) continue;
     const std::string key = upper(w[0]);
-    if (key != "VERTICES" && key != "LINES" && key != "POLYGONS" && key != "TRIANGLE_STRIPS" &&
-        key != "CELLS")
+    const bool section = key == "POINTS" || key == "VERTICES" || key == "LINES" ||
+                         key == "POLYGONS" || key == "TRIANGLE_STRIPS" || key == "CELLS";
+    // VTK reads the header's words as tokens, past the end of the line.
+    if (section && w.size() != 3)
+      fail(path, "legacy VTK " + key + " header '" + line + "' is malformed");
+    if (!section) continue;
+    if (key == "POINTS" && !binary) {
+      // VTK's reader goes on after points it could not read, and crashes.
+      const std::optional<long long> n = integer(w[1]);
+      if (!n || *n < 0) fail(path, "legacy VTK POINTS header '" + line + "' is malformed");
+      std::string value;
+      for (long long k = 0; k < 3 * *n; ++k) {
+        char* end = nullptr;
+        if (!(in >> value) || (std::strtod(value.c_str(), &end), *end != '\0'))
+          fail(path, "legacy VTK POINTS declares " + std::to_string(*n) + " points but value " +
+                         std::to_string(k) + " is missing or not a number");
+      }
       continue;
+    }
+    if (!old_cells || key == "POINTS") continue;
     const std::optional<long long> cells = integer(w[1]), size = integer(w[2]);
     if (!cells || !size || *cells < 0 || *size < 0)
       fail(path, "legacy VTK " + key + " header '" + line + "' is malformed");

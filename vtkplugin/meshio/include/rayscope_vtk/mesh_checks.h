@@ -49,13 +49,14 @@ void check_stl_file(const std::filesystem::path& path);
 void check_ply_file(const std::filesystem::path& path);
 
 /**
- * A legacy .vtk file of a version before 5 (or with no readable version),
- * whose cell sections list each cell as its point count and its ids: every
- * section's counts must add up to the values it declares and give the cells
- * it declares. VTK's legacy reader trusts the counts and reads past its
- * buffer (a segfault) when they are wrong. Files of version 5 and later
- * (offsets and connectivity arrays) are left to the reader. Throws
- * std::runtime_error "FILE: problem".
+ * What VTK's legacy reader trusts in a .vtk file: in ASCII files, the POINTS
+ * section holds as many numbers as it declares (the reader goes on after a
+ * short one and crashes); in files of a version before 5 (or without a
+ * readable version), whose cell sections list each cell as its point count
+ * and its ids, every section's counts add up to the values it declares and
+ * give the cells it declares (wrong counts make the reader read past its
+ * buffer). Later cell arrays (offsets and connectivity) are checked after
+ * reading (check_cell_point_ids()). Throws std::runtime_error "FILE: problem".
  */
 void check_legacy_vtk_file(const std::filesystem::path& path);
 
