@@ -163,12 +163,7 @@ int run_render(const RenderOptions& o) {
 
   // Fail on an unwritable output before spending time on the render.
   fs::path out(o.output);
-  fs::path dir = out.parent_path().empty() ? fs::path(".") : out.parent_path();
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw std::runtime_error(o.output + ": folder '" + dir.string() + "' does not exist");
-  if (out.extension().empty())
-    throw std::runtime_error(o.output + ": no file extension (use .png, .jpg or .exr)");
+  check_image_path(out);
 
   for (const std::string& a : o.aovs)
     if (a != "cost") throw std::invalid_argument("--aov: unknown AOV '" + a + "' (known: cost)");

@@ -64,12 +64,23 @@ std::string lower_ext(const std::filesystem::path& p) {
 
 }  // namespace
 
+void check_image_path(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec))
+    throw std::runtime_error(path.string() + ": is a directory, not an image file");
+  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  if (!fs::is_directory(dir, ec))
+    throw std::runtime_error(path.string() + ": folder '" + dir.string() + "' does not exist");
+  if (lower_ext(path).empty())
+    throw std::runtime_error(path.string() + ": no file extension (use .png, .jpg or .exr)");
+}
+
 void write_image(const std::filesystem::path& path, const Framebuffer& fb) {
   namespace fs = std::filesystem;
   if (fb.width <= 0 || fb.height <= 0) throw std::runtime_error(path.string() + ": empty image");
+  check_image_path(path);
   const std::string ext = lower_ext(path);
-  if (ext.empty())
-    throw std::runtime_error(path.string() + ": no file extension to choose the image format");
   static std::atomic<unsigned> counter{0};
   fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   std::string tmp_name(".");
@@ -152,6 +163,7 @@ void write_heatmap(const std::filesystem::path& path, const std::vector<float>& 
                    int height, const std::string& title) {
   if (width <= 0 || height <= 0 || values.size() != size_t(width) * size_t(height))
     throw std::runtime_error(path.string() + ": heat map size does not match the image");
+  check_image_path(path);
   float vmax = 0.0f;
   for (float v : values)
     if (std::isfinite(v)) vmax = std::max(vmax, v);

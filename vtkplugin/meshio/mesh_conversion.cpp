@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -24,6 +26,7 @@
 #include <vtkUnsignedCharArray.h>
 
 #include "rayscope/scene.h"
+#include "rayscope_vtk/mesh_checks.h"
 #include "rayscope_vtk/srgb.h"
 
 namespace rayscope_vtk {
@@ -118,6 +121,8 @@ vtkSmartPointer<vtkPolyData> triangulate(vtkDataSet* input, const SurfaceOptions
 
 ColorSource convert_dataset(vtkDataSet* input, const SurfaceOptions& options, vtkMapper* coloring,
                             vtkPolyData* output) {
+  // Before any VTK filter indexes the points with the cells' ids.
+  if (std::string e = check_cell_point_ids(input); !e.empty()) throw std::invalid_argument(e);
   vtkSmartPointer<vtkPolyData> tri = triangulate(input, options);
 
   // Colors by the mapper's own code, on the very surface it would draw.

@@ -14,6 +14,7 @@
 #include <vtkLookupTable.h>
 #include <vtkNew.h>
 #include <vtkOBJReader.h>
+#include <vtkOutputWindow.h>
 #include <vtkPLYReader.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
@@ -23,6 +24,7 @@
 #include <vtkXMLReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include "rayscope_vtk/mesh_checks.h"
 #include "rayscope_vtk/mesh_conversion.h"
 
 namespace rayscope_vtk {
@@ -122,11 +124,73 @@ vtkSmartPointer<vtkMapper> direct_color_mapper(vtkDataSet* data) {
   return mapper;
 }
 
+// VTK's messages while a file is read. A reader that fails part-way, e.g. on
+// a truncated legacy or XML file, still produces the part it read, which must
+// not pass for the whole file. The failure is reported as an error of the
+// reader, of an inner reader or parser it made, or as a generic warning (the
+// legacy reader's "Error reading ascii data"), so the process's output window
+// is replaced while the file is read and its first error or generic warning
+// becomes the exception. Not thread-safe (VTK's output window is global): mesh
+// files are read one at a time.
+class CapturedMessages : public vtkOutputWindow {
+ public:
+  static CapturedMessages* New() { return new CapturedMessages; }
+  void DisplayErrorText(const char* text) override { this->Keep(text); }
+  void DisplayGenericWarningText(const char* text) override { this->Keep(text); }
+  void DisplayText(const char*) override {}
+  std::string first;
+
+ private:
+  void Keep(const char* text) {
+    if (!first.empty() || !text) return;
+    // "ERROR: In FILE, line N\nClass (0x...): message\n\n" -> "message".
+    std::string m = text;
+    if (m.find(": In ") != std::string::npos && m.find('\n') != std::string::npos)
+      m = m.substr(m.find('\n') + 1);
+    if (size_t p = m.find("): "); p != std::string::npos) m = m.substr(p + 3);
+    for (char& c : m)
+      if (c == '\n' || c == '\r') c = ' ';
+    while (!m.empty() && m.back() == ' ') m.pop_back();
+    first = m.empty() ? "the reader reported an error" : m;
+  }
+};
+
+class CaptureMessages {
+ public:
+  CaptureMessages() : previous_(vtkOutputWindow::GetInstance()) {
+    vtkOutputWindow::SetInstance(captured_);
+  }
+  ~CaptureMessages() { vtkOutputWindow::SetInstance(previous_); }
+  CaptureMessages(const CaptureMessages&) = delete;
+  CaptureMessages& operator=(const CaptureMessages&) = delete;
+  // Throws "FILE: first message" if VTK reported a problem.
+  void Check(const std::string& file) const {
+    if (!captured_->first.empty()) throw std::runtime_error(file + ": " + captured_->first);
+  }
+
+ private:
+  vtkSmartPointer<vtkOutputWindow> previous_;
+  vtkNew<CapturedMessages> captured_;
+};
+
+// Updates `reader` (reading `file`) and returns its dataset, or throws
+// "FILE: VTK's first error".
+vtkSmartPointer<vtkDataSet> read_with(vtkAlgorithm* reader, const std::string& file) {
+  CaptureMessages messages;
+  reader->Update();
+  messages.Check(file);
+  return vtkDataSet::SafeDownCast(reader->GetOutputDataObject(0));
+}
+
 rayscope::TriangleMesh convert(vtkDataSet* data, const std::filesystem::path& path,
                                const SurfaceOptions& surface, vtkMapper* coloring,
                                const glm::dmat4& to_scene = glm::dmat4(1.0)) {
   vtkNew<vtkPolyData> converted;
-  convert_dataset(data, surface, coloring, converted);
+  try {
+    convert_dataset(data, surface, coloring, converted);
+  } catch (const std::invalid_argument& e) {  // data convert_dataset() refuses
+    throw std::runtime_error(path.string() + ": " + e.what());
+  }
   rayscope::TriangleMesh m;
   mesh_from_converted(converted, m, to_scene);
   m.name = path.filename().string();
@@ -141,32 +205,34 @@ vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path)
   const std::string f = path.string();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw std::runtime_error(f + ": file not found");
+  if (std::filesystem::is_directory(path, ec))
+    throw std::runtime_error(f + ": is a directory, not a file");
   if (!std::filesystem::is_regular_file(path, ec)) throw std::runtime_error(f + ": not a file");
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return char(std::tolower(c)); });
   vtkSmartPointer<vtkDataSet> data;
   if (ext == ".stl") {
+    check_stl_file(path);
     vtkNew<vtkSTLReader> r;
     r->SetFileName(f.c_str());
-    r->Update();
-    data = r->GetOutput();
+    data = read_with(r, f);
   } else if (ext == ".ply") {
     if (!vtkPLYReader::CanReadFile(f.c_str())) throw std::runtime_error(f + ": not a PLY file");
+    check_ply_file(path);
     vtkNew<vtkPLYReader> r;
     r->SetFileName(f.c_str());
-    r->Update();
-    data = r->GetOutput();
+    data = read_with(r, f);
   } else if (ext == ".obj") {
+    check_obj_file(path);
     vtkNew<vtkOBJReader> r;
     r->SetFileName(f.c_str());
-    r->Update();
-    data = r->GetOutput();
+    data = read_with(r, f);
   } else if (ext == ".vtk") {
+    check_legacy_vtk_file(path);
     vtkNew<vtkDataSetReader> r;
     r->SetFileName(f.c_str());
-    r->Update();
-    data = r->GetOutput();
+    data = read_with(r, f);
   } else if (ext == ".vtp" || ext == ".vtu") {
     // The format-specific XML readers: vtkXMLGenericDataObjectReader::CanReadFile
     // rejects every file in VTK 9.1.
@@ -178,8 +244,7 @@ vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path)
     if (!r->CanReadFile(f.c_str()))
       throw std::runtime_error(f + ": not a VTK XML " + ext + " file");
     r->SetFileName(f.c_str());
-    r->Update();
-    data = vtkDataSet::SafeDownCast(r->GetOutputDataObject(0));
+    data = read_with(r, f);
   } else {
     throw std::runtime_error(f + ": unsupported mesh format '" + ext +
                              "' (use .vtp, .vtu, .vtk, .stl, .ply or .obj)");

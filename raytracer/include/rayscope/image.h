@@ -34,7 +34,14 @@ float linear_to_srgb(float v);
 /// framebuffer has cost AOVs); other formats OpenImageIO knows get 8-bit sRGB color. The
 /// file is written under a temporary name in the same folder and renamed, so an
 /// interrupted run never leaves a half-written file. Throws std::runtime_error.
+/// check_image_path() runs first.
 void write_image(const std::filesystem::path& path, const Framebuffer& fb);
+
+/// The one check of an output image path, before anything is rendered or
+/// written: not an existing directory, its folder exists, and it has a file
+/// extension (which chooses the format). Throws std::runtime_error
+/// "PATH: problem".
+void check_image_path(const std::filesystem::path& path);
 
 /// Writes a color-mapped heat map of one value per pixel (e.g. BVH nodes visited)
 /// with a legend strip below it: a color bar from 0 to the maximum, its scale and

@@ -95,6 +95,30 @@ std::vector<rayscope::Light> core_lights(vtkRayScopeImageAlgorithm* alg,
 
 }  // namespace
 
+int SceneBuilder::CheckTriangles(vtkRayScopeImageAlgorithm* alg,
+                                 const std::vector<vtkDataSet*>& inputs,
+                                 const std::vector<rayscope::TriangleMesh>& meshes) {
+  // What an input without triangles is: its class and size tell an empty
+  // reader output (0 points) from a dataset of lines, vertices or a 1-D image.
+  auto what = [&](size_t i) {
+    return alg->GetObjectName(int(i)) + " (" + inputs[i]->GetClassName() + " with " +
+           std::to_string(inputs[i]->GetNumberOfPoints()) + " points, " +
+           std::to_string(inputs[i]->GetNumberOfCells()) + " cells)";
+  };
+  size_t empty = 0;
+  for (const rayscope::TriangleMesh& m : meshes) empty += m.triangles.empty();
+  if (empty == meshes.size()) {
+    vtkErrorWithObjectMacro(
+        alg, << "nothing to render: " << (meshes.size() == 1 ? what(0) : std::string("no input"))
+             << " has no surface triangles");
+    return 0;
+  }
+  for (size_t i = 0; i < meshes.size(); ++i)
+    if (meshes[i].triangles.empty())
+      vtkWarningWithObjectMacro(alg, << what(i) << " has no surface triangles: it is not shown");
+  return 1;
+}
+
 int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<SceneLight>& lights) {
   const int n = alg->GetNumberOfInputConnections(0);
   if (n == 0) {
@@ -129,14 +153,18 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
     const double o[3] = {origin.x, origin.y, origin.z};
     meshes.resize(size_t(n));
     for (int i = 0; i < n; ++i) {
-      if (!converter_of(i)->ConvertToMesh(inputs[size_t(i)], meshes[size_t(i)], o)) {
-        vtkErrorWithObjectMacro(alg, << "input " << i << " could not be converted to triangles");
+      std::string why;
+      if (!converter_of(i)->ConvertToMesh(inputs[size_t(i)], meshes[size_t(i)], &why, o)) {
+        vtkErrorWithObjectMacro(alg, << alg->GetObjectName(i) << " ("
+                                     << inputs[size_t(i)]->GetClassName()
+                                     << ") cannot be converted to triangles: " << why);
         return 0;
       }
       meshes[size_t(i)].name = alg->GetObjectName(i);
       meshes[size_t(i)].material = uint32_t(i);
     }
     ++this->Conversions;
+    if (!this->CheckTriangles(alg, inputs, meshes)) return 0;
   }
 
   std::vector<rayscope::Material> materials(static_cast<size_t>(n));

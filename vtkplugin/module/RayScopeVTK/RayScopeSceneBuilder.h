@@ -45,6 +45,11 @@ class SceneBuilder {
   size_t GetCommits() const { return this->Commits; }
 
  private:
+  // Converted inputs without any triangle: an error when no input has one
+  // (returns 0), else a warning per empty input (returns 1).
+  static int CheckTriangles(vtkRayScopeImageAlgorithm* alg, const std::vector<vtkDataSet*>& inputs,
+                            const std::vector<rayscope::TriangleMesh>& meshes);
+
   rayscope::Scene Scene;
   bool HasScene = false;
   vtkTimeStamp GeometryTime;  // when the meshes were last converted

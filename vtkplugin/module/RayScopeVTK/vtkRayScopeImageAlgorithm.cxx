@@ -195,6 +195,10 @@ vtkRayScopeMaterial* vtkRayScopeImageAlgorithm::GetMaterial() {
 }
 
 void vtkRayScopeImageAlgorithm::SetInputMaterial(int index, vtkRayScopeMaterial* material) {
+  if (index < 0) {
+    vtkErrorMacro(<< "SetInputMaterial: input index " << index << " is negative");
+    return;
+  }
   auto& m = this->Internal->input_materials;
   auto it = m.find(index);
   if (!material) {
@@ -217,6 +221,10 @@ vtkRayScopeMeshConverter* vtkRayScopeImageAlgorithm::GetConverter() {
 }
 
 void vtkRayScopeImageAlgorithm::SetInputConverter(int index, vtkRayScopeMeshConverter* converter) {
+  if (index < 0) {
+    vtkErrorMacro(<< "SetInputConverter: input index " << index << " is negative");
+    return;
+  }
   auto& m = this->Internal->input_converters;
   auto it = m.find(index);
   if (!converter) {
@@ -291,6 +299,20 @@ std::string vtkRayScopeImageAlgorithm::ValidateParameters() {
   return {};
 }
 
+void vtkRayScopeImageAlgorithm::WarnAboutUnconnectedInputs() {
+  // Set before the inputs are connected is normal VTK use; still unconnected
+  // when the image is made, the setting is probably a wrong index.
+  const int n = this->GetNumberOfInputConnections(0);
+  auto warn = [&](const char* what, int index) {
+    vtkWarningMacro(<< what << " is set for input " << index << ", but only " << n
+                    << (n == 1 ? " input is" : " inputs are") << " connected: it is not used");
+  };
+  for (auto& [index, m] : this->Internal->input_materials)
+    if (index >= n) warn("a material (SetInputMaterial)", index);
+  for (auto& [index, c] : this->Internal->input_converters)
+    if (index >= n) warn("a converter (SetInputConverter)", index);
+}
+
 rayscope::RenderSettings vtkRayScopeImageAlgorithm::GetRenderSettings() {
   rayscope::RenderSettings s;
   s.width = this->Width;
@@ -329,6 +351,7 @@ int vtkRayScopeImageAlgorithm::BuildScene() {
     vtkErrorMacro(<< e);
     return 0;
   }
+  this->WarnAboutUnconnectedInputs();
   return this->Internal->builder.Update(this, this->Internal->lights);
 }
 

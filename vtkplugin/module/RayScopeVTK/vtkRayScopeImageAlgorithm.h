@@ -9,6 +9,14 @@
  * settings), with material k (SetInputMaterial) or the default material
  * (GetMaterial()).
  *
+ * Input that cannot be rendered is an error (vtkErrorMacro) and leaves the
+ * output empty: no input, an input whose cells name points it lacks, or
+ * inputs that have no surface triangles at all (an empty dataset, a 1-D
+ * image, a reader's output after it failed). An input without triangles next
+ * to others that have some is a warning (vtkWarningMacro), as is a material or
+ * converter set for an input index that is not connected when the image is
+ * made (it is kept for when that input is connected, and unused until then).
+ *
  * The camera follows vtkCamera (Position, FocalPoint, ViewUp, vertical
  * ViewAngle in degrees, ParallelProjection with ParallelScale = half the image
  * height in world units; CopyCamera() takes them from a vtkCamera). Lights are
@@ -210,14 +218,17 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
 
   /// The material of inputs without their own (never null).
   vtkRayScopeMaterial* GetMaterial();
-  /// Gives input `index` its own material (null: back to the default).
+  /// Gives input `index` (>= 0; negative is an error) its own material (null:
+  /// back to the default). An index with no input connected at RequestData is
+  /// a warning there.
   void SetInputMaterial(int index, vtkRayScopeMaterial* material);
   vtkRayScopeMaterial* GetInputMaterial(int index);
 
   /// How datasets become triangles, normals and colors (never null).
   vtkRayScopeMeshConverter* GetConverter();
   /// Gives input `index` its own converter, e.g. with the mapper that colors it
-  /// in a renderer (null: back to GetConverter()).
+  /// in a renderer (null: back to GetConverter()). Index rules as
+  /// SetInputMaterial().
   void SetInputConverter(int index, vtkRayScopeMeshConverter* converter);
   vtkRayScopeMeshConverter* GetInputConverter(int index);
 
@@ -334,6 +345,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   Internals* Internal;
 
   int BuildScene();
+  // A warning for each material or converter set for an input index that has
+  // no input connection.
+  void WarnAboutUnconnectedInputs();
 };
 
 #endif

@@ -1,5 +1,7 @@
 #include "vtkRayScopeMeshConverter.h"
 
+#include <exception>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "vtkDataSetMapper.h"
@@ -61,13 +63,31 @@ int vtkRayScopeMeshConverter::Convert(vtkDataSet* input, vtkPolyData* output) {
     vtkErrorMacro(<< "Convert: " << (input ? "output" : "input") << " is null");
     return 0;
   }
+  std::string why;
+  if (!this->ConvertOrExplain(input, output, why)) {
+    vtkErrorMacro(<< "Convert: " << input->GetClassName() << ": " << why);
+    return 0;
+  }
+  return 1;
+}
+
+bool vtkRayScopeMeshConverter::ConvertOrExplain(vtkDataSet* input, vtkPolyData* output,
+                                                std::string& why) {
   rayscope_vtk::SurfaceOptions options;
   options.compute_normals = this->ComputeNormals != 0;
   options.splitting = this->Splitting != 0;
   options.feature_angle = this->FeatureAngle;
   options.nonlinear_subdivision_level = this->NonlinearSubdivisionLevel;
-  this->LastColorSource = int(rayscope_vtk::convert_dataset(input, options, this->Mapper, output));
-  return 1;
+  try {
+    this->LastColorSource =
+        int(rayscope_vtk::convert_dataset(input, options, this->Mapper, output));
+  } catch (const std::exception& e) {  // input the conversion refuses, e.g. bad point ids
+    output->Initialize();
+    this->LastColorSource = NO_COLORS;
+    why = e.what();
+    return false;
+  }
+  return true;
 }
 
 void vtkRayScopeMeshConverter::MeshFromPolyData(vtkPolyData* pd, rayscope::TriangleMesh& m) {
@@ -75,11 +95,18 @@ void vtkRayScopeMeshConverter::MeshFromPolyData(vtkPolyData* pd, rayscope::Trian
 }
 
 bool vtkRayScopeMeshConverter::ConvertToMesh(vtkDataSet* input, rayscope::TriangleMesh& mesh,
-                                             const double origin[3]) {
+                                             std::string* why, const double origin[3]) {
   vtkNew<vtkPolyData> pd;
-  if (!this->Convert(input, pd)) return false;
-  rayscope_vtk::mesh_from_converted(
-      pd, mesh, glm::translate(glm::dmat4(1.0), -glm::dvec3(origin[0], origin[1], origin[2])));
+  if (!why) {
+    if (!this->Convert(input, pd)) return false;
+  } else if (!input) {
+    *why = "the input is null";
+    return false;
+  } else if (!this->ConvertOrExplain(input, pd, *why)) {
+    return false;
+  }
+  const glm::dvec3 o = origin ? glm::dvec3(origin[0], origin[1], origin[2]) : glm::dvec3(0.0);
+  rayscope_vtk::mesh_from_converted(pd, mesh, glm::translate(glm::dmat4(1.0), -o));
   return true;
 }
 

@@ -53,6 +53,8 @@
 #include "RayScopeVTKModule.h"  // export macro
 #include "vtkObject.h"
 
+#include <string>
+
 class vtkDataSet;
 class vtkMapper;
 class vtkPolyData;
@@ -105,8 +107,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeMeshConverter : public vtkObject {
   /// Triangulated surface of `input` in `output`: float points, triangles,
   /// point data "Normals" (when present or computed), "Colors" (RGBA unsigned
   /// char, the mapper's sRGB bytes, per point; absent without scalar colors) and
-  /// "LinearColors" (float RGB). Returns 1 on success, 0 (with an error) if the
-  /// input is null.
+  /// "LinearColors" (float RGB). Returns 1 on success, 0 with an error
+  /// (vtkErrorMacro) and an empty `output` if the input is null or a cell names
+  /// a point the input lacks (checked before any VTK filter runs).
   int Convert(vtkDataSet* input, vtkPolyData* output);
 
   /// Where the colors of the last conversion came from.
@@ -114,11 +117,13 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeMeshConverter : public vtkObject {
   vtkGetMacro(LastColorSource, int);
 
 #ifndef __VTK_WRAP__
-  /// Convert() straight to a core mesh (linear colors, unit normals), with
-  /// positions relative to `origin` (the scene's local origin,
-  /// rayscope::Scene::origin), subtracted in double precision.
-  bool ConvertToMesh(vtkDataSet* input, rayscope::TriangleMesh& mesh, const double origin[3]);
-  bool ConvertToMesh(vtkDataSet* input, rayscope::TriangleMesh& mesh);
+  /// Convert() straight to a core mesh (linear colors, unit normals). With
+  /// `why`, a failure is not reported by this converter but explained in
+  /// `*why` for the caller to report (the image algorithm names the input).
+  /// With `origin` (the scene's local origin, rayscope::Scene::origin),
+  /// positions are relative to it, subtracted in double precision.
+  bool ConvertToMesh(vtkDataSet* input, rayscope::TriangleMesh& mesh, std::string* why = nullptr,
+                     const double origin[3] = nullptr);
   /// A core mesh from polydata made by Convert().
   static void MeshFromPolyData(vtkPolyData* converted, rayscope::TriangleMesh& mesh);
 #endif
@@ -135,6 +140,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeMeshConverter : public vtkObject {
   int LastColorSource;
 
  private:
+  // The conversion; false with the reason in `why` (not reported) on failure.
+  bool ConvertOrExplain(vtkDataSet* input, vtkPolyData* output, std::string& why);
+
   vtkRayScopeMeshConverter(const vtkRayScopeMeshConverter&) = delete;
   void operator=(const vtkRayScopeMeshConverter&) = delete;
 };

@@ -41,6 +41,8 @@ enum class ColorSource { None = 0, Point = 1, Cell = 2, Field = 3 };
 /// of it, with a copy of its lookup table, maps the scalars with
 /// vtkMapper::MapScalars(). Cell colors duplicate a point shared by cells of
 /// different colors, once per color. Returns where the colors came from.
+/// Throws std::invalid_argument (check_cell_point_ids()'s message, no file
+/// name) when a cell names a point the data lacks, before any VTK filter runs.
 ColorSource convert_dataset(vtkDataSet* input, const SurfaceOptions& options, vtkMapper* coloring,
                             vtkPolyData* output);
 

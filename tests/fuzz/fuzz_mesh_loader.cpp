@@ -1,0 +1,109 @@
+// libFuzzer target for the mesh files the rayscope command reads:
+// rayscope_vtk::load_mesh (vtkplugin/meshio), i.e. RayScope's checks of the
+// file (mesh_checks.h), VTK's reader of the format, and the conversion to
+// triangles, then Scene::commit().
+//
+// The first byte of an input picks the format (kFormats[byte % 6]); the rest
+// is written to a temporary file with that extension, which load_mesh reads
+// as a scene's mesh object would be. The contract under test (mesh_files.h):
+// any file either is refused with a std::runtime_error (MeshOptionError is
+// one) naming the file, or gives a mesh with at least one triangle whose
+// corners are valid indices, with normals and colors absent or one per
+// position, that a scene commits. Everything else is a finding: a crash (in
+// RayScope or inside VTK: RayScope hands the file to VTK, so it must refuse
+// what VTK cannot read safely), a sanitizer report in RayScope's code, another
+// exception type, a mesh breaking the contract, or a hang (libFuzzer -timeout).
+//
+// Built twice like fuzz_scene_parser.cpp: as a libFuzzer binary
+// (RAYSCOPE_FUZZ=ON) and, with replay_main.cpp, as a program that replays the
+// committed corpus and regressions in every build (tests/fuzz/CMakeLists.txt).
+#include <unistd.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include <vtkLogger.h>
+#include <vtkOutputWindow.h>
+
+#include "rayscope/scene.h"
+#include "rayscope_vtk/mesh_files.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The formats mesh_files.cpp reads; the corpus files start with their index.
+constexpr const char* kFormats[] = {".obj", ".stl", ".ply", ".vtk", ".vtp", ".vtu"};
+constexpr size_t kNumFormats = sizeof kFormats / sizeof kFormats[0];
+
+[[noreturn]] void finding(const char* what, const std::string& detail) {
+  std::fprintf(stderr, "fuzz_mesh_loader: FINDING: %s: %s\n", what, detail.c_str());
+  std::fflush(stderr);
+  std::abort();
+}
+
+// A private folder for the input file, removed at exit. VTK's messages about
+// bad files are expected by the thousand: silenced as in the rayscope command.
+const fs::path& work_dir() {
+  static const fs::path dir = [] {
+    vtkOutputWindow::GetInstance()->SetDisplayModeToNever();
+    vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
+    fs::path d = fs::temp_directory_path() / ("rayscope_fuzz_mesh_" + std::to_string(getpid()));
+    fs::create_directories(d);
+    std::atexit([] {
+      std::error_code ec;
+      fs::remove_all(work_dir(), ec);
+    });
+    return d;
+  }();
+  return dir;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size == 0) return 0;
+  const fs::path file = work_dir() / (std::string("input") + kFormats[data[0] % kNumFormats]);
+  {
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data + 1), std::streamsize(size - 1));
+    if (!out) finding("setup", "cannot write " + file.string());
+  }
+  rayscope::MeshOptions options;
+  options.file = file;
+  rayscope::TriangleMesh mesh;
+  try {
+    mesh = rayscope_vtk::load_mesh(options);
+  } catch (const std::runtime_error& e) {
+    // A refusal must name the file (the one error line the user sees).
+    if (std::string(e.what()).find(file.string()) == std::string::npos)
+      finding("error without the file name", e.what());
+    return 0;
+  } catch (const std::exception& e) {
+    finding("unexpected exception type", e.what());
+  }
+  const size_t n = mesh.positions.size();
+  if (mesh.triangles.empty()) finding("accepted mesh", "no triangles");
+  for (const glm::uvec3& t : mesh.triangles)
+    if (t.x >= n || t.y >= n || t.z >= n) finding("accepted mesh", "corner index out of range");
+  if (!mesh.normals.empty() && mesh.normals.size() != n)
+    finding("accepted mesh", "normals are not one per position");
+  if (!mesh.colors.empty() && mesh.colors.size() != n)
+    finding("accepted mesh", "colors are not one per position");
+  rayscope::Scene scene;
+  scene.meshes.push_back(std::move(mesh));
+  scene.materials.emplace_back();
+  try {
+    scene.commit();
+  } catch (const std::exception& e) {
+    finding("commit of an accepted mesh", e.what());
+  }
+  return 0;
+}

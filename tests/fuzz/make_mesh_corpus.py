@@ -1,0 +1,125 @@
+#!/usr/bin/python3
+"""Writes the seed corpus of fuzz_mesh_loader: small valid files of every
+format the mesh loader reads, made by VTK's own writers.
+
+Usage: make_mesh_corpus.py OUT_DIR   (tests/fuzz/corpus/mesh_loader)
+
+Each corpus file is one byte choosing the format (its index in
+fuzz_mesh_loader.cpp's kFormats: obj, stl, ply, vtk, vtp, vtu) followed by the
+file. The meshes are a tetrahedron (with normals, colors and a scalar array in
+the formats that store them) and a quad of two triangles; every file is well
+under 10 KB.
+"""
+import os
+import sys
+import tempfile
+
+import vtk
+
+FORMATS = [".obj", ".stl", ".ply", ".vtk", ".vtp", ".vtu"]
+
+
+def tetra(decorated):
+    pts = vtk.vtkPoints()
+    for p in ((0, 1, 0), (-1, -1, 1), (1, -1, 1), (0, -1, -1)):
+        pts.InsertNextPoint(p)
+    polys = vtk.vtkCellArray()
+    for t in ((0, 1, 2), (0, 2, 3), (0, 3, 1), (1, 3, 2)):
+        polys.InsertNextCell(3, t)
+    pd = vtk.vtkPolyData()
+    pd.SetPoints(pts)
+    pd.SetPolys(polys)
+    if decorated:
+        normals = vtk.vtkFloatArray()
+        normals.SetName("Normals")
+        normals.SetNumberOfComponents(3)
+        colors = vtk.vtkUnsignedCharArray()
+        colors.SetName("Colors")
+        colors.SetNumberOfComponents(3)
+        values = vtk.vtkFloatArray()
+        values.SetName("temperature")
+        for i in range(4):
+            p = pts.GetPoint(i)
+            n = sum(c * c for c in p) ** 0.5
+            normals.InsertNextTuple3(*(c / n for c in p))
+            colors.InsertNextTuple3(40 * i, 200, 255 - 40 * i)
+            values.InsertNextValue(float(i))
+        pd.GetPointData().SetNormals(normals)
+        pd.GetPointData().SetScalars(colors)
+        pd.GetPointData().AddArray(values)
+    return pd
+
+
+def quad():
+    q = vtk.vtkPlaneSource()
+    q.Update()
+    return q.GetOutput()
+
+
+def volume():
+    ug = vtk.vtkUnstructuredGrid()
+    ug.SetPoints(tetra(False).GetPoints())
+    ug.InsertNextCell(vtk.VTK_TETRA, 4, (0, 1, 2, 3))
+    return ug
+
+
+def old_legacy():
+    """A legacy writer of the pre-5 format (cells as counts and ids)."""
+    w = vtk.vtkPolyDataWriter()
+    w.SetFileVersion(42)
+    return w
+
+
+def write(writer, data, path, mode=None):
+    writer.SetInputData(data)
+    writer.SetFileName(path)
+    if mode == "ascii":
+        writer.SetFileTypeToASCII()
+    elif mode == "binary":
+        writer.SetFileTypeToBinary()
+    elif mode in ("xml-ascii", "xml-binary", "xml-appended"):
+        {"xml-ascii": writer.SetDataModeToAscii, "xml-binary": writer.SetDataModeToBinary,
+         "xml-appended": writer.SetDataModeToAppended}[mode]()
+    if not writer.Write():
+        sys.exit(f"could not write {path}")
+
+
+def main(out):
+    os.makedirs(out, exist_ok=True)
+    cases = []
+    for name, data in (("tetra", tetra(True)), ("quad", quad())):
+        cases += [
+            (f"{name}.obj", vtk.vtkOBJWriter(), data, None),
+            (f"{name}_ascii.stl", vtk.vtkSTLWriter(), data, "ascii"),
+            (f"{name}_binary.stl", vtk.vtkSTLWriter(), data, "binary"),
+            (f"{name}_ascii.ply", vtk.vtkPLYWriter(), data, "ascii"),
+            (f"{name}_binary.ply", vtk.vtkPLYWriter(), data, "binary"),
+            (f"{name}_ascii.vtk", vtk.vtkPolyDataWriter(), data, "ascii"),
+            (f"{name}_binary.vtk", vtk.vtkPolyDataWriter(), data, "binary"),
+            (f"{name}_ascii.vtp", vtk.vtkXMLPolyDataWriter(), data, "xml-ascii"),
+            (f"{name}_appended.vtp", vtk.vtkXMLPolyDataWriter(), data, "xml-appended"),
+        ]
+    cases += [
+        ("tetra_volume_ascii.vtu", vtk.vtkXMLUnstructuredGridWriter(), volume(), "xml-ascii"),
+        ("tetra_volume_binary.vtu", vtk.vtkXMLUnstructuredGridWriter(), volume(), "xml-binary"),
+        ("tetra_volume_ascii.vtk", vtk.vtkUnstructuredGridWriter(), volume(), "ascii"),
+        ("quad_v42_ascii.vtk", old_legacy(), quad(), "ascii"),
+        ("quad_v42_binary.vtk", old_legacy(), quad(), "binary"),
+    ]
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, writer, data, mode in cases:
+            path = os.path.join(tmp, name)
+            write(writer, data, path, mode)
+            ext = os.path.splitext(name)[1]
+            with open(path, "rb") as f:
+                body = f.read()
+            if len(body) >= 10000:
+                sys.exit(f"{name}: {len(body)} bytes, too large for the seed corpus")
+            with open(os.path.join(out, name), "wb") as f:
+                f.write(bytes([FORMATS.index(ext)]) + body)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    main(sys.argv[1])

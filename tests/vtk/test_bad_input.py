@@ -1,0 +1,88 @@
+"""Bad input through Python, where the issue met it (issue 11): polydata whose
+triangle names point 7 of 3 (it crashed the interpreter inside
+vtkPolyDataNormals), an empty polydata and a 1-D image (a blank image without a
+word), SetInputMaterial(5, m) with one input (accepted silently). Each is now an
+error or warning event on vtkRayScopeImageAlgorithm, with an empty output image
+where nothing can be rendered. test_vtk_bad_input.cpp covers the same in C++.
+"""
+import sys
+
+import vtk
+import rayscope
+
+failures = []
+
+
+def check(condition, what):
+    if not condition:
+        failures.append(what)
+        print("FAIL:", what)
+
+
+class Events:
+    def __init__(self, obj, event):
+        self.messages = []
+        obj.AddObserver(event, self.on_event)
+
+    def on_event(self, obj, event, message=None):
+        self.messages.append(str(message))
+
+    on_event.CallDataType = vtk.VTK_STRING
+
+
+def traced(*inputs):
+    alg = rayscope.vtkRayScopeImageAlgorithm()
+    for d in inputs:
+        alg.AddInputData(d)
+    alg.SetSize(16, 12)
+    alg.SetPosition(0.3, 0.3, 4.0)
+    alg.SetFocalPoint(0.3, 0.3, 0.0)
+    errors = Events(alg, vtk.vtkCommand.ErrorEvent)
+    warnings = Events(alg, vtk.vtkCommand.WarningEvent)
+    Events(alg.GetExecutive(), vtk.vtkCommand.ErrorEvent)  # keeps the log quiet
+    ok = alg.GetExecutive().Update()
+    return alg, ok, errors.messages, warnings.messages
+
+
+def expect_error(name, data, text):
+    alg, ok, errors, _ = traced(data)
+    check(ok == 0, f"{name}: the update failed")
+    check(len(errors) == 1 and text in errors[0], f"{name}: one error with '{text}': {errors}")
+    check(alg.GetOutput().GetNumberOfPoints() == 0, f"{name}: empty output image")
+
+
+def triangle(third):
+    pts = vtk.vtkPoints()
+    for p in ((0, 0, 0), (1, 0, 0), (0, 1, 0)):
+        pts.InsertNextPoint(p)
+    polys = vtk.vtkCellArray()
+    polys.InsertNextCell(3, (0, 1, third))
+    pd = vtk.vtkPolyData()
+    pd.SetPoints(pts)
+    pd.SetPolys(polys)
+    return pd
+
+
+expect_error("point id 7 of 3", triangle(7), "cell 0 refers to point 7 but the data has 3 points")
+expect_error("empty polydata", vtk.vtkPolyData(), "has no surface triangles")
+line = vtk.vtkImageData()
+line.SetDimensions(5, 1, 1)
+expect_error("1-D image", line, "(vtkImageData with 5 points, 4 cells) has no surface triangles")
+
+# The valid triangle renders; a material for input 5 of 1 is a warning.
+tri = triangle(2)
+alg = rayscope.vtkRayScopeImageAlgorithm()
+alg.AddInputData(tri)
+alg.SetSize(16, 12)
+alg.SetPosition(0.3, 0.3, 4.0)
+alg.SetFocalPoint(0.3, 0.3, 0.0)
+alg.SetInputMaterial(5, rayscope.vtkRayScopeMaterial())
+warnings = Events(alg, vtk.vtkCommand.WarningEvent)
+check(alg.GetExecutive().Update() == 1, "valid triangle: rendered")
+check(alg.GetOutput().GetNumberOfPoints() == 16 * 12, "valid triangle: full image")
+check(len(warnings.messages) == 1 and "is set for input 5, but only 1 input is connected"
+      in warnings.messages[0], f"SetInputMaterial(5): one warning: {warnings.messages}")
+
+if failures:
+    sys.exit(f"{len(failures)} check(s) failed")
+print("bad input: all checks passed")

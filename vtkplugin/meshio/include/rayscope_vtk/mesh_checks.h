@@ -1,0 +1,77 @@
+// Checks of input that VTK's readers and filters take on trust: run before
+// any VTK code sees the data, so that damaged or hostile input gives one
+// clear error instead of a crash inside VTK or a silently partial mesh.
+// Used by the mesh files of the rayscope command (mesh_files.cpp) and, through
+// convert_dataset(), by the VTK module's converter: one check for both.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+class vtkDataSet;
+
+namespace rayscope_vtk {
+
+/// Size of a binary STL file's header: 80 bytes of text, then the uint32
+/// triangle count.
+inline constexpr std::uintmax_t kStlHeaderBytes = 84;
+/// Size of one binary STL triangle: normal and three corners (12 floats) and
+/// a uint16 attribute byte count.
+inline constexpr std::uintmax_t kStlTriangleBytes = 50;
+
+/**
+ * An STL file VTK's reader can read in full. A file VTK's reader takes for
+ * text (vtksys::SystemTools::DetectFileType, as the reader decides) is ASCII
+ * and checked by the reader itself (see mesh_files.cpp). Any other file is
+ * binary, and its size must hold exactly the triangles its header declares:
+ * VTK's reader reads triangles until the end of the file whatever the header
+ * says, so a truncated file would lose triangles without a word and extra
+ * bytes (or a sparse 2 GB file) would be read as triangles. Throws
+ * std::runtime_error "FILE: problem" (what the header declares, what the file
+ * holds).
+ */
+void check_stl_file(const std::filesystem::path& path);
+
+/**
+ * A PLY file VTK's reader can read without running past its end or writing
+ * through a wrong pointer: the header is complete ("ply", a known format,
+ * elements with known property types, "end_header") and has the layout the
+ * reader needs (vertex x, y, z scalars, no vertex lists; face list
+ * "vertex_indices", no other face lists but "texcoord"; a property of the
+ * other kind crashes the reader), and the body holds every element the header
+ * declares
+ * (binary: the bytes of every item, lists included; ASCII: one line per item
+ * with as many numbers as its properties need). VTK's PLY reader trusts the
+ * header and crashes on a body that ends early. Throws std::runtime_error
+ * "FILE: problem" naming the element and item where the body falls short.
+ */
+void check_ply_file(const std::filesystem::path& path);
+
+/**
+ * What VTK's legacy reader trusts in a .vtk file: in ASCII files, the POINTS
+ * section holds as many numbers as it declares (the reader goes on after a
+ * short one and crashes); in files of a version before 5 (or without a
+ * readable version), whose cell sections list each cell as its point count
+ * and its ids, every section's counts add up to the values it declares and
+ * give the cells it declares (wrong counts make the reader read past its
+ * buffer). Later cell arrays (offsets and connectivity) are checked after
+ * reading (check_cell_point_ids()). Throws std::runtime_error "FILE: problem".
+ */
+void check_legacy_vtk_file(const std::filesystem::path& path);
+
+/// An OBJ file whose faces, lines and points name only vertices, texture
+/// coordinates and normals defined before them (1-based, or negative and
+/// relative). VTK's OBJ reader copies the named tuples unchecked and crashes
+/// on an index out of range. Throws std::runtime_error "FILE: line N: problem".
+void check_obj_file(const std::filesystem::path& path);
+
+/// Empty when every cell of `data` names existing points (ids in
+/// 0..points-1), else the first offending cell and id, e.g. "cell 0 refers to
+/// point 7 but the data has 3 points", or a cell array whose offsets do not
+/// fit its ids (vtkCellArray::IsValid()). VTK's filters (vtkPolyDataNormals,
+/// vtkTriangleFilter) index the points with these ids unchecked. Datasets
+/// whose cells are implicit (images, structured grids) always pass.
+std::string check_cell_point_ids(vtkDataSet* data);
+
+}  // namespace rayscope_vtk

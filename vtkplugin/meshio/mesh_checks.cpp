@@ -1,0 +1,569 @@
+#include "rayscope_vtk/mesh_checks.h"
+
+#include <bit>
+#include <cctype>
+#include <charconv>
+#include <climits>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <vtkCellArray.h>
+#include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkIdTypeArray.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtksys/SystemTools.hxx>
+
+namespace rayscope_vtk {
+namespace {
+
+namespace fs = std::filesystem;
+
+[[noreturn]] void fail(const fs::path& path, const std::string& problem) {
+  throw std::runtime_error(path.string() + ": " + problem);
+}
+
+std::uintmax_t size_of(const fs::path& path) {
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) fail(path, "cannot read its size (" + ec.message() + ")");
+  return size;
+}
+
+// ---- STL ------------------------------------------------------------------
+
+// ---- PLY ------------------------------------------------------------------
+
+// VTK's PLY reader reads ASCII lines into a buffer of this many bytes
+// (vtkPLY.cxx, BIG_STRING) and splits longer ones, which shifts every later
+// item; such files are refused.
+constexpr size_t kPlyMaxLine = 4096 - 2;
+
+struct PlyProperty {
+  std::string name;
+  int size = 0;            // bytes of a scalar or of each list entry
+  bool is_float = false;   // of a scalar or of each list entry
+  bool is_signed = false;  // of a scalar or of each list entry
+  int count_size = 0;      // list: bytes of the count; 0 for a scalar
+  bool count_signed = false;
+};
+
+struct PlyElement {
+  std::string name;
+  std::uintmax_t count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+// The PLY type names VTK's reader knows (vtkPLY.cxx), with their sizes.
+bool ply_type(std::string_view t, int& size, bool& is_float, bool& is_signed) {
+  struct Type {
+    const char* a;
+    const char* b;
+    int size;
+    bool is_float, is_signed;
+  };
+  static constexpr Type kTypes[] = {
+      {"char", "int8", 1, false, true},    {"uchar", "uint8", 1, false, false},
+      {"short", "int16", 2, false, true},  {"ushort", "uint16", 2, false, false},
+      {"int", "int32", 4, false, true},    {"uint", "uint32", 4, false, false},
+      {"float", "float32", 4, true, true}, {"double", "float64", 8, true, true},
+  };
+  for (const Type& k : kTypes)
+    if (t == k.a || t == k.b) {
+      size = k.size;
+      is_float = k.is_float;
+      is_signed = k.is_signed;
+      return true;
+    }
+  return false;
+}
+
+std::vector<std::string_view> words(std::string_view line) {
+  std::vector<std::string_view> w;
+  size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+    size_t j = i;
+    while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
+    if (j > i) w.push_back(line.substr(i, j - i));
+    i = j;
+  }
+  return w;
+}
+
+std::optional<long long> integer(std::string_view s) {
+  long long v = 0;
+  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
+  return v;
+}
+
+// Face corner lists are checked against the vertex count: VTK's reader copies
+// them into the cells unchecked.
+bool is_corner_list(const PlyElement& e, const PlyProperty& p) {
+  return e.name == "face" && p.count_size > 0 && p.name == "vertex_indices";
+}
+
+// The layout VTK's PLY reader needs (vtkPLYReader.h): a "vertex" element
+// with scalar x, y and z, and a "face" element with the list
+// "vertex_indices". The reader asks for its properties by name, each as a
+// scalar or a list, and the PLY library stores a property of the other kind,
+// or an absent list, through the wrong pointer: so the vertex element may have
+// no list at all and the face element lists only where the reader expects
+// them (vertex_indices, texcoord).
+void check_ply_layout(const fs::path& path, const std::vector<PlyElement>& elements) {
+  const PlyElement* vertex = nullptr;
+  const PlyElement* face = nullptr;
+  for (const PlyElement& e : elements) {
+    if (e.name == "vertex" && !vertex) vertex = &e;
+    if (e.name == "face" && !face) face = &e;
+  }
+  if (!vertex || !face)
+    fail(path, "PLY without a 'vertex' and a 'face' element (VTK's reader needs both)");
+  for (const char* axis : {"x", "y", "z"}) {
+    bool found = false;
+    for (const PlyProperty& p : vertex->properties) found |= p.name == axis && p.count_size == 0;
+    if (!found) fail(path, std::string("PLY vertex element has no scalar property '") + axis + "'");
+  }
+  for (const PlyProperty& p : vertex->properties)
+    if (p.count_size > 0) fail(path, "PLY vertex element has a list property '" + p.name + "'");
+  bool indices = false;
+  for (const PlyProperty& p : face->properties) {
+    const bool may_be_list = p.name == "vertex_indices" || p.name == "texcoord";
+    if (p.count_size > 0 && !may_be_list)
+      fail(path, "PLY face element has an unexpected list property '" + p.name + "'");
+    if (p.count_size == 0 && may_be_list)
+      fail(path, "PLY face property '" + p.name + "' is not a list");
+    indices |= p.name == "vertex_indices";
+  }
+  if (!indices) fail(path, "PLY face element has no list property 'vertex_indices'");
+}
+
+// A scalar of `size` bytes as an integer (the caller knows it is one).
+long long binary_integer(const unsigned char* b, int size, bool is_signed, bool big_endian) {
+  unsigned long long u = 0;
+  for (int k = 0; k < size; ++k) {
+    const int byte = big_endian ? k : size - 1 - k;
+    u = (u << 8) | b[byte];
+  }
+  if (is_signed && size < 8 && (u >> (8 * size - 1)) != 0) u |= ~0ull << (8 * size);
+  return static_cast<long long>(u);
+}
+
+// Reads the binary body through a buffer, so that files of any size are
+// walked in bounded memory.
+class BodyReader {
+ public:
+  BodyReader(std::ifstream& in, std::uintmax_t start, std::uintmax_t end)
+      : in_(in), pos_(start), end_(end) {
+    in_.seekg(std::streamoff(start));
+  }
+  std::uintmax_t left() const { return end_ - pos_; }
+  // `n` (<= 8) bytes, or null past the end.
+  const unsigned char* take(int n) {
+    if (left() < std::uintmax_t(n)) return nullptr;
+    in_.read(reinterpret_cast<char*>(bytes_), n);
+    if (in_.gcount() != n) return nullptr;
+    pos_ += std::uintmax_t(n);
+    return bytes_;
+  }
+  bool skip(std::uintmax_t n) {
+    if (left() < n) return false;
+    pos_ += n;
+    in_.seekg(std::streamoff(pos_));
+    return bool(in_);
+  }
+
+ private:
+  std::ifstream& in_;
+  std::uintmax_t pos_, end_;
+  unsigned char bytes_[8];
+};
+
+}  // namespace
+
+void check_stl_file(const fs::path& path) {
+  const std::uintmax_t size = size_of(path);
+  char head[kStlHeaderBytes] = {};
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open the file");
+  in.read(head, std::streamsize(sizeof head));
+  const size_t got = size_t(in.gcount());
+  std::uintmax_t declared = 0, expected = 0;
+  if (got == kStlHeaderBytes) {
+    declared = std::uintmax_t(
+        binary_integer(reinterpret_cast<const unsigned char*>(head) + 80, 4, false, false));
+    expected = kStlHeaderBytes + declared * kStlTriangleBytes;
+    if (size == expected) return;  // binary, complete
+  }
+  // ASCII or binary as VTK's reader decides (by the share of non-text bytes
+  // at the start): ASCII is checked by the reader itself (its errors are
+  // caught), binary must be what its header says.
+  if (vtksys::SystemTools::DetectFileType(path.c_str()) == vtksys::SystemTools::FileTypeText)
+    return;
+  if (got < kStlHeaderBytes)
+    fail(path, "not an STL file: " + std::to_string(size) +
+                   " bytes of binary data, shorter than a binary STL header (84 bytes)");
+  if (size < expected) {
+    const std::uintmax_t room = (size - kStlHeaderBytes) / kStlTriangleBytes;
+    fail(path, "truncated binary STL: the header declares " + std::to_string(declared) +
+                   " triangles (" + std::to_string(expected) + " bytes) but the file has " +
+                   std::to_string(size) + " bytes, " + std::to_string(declared - room) +
+                   " triangles are missing");
+  }
+  fail(path, "damaged binary STL: the header declares " + std::to_string(declared) +
+                 " triangles (" + std::to_string(expected) + " bytes) but the file has " +
+                 std::to_string(size) + " bytes; the " + std::to_string(size - expected) +
+                 " extra bytes would be read as triangles");
+}
+
+void check_ply_file(const fs::path& path) {
+  const std::uintmax_t size = size_of(path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open the file");
+
+  // The header, line by line, as VTK's reader splits it into words.
+  std::string line;
+  auto next_line = [&](const char* what) {
+    if (!std::getline(in, line)) fail(path, std::string("PLY header ends early: ") + what);
+    if (line.size() > kPlyMaxLine)
+      fail(path, "PLY header line longer than " + std::to_string(kPlyMaxLine) + " characters");
+    if (line.find('\0') != std::string::npos) fail(path, "PLY header line with a NUL byte");
+    return words(line);
+  };
+  std::vector<std::string_view> w = next_line("no 'ply'");
+  if (w.size() != 1 || w[0] != "ply") fail(path, "not a PLY file (no 'ply' on the first line)");
+  enum class Format { None, Ascii, Little, Big } format = Format::None;
+  std::vector<PlyElement> elements;
+  for (;;) {
+    w = next_line("no 'end_header'");
+    if (w.empty()) continue;
+    if (w[0] == "end_header") break;
+    if (w[0] == "comment" || w[0] == "obj_info") continue;
+    if (w[0] == "format") {
+      if (w.size() != 3) fail(path, "PLY header: malformed 'format' line");
+      if (w[1] == "ascii")
+        format = Format::Ascii;
+      else if (w[1] == "binary_little_endian")
+        format = Format::Little;
+      else if (w[1] == "binary_big_endian")
+        format = Format::Big;
+      else
+        fail(path, "PLY header: unknown format '" + std::string(w[1]) + "'");
+    } else if (w[0] == "element") {
+      std::optional<long long> n = w.size() == 3 ? integer(w[2]) : std::nullopt;
+      // VTK's reader keeps counts in an int.
+      if (!n || *n < 0 || *n > INT_MAX)
+        fail(path, "PLY header: malformed 'element' line '" + line + "'");
+      elements.push_back({std::string(w[1]), std::uintmax_t(*n), {}});
+    } else if (w[0] == "property") {
+      if (elements.empty()) fail(path, "PLY header: 'property' before any 'element'");
+      PlyProperty p;
+      bool ok = false;
+      if (w.size() == 5 && w[1] == "list") {
+        bool count_float = false;
+        ok = ply_type(w[2], p.count_size, count_float, p.count_signed) && !count_float &&
+             ply_type(w[3], p.size, p.is_float, p.is_signed);
+        p.name = std::string(w[4]);
+      } else if (w.size() == 3) {
+        ok = ply_type(w[1], p.size, p.is_float, p.is_signed);
+        p.name = std::string(w[2]);
+      }
+      if (!ok) fail(path, "PLY header: malformed or unknown property '" + line + "'");
+      elements.back().properties.push_back(p);
+    } else {
+      fail(path, "PLY header: unknown line '" + line + "'");
+    }
+  }
+  if (format == Format::None) fail(path, "PLY header has no 'format' line");
+  check_ply_layout(path, elements);
+  std::uintmax_t vertices = 0;
+  for (const PlyElement& e : elements)
+    if (e.name == "vertex") vertices = e.count;
+
+  auto short_body = [&](const PlyElement& e, std::uintmax_t item) {
+    fail(path, "truncated PLY: the header declares " + std::to_string(e.count) + " " + e.name +
+                   " elements but the data ends at " + e.name + " " + std::to_string(item));
+  };
+  auto bad_corner = [&](const PlyElement& e, std::uintmax_t item, long long id) {
+    fail(path, e.name + " " + std::to_string(item) + " refers to vertex " + std::to_string(id) +
+                   " but the file has " + std::to_string(vertices) + " vertices");
+  };
+
+  if (format == Format::Ascii) {
+    for (const PlyElement& e : elements) {
+      for (std::uintmax_t item = 0; item < e.count; ++item) {
+        if (!std::getline(in, line)) short_body(e, item);
+        if (line.size() > kPlyMaxLine)
+          fail(path, e.name + " " + std::to_string(item) + ": line longer than " +
+                         std::to_string(kPlyMaxLine) + " characters");
+        // VTK's reader splits C strings: a NUL byte ends the line early.
+        if (line.find('\0') != std::string::npos)
+          fail(path, e.name + " " + std::to_string(item) + ": line with a NUL byte");
+        w = words(line);
+        // A short last line without its newline is where a truncated file ends.
+        const bool last = in.eof();
+        size_t at = 0;
+        for (const PlyProperty& p : e.properties) {
+          if (at >= w.size()) {
+            if (last) short_body(e, item);
+            fail(path, e.name + " " + std::to_string(item) + ": fewer values than its " +
+                           std::to_string(e.properties.size()) + " properties");
+          }
+          if (p.count_size == 0) {
+            ++at;
+            continue;
+          }
+          std::optional<long long> n = integer(w[at++]);
+          if (last && n && *n >= 0 && std::uintmax_t(*n) > w.size() - at) short_body(e, item);
+          if (!n || *n < 0 || std::uintmax_t(*n) > w.size() - at)
+            fail(path, e.name + " " + std::to_string(item) + ": list '" + p.name +
+                           "' has a bad count or fewer entries than its count");
+          for (long long k = 0; k < *n; ++k, ++at)
+            if (is_corner_list(e, p)) {
+              std::optional<long long> id = integer(w[at]);
+              if (!id || *id < 0 || std::uintmax_t(*id) >= vertices)
+                bad_corner(e, item, id ? *id : -1);
+            }
+        }
+      }
+    }
+    return;
+  }
+
+  const bool big = format == Format::Big;
+  BodyReader body(in, std::uintmax_t(in.tellg()), size);
+  for (const PlyElement& e : elements) {
+    bool has_list = false;
+    std::uintmax_t fixed = 0;
+    for (const PlyProperty& p : e.properties) {
+      has_list |= p.count_size > 0;
+      fixed += std::uintmax_t(p.size);
+    }
+    if (!has_list) {  // all items have the same size: no need to read them
+      if (body.left() / (fixed ? fixed : 1) < e.count || !body.skip(fixed * e.count))
+        short_body(e, body.left() / (fixed ? fixed : 1));
+      continue;
+    }
+    for (std::uintmax_t item = 0; item < e.count; ++item) {
+      for (const PlyProperty& p : e.properties) {
+        if (p.count_size == 0) {
+          if (!body.skip(std::uintmax_t(p.size))) short_body(e, item);
+          continue;
+        }
+        const unsigned char* c = body.take(p.count_size);
+        if (!c) short_body(e, item);
+        const long long n = binary_integer(c, p.count_size, p.count_signed, big);
+        if (n < 0)
+          fail(path, e.name + " " + std::to_string(item) + ": list '" + p.name +
+                         "' has a negative count");
+        if (!is_corner_list(e, p) || p.is_float) {
+          if (body.left() / std::uintmax_t(p.size) < std::uintmax_t(n) ||
+              !body.skip(std::uintmax_t(n) * std::uintmax_t(p.size)))
+            short_body(e, item);
+          continue;
+        }
+        for (long long k = 0; k < n; ++k) {
+          const unsigned char* v = body.take(p.size);
+          if (!v) short_body(e, item);
+          const long long id = binary_integer(v, p.size, p.is_signed, big);
+          if (id < 0 || std::uintmax_t(id) >= vertices) bad_corner(e, item, id);
+        }
+      }
+    }
+  }
+}
+
+void check_legacy_vtk_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open the file");
+  std::string line;
+  // "# vtk DataFile Version M.m"; VTK reads a version without both numbers
+  // as 0.0, an old version.
+  std::getline(in, line);
+  const size_t v = line.find("Version");
+  int major = 0, minor = 0;
+  if (v == std::string::npos || std::sscanf(line.c_str() + v, "Version %d.%d", &major, &minor) != 2)
+    major = 0;
+  // From version 5 on, cells are offsets and connectivity arrays (checked
+  // after reading by check_cell_point_ids()); before, counts and ids.
+  const bool old_cells = major < 5;
+  std::getline(in, line);  // title
+  std::getline(in, line);
+  std::vector<std::string_view> w = words(line);
+  const bool binary = !w.empty() && (w[0] == "BINARY" || w[0] == "binary");
+  auto upper = [](std::string_view s) {
+    std::string u(s);
+    for (char& c : u) c = char(std::toupper(static_cast<unsigned char>(c)));
+    return u;
+  };
+  while (std::getline(in, line)) {
+    w = words(line);
+    if (w.empty()) continue;
+    const std::string key = upper(w[0]);
+    const bool section = key == "POINTS" || key == "VERTICES" || key == "LINES" ||
+                         key == "POLYGONS" || key == "TRIANGLE_STRIPS" || key == "CELLS";
+    // VTK reads the header's words as tokens, past the end of the line.
+    if (section && w.size() != 3)
+      fail(path, "legacy VTK " + key + " header '" + line + "' is malformed");
+    if (!section) continue;
+    if (key == "POINTS" && !binary) {
+      // VTK's reader goes on after points it could not read, and crashes.
+      const std::optional<long long> n = integer(w[1]);
+      if (!n || *n < 0) fail(path, "legacy VTK POINTS header '" + line + "' is malformed");
+      std::string value;
+      for (long long k = 0; k < 3 * *n; ++k) {
+        char* end = nullptr;
+        if (!(in >> value) || (std::strtod(value.c_str(), &end), *end != '\0'))
+          fail(path, "legacy VTK POINTS declares " + std::to_string(*n) + " points but value " +
+                         std::to_string(k) + " is missing or not a number");
+      }
+      continue;
+    }
+    if (!old_cells || key == "POINTS") continue;
+    const std::optional<long long> cells = integer(w[1]), size = integer(w[2]);
+    if (!cells || !size || *cells < 0 || *size < 0)
+      fail(path, "legacy VTK " + key + " header '" + line + "' is malformed");
+    // Old files list each cell as its point count, then the ids; VTK's
+    // reader trusts the counts. Walked here without storing the values.
+    auto next = [&]() -> long long {
+      if (binary) {
+        unsigned char b[4];
+        if (!in.read(reinterpret_cast<char*>(b), 4)) return -1;
+        return binary_integer(b, 4, true, true);  // legacy binary is big-endian
+      }
+      long long value = -1;
+      if (!(in >> value)) return -1;
+      return value;
+    };
+    long long at = 0, found = 0;
+    while (at < *size) {
+      const long long npts = next();
+      if (npts < 0 || npts > *size - at - 1)
+        fail(path, "legacy VTK " + key + ": cell " + std::to_string(found) +
+                       " has a bad point count or runs past the " + std::to_string(*size) +
+                       " values the section declares");
+      for (long long k = 0; k < npts; ++k)
+        if (next() == -1 && !in) fail(path, "truncated legacy VTK " + key + " section");
+      at += npts + 1;
+      ++found;
+    }
+    if (found != *cells)
+      fail(path, "legacy VTK " + key + " declares " + std::to_string(*cells) + " cells but its " +
+                     std::to_string(*size) + " values hold " + std::to_string(found));
+  }
+}
+
+void check_obj_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open the file");
+  // Vertices, texture coordinates and normals defined so far: what a face
+  // corner "v/vt/vn" (1-based, or negative: counted back from the last) may
+  // name.
+  long long counts[3] = {0, 0, 0};
+  static constexpr const char* kKinds[3] = {"vertex", "texture coordinate", "normal"};
+  std::string line;
+  for (long long number = 1; std::getline(in, line); ++number) {
+    const std::vector<std::string_view> w = words(line);
+    if (w.empty()) continue;
+    if (w[0] == "v") ++counts[0];
+    if (w[0] == "vt") ++counts[1];
+    if (w[0] == "vn") ++counts[2];
+    if (w[0] != "f" && w[0] != "l" && w[0] != "p") continue;
+    for (size_t c = 1; c < w.size(); ++c) {
+      std::string_view corner = w[c];
+      for (int kind = 0; kind < 3 && !corner.empty(); ++kind) {
+        const size_t slash = corner.find('/');
+        const std::string_view part = corner.substr(0, slash);
+        if (!part.empty()) {
+          const std::optional<long long> i = integer(part);
+          if (!i || *i == 0 || *i > counts[kind] || *i < -counts[kind])
+            fail(path, "line " + std::to_string(number) + ": '" + std::string(w[c]) + "' names " +
+                           kKinds[kind] + " " + std::string(part) + " of " +
+                           std::to_string(counts[kind]) + " defined before it");
+        }
+        corner = slash == std::string_view::npos ? std::string_view() : corner.substr(slash + 1);
+      }
+    }
+  }
+}
+
+std::string check_cell_point_ids(vtkDataSet* data) {
+  if (!data) return {};
+  const vtkIdType points = data->GetNumberOfPoints();
+  auto describe = [&](vtkIdType cell, vtkIdType id) {
+    std::ostringstream s;
+    s << "cell " << cell << " refers to point " << id << " but the data has " << points
+      << (points == 1 ? " point" : " points");
+    return s.str();
+  };
+  // The first cell of `cells` (numbered from `first`) with an id outside
+  // 0..points-1, if any. The range of the connectivity array answers for
+  // valid data without a walk over the cells.
+  auto check = [&](vtkCellArray* cells, vtkIdType first) -> std::string {
+    if (!cells) return {};
+    // Offsets that start past 0, decrease, or end elsewhere than the
+    // connectivity's end make cells of absurd sizes (a damaged legacy file).
+    if (!cells->IsValid())
+      return "the offsets of the cells from cell " + std::to_string(first) +
+             " on do not match their point ids (a damaged cell array)";
+    if (cells->GetNumberOfConnectivityIds() == 0) return {};
+    double range[2];
+    cells->GetConnectivityArray()->GetRange(range, 0);
+    if (range[0] >= 0.0 && range[1] < double(points)) return {};
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType c = 0; c < cells->GetNumberOfCells(); ++c) {
+      cells->GetCellAtId(c, ids);
+      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+        if (ids->GetId(k) < 0 || ids->GetId(k) >= points) return describe(first + c, ids->GetId(k));
+    }
+    return {};
+  };
+  if (auto* pd = vtkPolyData::SafeDownCast(data)) {
+    // Cell ids of polydata count verts, then lines, polys, strips.
+    vtkIdType first = 0;
+    for (vtkCellArray* cells : {pd->GetVerts(), pd->GetLines(), pd->GetPolys(), pd->GetStrips()}) {
+      if (std::string e = check(cells, first); !e.empty()) return e;
+      if (cells) first += cells->GetNumberOfCells();
+    }
+    return {};
+  }
+  if (auto* ug = vtkUnstructuredGrid::SafeDownCast(data)) {
+    if (std::string e = check(ug->GetCells(), 0); !e.empty()) return e;
+    // Polyhedra list their faces in a separate stream: per cell, the number
+    // of faces, then per face the number of points and the point ids.
+    vtkIdTypeArray* faces = ug->GetFaces();
+    vtkIdTypeArray* locations = ug->GetFaceLocations();
+    if (faces && locations) {
+      const vtkIdType n = faces->GetNumberOfValues();
+      for (vtkIdType c = 0; c < locations->GetNumberOfValues(); ++c) {
+        vtkIdType at = locations->GetValue(c);
+        if (at < 0) continue;  // not a polyhedron
+        const std::string malformed = "cell " + std::to_string(c) + ": malformed polyhedron faces";
+        if (at >= n) return malformed;
+        const vtkIdType nfaces = faces->GetValue(at++);
+        for (vtkIdType f = 0; f < nfaces; ++f) {
+          if (at >= n) return malformed;
+          const vtkIdType npts = faces->GetValue(at++);
+          if (npts < 0 || npts > n - at) return malformed;
+          for (vtkIdType k = 0; k < npts; ++k, ++at)
+            if (faces->GetValue(at) < 0 || faces->GetValue(at) >= points)
+              return describe(c, faces->GetValue(at));
+        }
+      }
+    }
+  }
+  return {};
+}
+
+}  // namespace rayscope_vtk
