@@ -91,6 +91,61 @@ struct TriangleHit {
   return float(t);
 }
 
+/// The watertight test decided exactly, for rays that pass within the float
+/// test's rounding error of an edge or vertex (see intersect_triangle). Woop's
+/// shear x' = x - (dx/dz) z rounds even for a vertex exactly on the ray, so
+/// a ray through a vertex or an edge on the silhouette of a closed mesh could
+/// miss every triangle around it. Here the shear is taken without division,
+/// X = x dz - z dx (the edge functions scale by dz^2 and t by dz, signs
+/// unchanged), in 113-bit binary128 arithmetic: the translation and the
+/// products of floats are exact, so a vertex on the ray maps exactly to the
+/// origin and a point on an edge exactly onto that edge (the edge function's
+/// products have at most ~2 x 50 bits for the geometry near the ray where this
+/// runs). Zeros count as inside, as in the float test. Out of line and slow
+/// (software arithmetic): it runs only for near-misses.
+[[gnu::noinline]] inline bool intersect_triangle_exact(const TrianglePrecomp& pre, float tmax,
+                                                       const Vec3& p0, const Vec3& p1,
+                                                       const Vec3& p2, TriangleHit& hit) {
+  using Q = __float128;
+  const Q dx = pre.dir_k.x, dy = pre.dir_k.y, dz = pre.dir_k.z;
+  if (!(dz != 0)) return false;
+  Q X[3], Y[3], Z[3];
+  const Vec3* p[3] = {&p0, &p1, &p2};
+  for (int i = 0; i < 3; ++i) {
+    const Q ax = Q((*p[i])[pre.kx]) - Q(pre.origin[pre.kx]);
+    const Q ay = Q((*p[i])[pre.ky]) - Q(pre.origin[pre.ky]);
+    Z[i] = Q((*p[i])[pre.kz]) - Q(pre.origin[pre.kz]);
+    X[i] = ax * dz - Z[i] * dx;
+    Y[i] = ay * dz - Z[i] * dy;
+  }
+  const Q e0 = X[1] * Y[2] - Y[1] * X[2];
+  const Q e1 = X[2] * Y[0] - Y[2] * X[0];
+  const Q e2 = X[0] * Y[1] - Y[0] * X[1];
+  if ((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0)) return false;
+  const Q det = e0 + e1 + e2;
+  if (!(det != 0)) return false;
+  const float t = float((e0 * Z[0] + e1 * Z[1] + e2 * Z[2]) / (det * dz));
+  if (!(t > 0.0f) || !(t <= tmax)) return false;
+  hit.t = t;
+  hit.b0 = float(e0 / det);
+  hit.b1 = float(e1 / det);
+  hit.b2 = float(e2 / det);
+  return true;
+}
+
+/// Bound on the rounding error of the float edge functions of a triangle,
+/// given the largest |x'|, |y'| of its sheared vertices and the largest |z|
+/// before scaling (world units). x' = (p.x - o.x) + sx (p.z - o.z) in float
+/// is off by at most gamma(7) (|x'| + |sx| max|z|) (see intersect_triangle),
+/// likewise y'; an edge function x'_i y'_j - y'_i x'_j then by 2 (gamma(2)
+/// |x'| |y'| + delta_y |x'| + delta_x |y'|).
+[[gnu::always_inline]] inline float edge_error_bound(const TrianglePrecomp& pre, float max_xt,
+                                                     float max_yt, float max_z_world) {
+  const float delta_x = gamma(7) * (max_xt + std::abs(pre.sx) * max_z_world);
+  const float delta_y = gamma(7) * (max_yt + std::abs(pre.sy) * max_z_world);
+  return 2.0f * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+}
+
 /// Watertight ray-triangle test. Returns true and fills `hit` when the ray hits
 /// the triangle at 0 < t < tmax. Degenerate (zero-area) triangles never hit.
 /// (Always inlined: the compiler otherwise calls it out of line from the BVH
@@ -119,12 +174,20 @@ struct TriangleHit {
     e1 = float(double(p2t.x) * double(p0t.y) - double(p2t.y) * double(p0t.x));
     e2 = float(double(p0t.x) * double(p1t.y) - double(p0t.y) * double(p1t.x));
   }
-  if ((e0 < 0.0f || e1 < 0.0f || e2 < 0.0f) && (e0 > 0.0f || e1 > 0.0f || e2 > 0.0f)) return false;
+  if ((e0 < 0.0f || e1 < 0.0f || e2 < 0.0f) && (e0 > 0.0f || e1 > 0.0f || e2 > 0.0f)) {
+    // A miss, unless the signs that disagree are within the edge functions'
+    // rounding error: then the ray passes (nearly) through an edge or vertex,
+    // which on a mesh's silhouette no neighbour may cover. Decide exactly.
+    const Vec3 m = glm::max(glm::abs(p0t), glm::max(glm::abs(p1t), glm::abs(p2t)));
+    const float de = edge_error_bound(pre, m.x, m.y, m.z);
+    if ((e0 < -de || e1 < -de || e2 < -de) && (e0 > de || e1 > de || e2 > de)) return false;
+    return intersect_triangle_exact(pre, tmax, p0, p1, p2, hit);
+  }
   float det = e0 + e1 + e2;
   if (det == 0.0f) return false;
 
   // Largest translated z in world units, before scaling: the error of the
-  // sheared x and y is bounded in terms of it (see delta_x below).
+  // sheared x and y is bounded in terms of it (edge_error_bound).
   const float max_z_world = max_component(glm::abs(Vec3(p0t.z, p1t.z, p2t.z)));
 
   // Scaled hit distance; its sign is checked without dividing.
@@ -157,9 +220,7 @@ struct TriangleHit {
   // nearly in the triangle's plane (sx ~ the grazing angle): the t bound then
   // exceeded t and such hits were rejected; rays at ~1e-5 rad slipped through
   // flat meshes (test_stress, Grazing.*).
-  float delta_x = gamma(7) * (max_xt + std::abs(pre.sx) * max_z_world);
-  float delta_y = gamma(7) * (max_yt + std::abs(pre.sy) * max_z_world);
-  float delta_e = 2.0f * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+  float delta_e = edge_error_bound(pre, max_xt, max_yt, max_z_world);
   float max_e = max_component(glm::abs(Vec3(e0, e1, e2)));
   float delta_t =
       3.0f * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * std::abs(inv_det);
@@ -168,8 +229,13 @@ struct TriangleHit {
     // triangle or far from a tiny one (it rejected 7.8% of real hits on
     // triangles 1e-5..1e-4 rad wide, docs/accuracy.md). Decide in double.
     if (!(t > 0.0f) || std::isnan(delta_t)) return false;
-    t = triangle_t_double(pre, pre.dir_k, p0, p1, p2);
-    if (!(t > 0.0f) || !(t <= tmax)) return false;
+    // t is a convex combination of the vertices' z (the edge functions share
+    // one sign), and a float z has the exact sign of p.z - o.z: with every
+    // vertex ahead of the origin, t > 0 whatever the bound says.
+    if (!(p0t.z > 0.0f && p1t.z > 0.0f && p2t.z > 0.0f)) {
+      t = triangle_t_double(pre, pre.dir_k, p0, p1, p2);
+      if (!(t > 0.0f) || !(t <= tmax)) return false;
+    }
   }
 
   hit.t = t;
@@ -227,13 +293,68 @@ inline bool intersect_sphere(const Ray& ray, const Vec3& center, float radius, f
   return false;
 }
 
+/// Whether p lies on or outside the sphere, decided in double: p - c is exact
+/// there (floats within 2^29 of each other's magnitude) and the sum of
+/// squares is off by ~1e-16 relative, far below the one-ulp steps of p.
+inline bool on_or_outside_sphere(const Vec3& p, const Vec3& center, float radius) {
+  const double dx = double(p.x) - double(center.x), dy = double(p.y) - double(center.y),
+               dz = double(p.z) - double(center.z);
+  return dx * dx + dy * dy + dz * dz >= double(radius) * double(radius);
+}
+
+/// Whether p lies inside the sphere by more than ~gamma(2) r, more than the
+/// rounding of c + v leaves a point whose every coordinate kept v's part
+/// (~u |c| |n|; u r |n| ~ 1e-7 r for the spheres of the scenes): the offset of
+/// a spawned ray, >= gamma(6) r along the normal, then still starts it
+/// outside by ~4u r, which intersect_sphere resolves. Deeper points have lost
+/// a coordinate of v (see sphere_point) and are pushed out.
+inline bool deep_inside_sphere(const Vec3& p, const Vec3& center, float radius) {
+  const double dx = double(p.x) - double(center.x), dy = double(p.y) - double(center.y),
+               dz = double(p.z) - double(center.z);
+  const double r2 = double(radius) * double(radius);
+  return dx * dx + dy * dy + dz * dz < r2 * (1.0 - 2.0 * double(gamma(2)));
+}
+
+/// Moves a sphere hit point that rounding left inside the sphere out onto or
+/// past its surface, one ulp at a time away from the center in every
+/// coordinate where p differs from it (at most a few steps: each moves p by
+/// about an ulp of its largest coordinate), and widens p_error by the distance
+/// moved. Out of line: see sphere_point.
+[[gnu::noinline]] inline Vec3 push_outside_sphere(Vec3 p, const Vec3& center, float radius,
+                                                  const Vec3& v, Vec3& p_error) {
+  const Vec3 p0 = p;
+  for (int step = 0; step < 8 && !on_or_outside_sphere(p, center, radius); ++step)
+    for (int i = 0; i < 3; ++i) {
+      if (v[i] > 0.0f)
+        p[i] = next_float_up(p[i]);
+      else if (v[i] < 0.0f)
+        p[i] = next_float_down(p[i]);
+    }
+  p_error += glm::abs(p - p0);  // exact: p and p0 are a few ulps apart
+  return p;
+}
+
 /// Hit point on a sphere, re-projected onto the surface, with its error bound.
+/// The point returned never lies inside the sphere by more than ~gamma(2) r
+/// (deep_inside_sphere), which the offset of a spawned ray covers: rounding
+/// c + v can drop a
+/// component of v entirely (a sphere small against its distance from the
+/// origin, e.g. r = 4e-4 at x = -35.45, where an ulp of x is 3.8e-6), leaving
+/// p up to ~ulp^2 / 2r inside; the normal (p - c) / r then lacks that
+/// component, so the offset along it (offset_ray_origin) ignores the error in
+/// it, and a ray spawned outward started inside and hit the sphere again
+/// (tests/test_self_intersection.cpp, SmallSpheresFarFromTheirOrigin). p - c
+/// keeps the signs of v, so the spawned origin moves away from the center in
+/// every coordinate and an outward ray starts outside the sphere.
 inline Vec3 sphere_point(const Ray& ray, float t, const Vec3& center, float radius, Vec3& p_error) {
   Vec3 v = (ray.origin + t * ray.dir) - center;
   float len = glm::length(v);
   if (len > 0.0f) v *= radius / len;
   p_error = gamma(6) * (glm::abs(center) + glm::abs(v));
-  return center + v;
+  const Vec3 p = center + v;
+  if (!deep_inside_sphere(p, center, radius)) [[likely]]
+    return p;
+  return push_outside_sphere(p, center, radius, v, p_error);
 }
 
 /// Ray-plane test (lecture: lambda = (P0 - Pr).n / (tr.n), tr.n != 0). Returns a
