@@ -293,68 +293,13 @@ inline bool intersect_sphere(const Ray& ray, const Vec3& center, float radius, f
   return false;
 }
 
-/// Whether p lies on or outside the sphere, decided in double: p - c is exact
-/// there (floats within 2^29 of each other's magnitude) and the sum of
-/// squares is off by ~1e-16 relative, far below the one-ulp steps of p.
-inline bool on_or_outside_sphere(const Vec3& p, const Vec3& center, float radius) {
-  const double dx = double(p.x) - double(center.x), dy = double(p.y) - double(center.y),
-               dz = double(p.z) - double(center.z);
-  return dx * dx + dy * dy + dz * dz >= double(radius) * double(radius);
-}
-
-/// Whether p lies inside the sphere by more than ~gamma(2) r, more than the
-/// rounding of c + v leaves a point whose every coordinate kept v's part
-/// (~u |c| |n|; u r |n| ~ 1e-7 r for the spheres of the scenes): the offset of
-/// a spawned ray, >= gamma(6) r along the normal, then still starts it
-/// outside by ~4u r, which intersect_sphere resolves. Deeper points have lost
-/// a coordinate of v (see sphere_point) and are pushed out.
-inline bool deep_inside_sphere(const Vec3& p, const Vec3& center, float radius) {
-  const double dx = double(p.x) - double(center.x), dy = double(p.y) - double(center.y),
-               dz = double(p.z) - double(center.z);
-  const double r2 = double(radius) * double(radius);
-  return dx * dx + dy * dy + dz * dz < r2 * (1.0 - 2.0 * double(gamma(2)));
-}
-
-/// Moves a sphere hit point that rounding left inside the sphere out onto or
-/// past its surface, one ulp at a time away from the center in every
-/// coordinate where p differs from it (at most a few steps: each moves p by
-/// about an ulp of its largest coordinate), and widens p_error by the distance
-/// moved. Out of line: see sphere_point.
-[[gnu::noinline]] inline Vec3 push_outside_sphere(Vec3 p, const Vec3& center, float radius,
-                                                  const Vec3& v, Vec3& p_error) {
-  const Vec3 p0 = p;
-  for (int step = 0; step < 8 && !on_or_outside_sphere(p, center, radius); ++step)
-    for (int i = 0; i < 3; ++i) {
-      if (v[i] > 0.0f)
-        p[i] = next_float_up(p[i]);
-      else if (v[i] < 0.0f)
-        p[i] = next_float_down(p[i]);
-    }
-  p_error += glm::abs(p - p0);  // exact: p and p0 are a few ulps apart
-  return p;
-}
-
 /// Hit point on a sphere, re-projected onto the surface, with its error bound.
-/// The point returned never lies inside the sphere by more than ~gamma(2) r
-/// (deep_inside_sphere), which the offset of a spawned ray covers: rounding
-/// c + v can drop a
-/// component of v entirely (a sphere small against its distance from the
-/// origin, e.g. r = 4e-4 at x = -35.45, where an ulp of x is 3.8e-6), leaving
-/// p up to ~ulp^2 / 2r inside; the normal (p - c) / r then lacks that
-/// component, so the offset along it (offset_ray_origin) ignores the error in
-/// it, and a ray spawned outward started inside and hit the sphere again
-/// (tests/test_self_intersection.cpp, SmallSpheresFarFromTheirOrigin). p - c
-/// keeps the signs of v, so the spawned origin moves away from the center in
-/// every coordinate and an outward ray starts outside the sphere.
 inline Vec3 sphere_point(const Ray& ray, float t, const Vec3& center, float radius, Vec3& p_error) {
   Vec3 v = (ray.origin + t * ray.dir) - center;
   float len = glm::length(v);
   if (len > 0.0f) v *= radius / len;
   p_error = gamma(6) * (glm::abs(center) + glm::abs(v));
-  const Vec3 p = center + v;
-  if (!deep_inside_sphere(p, center, radius)) [[likely]]
-    return p;
-  return push_outside_sphere(p, center, radius, v, p_error);
+  return center + v;
 }
 
 /// Ray-plane test (lecture: lambda = (P0 - Pr).n / (tr.n), tr.n != 0). Returns a
