@@ -6,7 +6,9 @@
 //    recomputed in double precision when one of them is exactly zero, so a ray
 //    through an edge or vertex shared by two triangles hits at least one of them;
 //    a hit whose t is within the float error bound of zero (grazing rays, tiny
-//    distant triangles) is decided again in double precision rather than dropped;
+//    distant triangles), and a miss whose edge functions are within their
+//    rounding error of zero (a ray through a vertex or edge on a silhouette),
+//    are decided again exactly (intersect_triangle_exact) rather than dropped;
 //  - the sphere test avoids the catastrophic cancellation of the textbook
 //    discriminant b^2 - 4ac (Haines et al., Ray Tracing Gems ch. 7);
 //  - every hit carries a conservative bound on the error of its position, which
@@ -27,7 +29,7 @@ struct TrianglePrecomp {
   int kx, ky, kz;
   float sx, sy, sz;
   Vec3 origin;
-  Vec3 dir_k;  ///< The direction permuted to (kx, ky, kz), for the double-precision fallback.
+  Vec3 dir_k;  ///< The direction permuted to (kx, ky, kz), for the exact test.
 
   explicit TrianglePrecomp(const Ray& ray) : origin(ray.origin) {
     kz = max_dimension(glm::abs(ray.dir));
@@ -45,51 +47,6 @@ struct TriangleHit {
   float t;
   float b0, b1, b2;  // barycentric weights of p0, p1, p2
 };
-
-/// The hit distance of the watertight test redone in double precision, for
-/// hits whose float t is within its own error bound of zero (rays grazing a
-/// triangle or far from a tiny one, where the float bound exceeds t although
-/// the hit is real). Returns the distance, or 0 when t cannot be shown > 0
-/// in double precision either. Out of line: it runs for a tiny share of tests.
-[[gnu::noinline]] inline float triangle_t_double(const TrianglePrecomp& pre, const Vec3& dir_k,
-                                                 const Vec3& p0, const Vec3& p1, const Vec3& p2) {
-  constexpr double u = 0.5 * std::numeric_limits<double>::epsilon();
-  auto g = [](int n) { return n * u / (1.0 - n * u); };
-  const double sx = -double(dir_k.x) / double(dir_k.z), sy = -double(dir_k.y) / double(dir_k.z);
-  const double sz = 1.0 / double(dir_k.z);
-  double x[3], y[3], z[3], max_z_world = 0.0;
-  const Vec3* p[3] = {&p0, &p1, &p2};
-  for (int i = 0; i < 3; ++i) {
-    const double dx = double((*p[i])[pre.kx]) - double(pre.origin[pre.kx]);
-    const double dy = double((*p[i])[pre.ky]) - double(pre.origin[pre.ky]);
-    const double dz = double((*p[i])[pre.kz]) - double(pre.origin[pre.kz]);
-    x[i] = dx + sx * dz;
-    y[i] = dy + sy * dz;
-    z[i] = dz * sz;
-    max_z_world = std::max(max_z_world, std::abs(dz));
-  }
-  const double e0 = x[1] * y[2] - y[1] * x[2];
-  const double e1 = x[2] * y[0] - y[2] * x[0];
-  const double e2 = x[0] * y[1] - y[0] * x[1];
-  const double det = e0 + e1 + e2;
-  if (det == 0.0) return 0.0f;
-  const double t = (e0 * z[0] + e1 * z[1] + e2 * z[2]) / det;
-  // The same bound as the float test, with double's rounding.
-  auto amax = [](const double* v) {
-    return std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
-  };
-  const double max_xt = amax(x), max_yt = amax(y), max_zt = amax(z);
-  const double e[3] = {e0, e1, e2};
-  const double max_e = amax(e);
-  const double delta_x = g(7) * (max_xt + std::abs(sx) * max_z_world);
-  const double delta_y = g(7) * (max_yt + std::abs(sy) * max_z_world);
-  const double delta_z = g(3) * max_zt;
-  const double delta_e = 2.0 * (g(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
-  const double delta_t =
-      3.0 * (g(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) / std::abs(det);
-  if (!(t > delta_t)) return 0.0f;
-  return float(t);
-}
 
 /// The watertight test decided exactly, for rays that pass within the float
 /// test's rounding error of an edge or vertex (see intersect_triangle). Woop's
@@ -227,15 +184,12 @@ struct TriangleHit {
   if (!(t > delta_t)) [[unlikely]] {
     // t may still be positive: the float bound is loose for rays grazing the
     // triangle or far from a tiny one (it rejected 7.8% of real hits on
-    // triangles 1e-5..1e-4 rad wide, docs/accuracy.md). Decide in double.
+    // triangles 1e-5..1e-4 rad wide, docs/accuracy.md).
     if (!(t > 0.0f) || std::isnan(delta_t)) return false;
-    // t is a convex combination of the vertices' z (the edge functions share
-    // one sign), and a float z has the exact sign of p.z - o.z: with every
-    // vertex ahead of the origin, t > 0 whatever the bound says.
-    if (!(p0t.z > 0.0f && p1t.z > 0.0f && p2t.z > 0.0f)) {
-      t = triangle_t_double(pre, pre.dir_k, p0, p1, p2);
-      if (!(t > 0.0f) || !(t <= tmax)) return false;
-    }
+    // Decide exactly: this also rejects triangles of zero area in 3D that
+    // the float shear gave a tiny area (their t bound is huge), whose
+    // neighbours' near misses the exact test then turns into hits.
+    return intersect_triangle_exact(pre, tmax, p0, p1, p2, hit);
   }
 
   hit.t = t;
