@@ -10,7 +10,9 @@
 // skipped (and counted; most cases must be used).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "rayscope/material.h"
 #include "rayscope/scene.h"
@@ -266,6 +268,116 @@ TEST(SelfIntersection, SpheresOfAnyScale) {
     if (HasFailure()) return;
   }
   report("spheres", cnt);
+}
+
+TEST(SelfIntersection, SmallSpheresFarFromTheirOrigin) {
+  // Spheres down to the smallest that float still resolves at their position:
+  // r/|c| from 1e-7 (the radius is then ~1 ulp of the center's largest
+  // coordinate) to 1e-3, one decade at a time, centers with log-uniform
+  // coordinates in 1e-6..1e6 (all three, so the sphere sits off every axis).
+  // A ray from outside hits the front; rays spawned from the hit on the
+  // outside (reflection, random outward directions, a shadow ray to a point
+  // above the tangent plane) must never hit the sphere again. (Inward rays are
+  // checked by SpheresOfAnyScale, down to r/|c| = 1e-4: below that the hit
+  // point's own rounding, ~1 ulp of |c|, is as large as the radius.) Rays per
+  // decade: ~4 x stress-scaled 40000 cases. (Issue 11 reported 21 of 348k
+  // re-hits at 1e-5..1e-4 and 513 of 332k at 1e-6..1e-5; on main at 3cf09f4
+  // this test found none, see docs/accuracy.md.)
+  constexpr int kDecades = 4;  // 1e-7..1e-3
+  const size_t cases = rstest::stress_scaled(40000);
+  std::printf("r/|c| decade      cases  used  outward rays  re-hits\n");
+  for (int dec = 0; dec < kDecades; ++dec) {
+    Rng rng(1200 + uint32_t(dec));
+    size_t used = 0, rays = 0, rehits = 0;
+    std::string first;
+    for (size_t i = 0; i < cases; ++i) {
+      DVec3 center(rng.log_uniform_signed(1e-6, 1e6), rng.log_uniform_signed(1e-6, 1e6),
+                   rng.log_uniform_signed(1e-6, 1e6));
+      const double lo = std::pow(10.0, -7 + dec);
+      double r = rstest::max_abs(center) * rng.log_uniform(lo, 10 * lo);
+      Scene scene;
+      scene.spheres.push_back(rayscope::Sphere{"s", to_f(center), rstest::round_f(r), 0});
+      scene.commit();
+      const Vec3 cf = scene.spheres[0].center;
+      const double rf = scene.spheres[0].radius;
+      DVec3 wdir = rng.unit_vector();
+      Vec3 o = to_f(to_d(cf) + rf * rng.log_uniform(2, 1e3) * wdir);
+      DVec3 aim = to_d(cf) + 0.99 * rf * std::sqrt(rng.uniform()) * tangent(rng, wdir);
+      Vec3 d = to_f((aim - to_d(o)) * rng.log_uniform(1e-2, 1e2));
+      SurfaceHit hit;
+      if (!scene.intersect(Ray{o, d, kInfinity}, hit) || !(glm::dot(d, hit.ng) < 0.0f)) continue;
+      ++used;
+      const Vec3 n = hit.ng;
+      auto check = [&](const Ray& ray, bool any_hit_only) {
+        ++rays;
+        SurfaceHit h2;
+        bool again = !any_hit_only && scene.intersect(ray, h2);
+        bool blocked = scene.occluded(ray);
+        if (again || blocked) {
+          if (++rehits == 1) {
+            char buf[512];
+            std::snprintf(buf, sizeof buf,
+                          "c=(%.9g, %.9g, %.9g) r=%.9g p=(%.9g, %.9g, %.9g) n=(%g, %g, %g) "
+                          "origin=(%.9g, %.9g, %.9g) t=%g",
+                          cf.x, cf.y, cf.z, rf, hit.p.x, hit.p.y, hit.p.z, n.x, n.y, n.z,
+                          ray.origin.x, ray.origin.y, ray.origin.z, again ? h2.t : -1.0);
+            first = buf;
+          }
+        }
+      };
+      Vec3 refl = reflect(glm::normalize(d), glm::normalize(n));
+      Vec3 out[3] = {refl, to_f(hemisphere(rng, to_d(n))), to_f(hemisphere(rng, to_d(n)))};
+      for (const Vec3& w : out)
+        if (glm::dot(w, n) > 0) check(spawn_ray(hit.p, hit.p_error, n, w), false);
+      DVec3 nd = glm::normalize(to_d(n));
+      Vec3 tf = to_f(to_d(hit.p) + rf * rng.log_uniform(1e-1, 1e2) * nd +
+                     rf * rng.log_uniform(1e-3, 10) * tangent(rng, nd));
+      // The target must lie clearly above the tangent plane at the exact hit
+      // point, so that the segment cannot reach the sphere: its distance from
+      // the center exceeds r by more than the hit point's rounding.
+      if (glm::length(to_d(tf) - to_d(cf)) > rf + 2 * glm::length(to_d(hit.p_error)) &&
+          glm::dot(to_d(tf) - to_d(hit.p), nd) > 0)
+        check(spawn_ray_to(hit.p, hit.p_error, n, tf), true);
+    }
+    std::printf("1e%d..1e%d  %8zu %8zu %10zu %8zu\n", dec - 7, dec - 6, cases, used, rays, rehits);
+    EXPECT_EQ(rehits, 0u) << "r/|c| in 1e" << dec - 7 << "..1e" << dec - 6 << ", first: " << first;
+    EXPECT_GT(used, cases / 2) << "too many primary rays missed";
+  }
+}
+
+TEST(SelfIntersection, OffsetIsNotLostToRounding) {
+  // offset_ray_origin's guarantee, which the ray tests above cannot isolate
+  // (the hit points' error bounds are several ulps, rounding costs at most
+  // half of one): the spawned origin lies at least the error bound
+  // d = |n| . p_error beyond p along n (on the side of w), measured exactly in
+  // double. The one-ulp outward step after rounding p + d n is what makes
+  // this hold; rounding to nearest alone loses up to half an ulp, and when d
+  // is below half an ulp of a coordinate (p_error from 1e-10 to 1e-5 of |p|
+  // here) p + d n rounds back to p itself.
+  Rng rng(14);
+  int fails = 0;
+  for (int i = 0; i < 100000; ++i) {
+    const Vec3 p = to_f(DVec3(rng.log_uniform_signed(1e-6, 1e6), rng.log_uniform_signed(1e-6, 1e6),
+                              rng.log_uniform_signed(1e-6, 1e6)));
+    const double rel = rng.log_uniform(1e-10, 1e-5);
+    const Vec3 p_error = to_f(rel * glm::abs(to_d(p)));
+    const Vec3 n = to_f(rng.unit_vector());
+    const Vec3 w = to_f(rng.unit_vector());
+    const Vec3 po = offset_ray_origin(p, p_error, n, w);
+    const DVec3 side = glm::dot(w, n) < 0.0f ? -to_d(n) : to_d(n);
+    const double d = glm::dot(glm::abs(to_d(n)), to_d(p_error));
+    const DVec3 moved = to_d(po) - to_d(p);
+    // Every coordinate moves by at least its share of the offset, outward.
+    for (int k = 0; k < 3; ++k)
+      if (side[k] != 0.0 &&
+          !(moved[k] * (side[k] > 0 ? 1 : -1) >= std::abs(d * side[k]) * 0.999999)) {
+        if (++fails <= 5)
+          ADD_FAILURE() << "coordinate " << k << " moved " << moved[k] << ", needs " << d * side[k]
+                        << " (p=" << p[k] << ", p_error=" << p_error[k] << ")";
+        break;
+      }
+  }
+  EXPECT_EQ(fails, 0);
 }
 
 // ---------------------------------------------------------------------------

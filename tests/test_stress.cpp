@@ -49,15 +49,6 @@
 #include "rayscope/shapes.h"
 #include "test_util.h"
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define RAYSCOPE_TEST_SANITIZED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
-    __has_feature(memory_sanitizer)
-#define RAYSCOPE_TEST_SANITIZED 1
-#endif
-#endif
-
 namespace {
 
 using namespace rayscope;
@@ -65,29 +56,14 @@ using rstest::DVec3;
 using rstest::pixels_differing;
 using rstest::psnr;
 using rstest::Rng;
+using rstest::stress_scale;
 using rstest::to_d;
 using rstest::to_f;
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-double stress_scale() {
-  static const double scale = [] {
-    if (const char* s = std::getenv("RAYSCOPE_STRESS_SCALE")) {
-      char* end = nullptr;
-      double v = std::strtod(s, &end);
-      if (end != s && std::isfinite(v) && v > 0.0) return std::min(v, 1.0);
-    }
-#if defined(RAYSCOPE_TEST_SANITIZED) || !defined(__OPTIMIZE__)
-    return 0.1;
-#else
-    return 1.0;
-#endif
-  }();
-  return scale;
-}
-
 size_t scaled(size_t n) {
-  return std::max<size_t>(1, size_t(double(n) * stress_scale()));
+  return rstest::stress_scaled(n);
 }
 
 bool finite_color(const Color& c) {

@@ -5,8 +5,10 @@
 // 6e-8 and the difference to the tested result is the tested code's error.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <random>
 #include <vector>
 
@@ -16,7 +18,43 @@
 #include "rayscope/ray.h"
 #include "rayscope/render_settings.h"
 
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define RAYSCOPE_TEST_SANITIZED 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
+    __has_feature(memory_sanitizer)
+#define RAYSCOPE_TEST_SANITIZED 1
+#endif
+#endif
+
 namespace rstest {
+
+/// How much of its full work a numerical stress test does: tracing is 10-50x
+/// slower under sanitizers and without optimisation, so ray counts scale by
+/// this factor (every check stays the same; only how many cases are tried
+/// changes). RAYSCOPE_STRESS_SCALE from the environment if set (in (0, 1],
+/// e.g. 0.1), else 0.1 under AddressSanitizer/ThreadSanitizer or without
+/// optimisation, 1 otherwise.
+inline double stress_scale() {
+  static const double scale = [] {
+    if (const char* s = std::getenv("RAYSCOPE_STRESS_SCALE")) {
+      char* end = nullptr;
+      double v = std::strtod(s, &end);
+      if (end != s && std::isfinite(v) && v > 0.0) return std::min(v, 1.0);
+    }
+#if defined(RAYSCOPE_TEST_SANITIZED) || !defined(__OPTIMIZE__)
+    return 0.1;
+#else
+    return 1.0;
+#endif
+  }();
+  return scale;
+}
+
+/// n scaled by stress_scale(), at least 1.
+inline size_t stress_scaled(size_t n) {
+  return std::max<size_t>(1, size_t(double(n) * stress_scale()));
+}
 
 using rayscope::Vec3;
 using DVec3 = glm::dvec3;

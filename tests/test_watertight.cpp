@@ -9,10 +9,21 @@
 // resolved by hundreds of ulps, so the mesh is a proper closed surface in
 // float, and the far-from-origin cases exercise the translation of vertices to
 // the ray origin where absolute rounding errors are large.
+//
+// WatertightDegenerate: the opposite, closed spheres so small for their
+// distance from the origin that float rounding of the vertices leaves many
+// triangles of zero area, plus duplicated triangles; rays from outside aimed
+// exactly at vertices and edge midpoints (which may lie on the silhouette)
+// and from inside must never escape, through the BVH and without one.
+// WatertightEdgeFunctions: an edge function that float rounds to zero is
+// decided by its exact sign.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "rayscope/scene.h"
 #include "rayscope/shapes.h"
@@ -163,3 +174,191 @@ INSTANTIATE_TEST_SUITE_P(IcosphereLevel5, Watertight,
                          config_name);
 
 }  // namespace
+
+// ---------------------------------------------------------------------------
+// Float-degenerate meshes: closed spheres so small for their distance from the
+// origin that rounding the vertices to float leaves many triangles with zero
+// area (collinear or coincident vertices), plus duplicated triangles.
+
+namespace degenerate {
+
+// Latitude-longitude sphere: slivers near the poles, one vertex per pole.
+TriangleMesh make_uv_sphere(const DVec3& c, double r, int rings, int segments) {
+  TriangleMesh m;
+  m.name = "uv sphere";
+  m.positions.push_back(to_f(c + DVec3(0, r, 0)));
+  for (int i = 1; i < rings; ++i) {
+    double th = M_PI * i / rings;
+    for (int j = 0; j < segments; ++j) {
+      double ph = 2 * M_PI * j / segments;
+      m.positions.push_back(to_f(
+          c + r * DVec3(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph))));
+    }
+  }
+  m.positions.push_back(to_f(c - DVec3(0, r, 0)));
+  const uint32_t south = uint32_t(m.positions.size() - 1);
+  auto id = [&](int i, int j) { return uint32_t(1 + (i - 1) * segments + (j % segments)); };
+  for (int j = 0; j < segments; ++j) {
+    m.triangles.emplace_back(0, id(1, j + 1), id(1, j));
+    m.triangles.emplace_back(south, id(rings - 1, j), id(rings - 1, j + 1));
+  }
+  for (int i = 1; i + 1 < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      uint32_t a = id(i, j), b = id(i, j + 1), cc = id(i + 1, j + 1), d = id(i + 1, j);
+      m.triangles.emplace_back(a, b, cc);
+      m.triangles.emplace_back(a, cc, d);
+    }
+  return m;
+}
+
+size_t zero_area(const TriangleMesh& m) {
+  size_t n = 0;
+  for (const glm::uvec3& t : m.triangles) {
+    DVec3 a = to_d(m.positions[t.x]), b = to_d(m.positions[t.y]), c = to_d(m.positions[t.z]);
+    if (glm::cross(b - a, c - a) == DVec3(0.0)) ++n;  // exact: few-ulp differences
+  }
+  return n;
+}
+
+}  // namespace degenerate
+
+// Meshes: icospheres (level 5, 20480 triangles) of radius 0.004 and 0.03 at
+// ~(3000, -2000, 2500), where a float step is 2.4e-4: edges of ~0.6 and ~4
+// ulps, so that rounding makes collinear and coincident vertices (9908 of
+// 23406 triangles have zero area at r = 0.004; none at 0.03, whose vertices
+// are rounded by a sixth of an edge); and
+// UV spheres (96 x 192) of radius 0.1 and 1 at ~(-1e5, 1.2e5, 9e4) (float
+// step 0.0078), whose pole slivers collapse (35710 and 2674 zero-area
+// triangles of 41692). Every 7th triangle is added again (duplicates).
+struct DegenerateConfig {
+  const char* name;
+  bool uv;
+  double radius;
+  bool has_zero_area;  ///< Whether rounding leaves zero-area triangles.
+};
+
+class WatertightDegenerate : public ::testing::TestWithParam<DegenerateConfig> {
+ protected:
+  void SetUp() override {
+    const DegenerateConfig& c = GetParam();
+    const DVec3 ico_center(3001.7, -1999.3, 2500.1), uv_center(-1.0e5 - 0.3, 1.2e5 + 0.7, 0.9e5);
+    if (c.uv) {
+      mesh_ = degenerate::make_uv_sphere(uv_center, c.radius, 96, 192);
+      center_ = uv_center;
+    } else {
+      mesh_ = make_icosphere(to_f(ico_center), float(c.radius), 5);
+      center_ = to_d(to_f(ico_center));
+    }
+    const size_t base = mesh_.triangles.size();
+    for (size_t i = 0; i < base; i += 7) mesh_.triangles.push_back(mesh_.triangles[i]);
+    zero_area_ = degenerate::zero_area(mesh_);
+  }
+
+  // Rays at targets on the surface: every vertex, and every edge midpoint
+  // that float computes exactly (0.5f * (a + b) == (a + b) / 2 in double; the
+  // others are off the surface). From outside: origins at 1.5..20 r in random
+  // directions; d = v - o is exact (checked: o and v agree to within a
+  // factor 2 in every coordinate, Sterbenz), so the ray passes exactly through
+  // the target, which may lie on the silhouette. From inside (within 0.9 r):
+  // every float midpoint, exact or not, since any ray from inside must leave.
+  // An escape is a ray that neither intersect() nor occluded() finds a hit
+  // for. Returns the escapes; counts the rays in `rays`.
+  size_t shoot(const Scene& scene, size_t stride, bool inside, bool exact_mids_only, bool vertices,
+               uint32_t seed, size_t& rays) {
+    const double r = GetParam().radius;
+    Rng rng(seed);
+    std::vector<Vec3> targets;
+    if (vertices) {
+      targets = mesh_.positions;
+    } else {
+      for (const glm::uvec3& t : mesh_.triangles)
+        for (int e = 0; e < 3; ++e) {
+          const Vec3 a = mesh_.positions[t[e]], b = mesh_.positions[t[(e + 1) % 3]];
+          const Vec3 mid = 0.5f * (a + b);
+          if (!exact_mids_only || to_d(mid) == 0.5 * (to_d(a) + to_d(b))) targets.push_back(mid);
+        }
+    }
+    size_t escaped = 0;
+    for (size_t i = 0; i < targets.size(); i += stride) {
+      const Vec3 o = to_f(inside ? center_ + 0.9 * r * rng.in_unit_ball()
+                                 : center_ + r * rng.log_uniform(1.5, 20) * rng.unit_vector());
+      const Vec3 d = targets[i] - o;
+      EXPECT_EQ(to_d(d), to_d(targets[i]) - to_d(o));
+      ++rays;
+      const Ray ray{o, d, kInfinity};
+      PrimHit h;
+      if (!scene.intersect(ray, h) || !scene.occluded(ray)) {
+        if (++escaped <= 3)
+          ADD_FAILURE() << std::hexfloat << "escaped: o=(" << o.x << ", " << o.y << ", " << o.z
+                        << ") d=(" << d.x << ", " << d.y << ", " << d.z << ")";
+      }
+    }
+    return escaped;
+  }
+
+  TriangleMesh mesh_;
+  DVec3 center_;
+  size_t zero_area_ = 0;
+};
+
+TEST_P(WatertightDegenerate, RaysAtVerticesAndEdgesNeverEscape) {
+  EXPECT_EQ(zero_area_ > 0, GetParam().has_zero_area);
+  // Through the BVH (AccelKind::Bvh) every target (a stride under
+  // sanitizers), and without a structure (AccelKind::None: O(n) per ray) every
+  // 97th, so that the triangle test alone is checked too.
+  const size_t stride = std::max<size_t>(1, size_t(std::lround(1.0 / rstest::stress_scale())));
+  for (AccelKind kind : {AccelKind::Bvh, AccelKind::None}) {
+    AccelConfig config;
+    config.kind = kind;
+    Scene scene;
+    scene.meshes = {mesh_};
+    scene.commit(config);
+    const size_t s = kind == AccelKind::None ? 97 * stride : stride;
+    size_t rv = 0, re = 0, ri = 0;
+    const size_t ev = shoot(scene, s, false, true, true, 1, rv);
+    const size_t ee = shoot(scene, s, false, true, false, 2, re);
+    const size_t ei = shoot(scene, s, true, false, false, 3, ri);
+    std::printf(
+        "%s, %s: %zu triangles (%zu zero-area); from outside: %zu/%zu vertex rays and "
+        "%zu/%zu edge-midpoint rays escaped; from inside: %zu/%zu\n",
+        GetParam().name, to_string(kind), mesh_.triangles.size(), zero_area_, ev, rv, ee, re, ei,
+        ri);
+    EXPECT_EQ(ev + ee + ei, 0u) << to_string(kind);
+    EXPECT_GT(re, rv / 4) << "too few exact edge midpoints";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(FloatRounded, WatertightDegenerate,
+                         ::testing::Values(DegenerateConfig{"Ico_R0_004", false, 0.004, true},
+                                           DegenerateConfig{"Ico_R0_03", false, 0.03, false},
+                                           DegenerateConfig{"UV_R0_1", true, 0.1, true},
+                                           DegenerateConfig{"UV_R1", true, 1.0, true}),
+                         [](const ::testing::TestParamInfo<DegenerateConfig>& info) {
+                           return info.param.name;
+                         });
+
+TEST(WatertightEdgeFunctions, ZeroInFloatIsDecidedExactly) {
+  // The case the double-precision recomputation of zero edge functions in
+  // intersect_triangle exists for. A ray along +z from the origin sees the
+  // triangle unsheared (x' = x, y' = y). For the edge p1 p2 the products
+  // x1 y2 = (1 + 2047 2^-23)^2 and y1 x2 = 1 + 4094 2^-23 differ by
+  // 2047^2 2^-46 = 6e-8, less than half an ulp of either, so the float edge
+  // function is exactly 0, which the test counts as inside; its exact sign
+  // (+) is opposite to the other two (-): the ray passes ~1e-5 outside the edge
+  // (found by an exact rational search). Without the recomputation the ray
+  // hits.
+  const Vec3 p0(0x1.8010e8p+1f, 0x1.8028e6p+1f, 1.0f);
+  const Vec3 p1(0x1.000ffep+0f, 0x1.001ffcp+0f, 1.0f);
+  const Vec3 p2(1.0f, 0x1.000ffep+0f, 1.0f);
+  ASSERT_EQ(p1.x * p2.y - p1.y * p2.x, 0.0f);                   // the float edge function
+  const double e0 = double(p1.x) * p2.y - double(p1.y) * p2.x;  // exact
+  const double e1 = double(p2.x) * p0.y - double(p2.y) * p0.x;
+  const double e2 = double(p0.x) * p1.y - double(p0.y) * p1.x;
+  ASSERT_GT(e0, 0.0);
+  ASSERT_LT(e1, 0.0);
+  ASSERT_LT(e2, 0.0);
+  TriangleHit h;
+  EXPECT_FALSE(
+      intersect_triangle(Ray{Vec3(0.0f), Vec3(0.0f, 0.0f, 1.0f), kInfinity}, p0, p1, p2, h))
+      << "t=" << h.t;
+}

@@ -6,7 +6,9 @@
 //    recomputed in double precision when one of them is exactly zero, so a ray
 //    through an edge or vertex shared by two triangles hits at least one of them;
 //    a hit whose t is within the float error bound of zero (grazing rays, tiny
-//    distant triangles) is decided again in double precision rather than dropped;
+//    distant triangles), and a miss whose edge functions are within their
+//    rounding error of zero (a ray through a vertex or edge on a silhouette),
+//    are decided again exactly (intersect_triangle_exact) rather than dropped;
 //  - the sphere test avoids the catastrophic cancellation of the textbook
 //    discriminant b^2 - 4ac (Haines et al., Ray Tracing Gems ch. 7);
 //  - every hit carries a conservative bound on the error of its position, which
@@ -27,7 +29,7 @@ struct TrianglePrecomp {
   int kx, ky, kz;
   float sx, sy, sz;
   Vec3 origin;
-  Vec3 dir_k;  ///< The direction permuted to (kx, ky, kz), for the double-precision fallback.
+  Vec3 dir_k;  ///< The direction permuted to (kx, ky, kz), for the exact test.
 
   explicit TrianglePrecomp(const Ray& ray) : origin(ray.origin) {
     kz = max_dimension(glm::abs(ray.dir));
@@ -46,49 +48,59 @@ struct TriangleHit {
   float b0, b1, b2;  // barycentric weights of p0, p1, p2
 };
 
-/// The hit distance of the watertight test redone in double precision, for
-/// hits whose float t is within its own error bound of zero (rays grazing a
-/// triangle or far from a tiny one, where the float bound exceeds t although
-/// the hit is real). Returns the distance, or 0 when t cannot be shown > 0
-/// in double precision either. Out of line: it runs for a tiny share of tests.
-[[gnu::noinline]] inline float triangle_t_double(const TrianglePrecomp& pre, const Vec3& dir_k,
-                                                 const Vec3& p0, const Vec3& p1, const Vec3& p2) {
-  constexpr double u = 0.5 * std::numeric_limits<double>::epsilon();
-  auto g = [](int n) { return n * u / (1.0 - n * u); };
-  const double sx = -double(dir_k.x) / double(dir_k.z), sy = -double(dir_k.y) / double(dir_k.z);
-  const double sz = 1.0 / double(dir_k.z);
-  double x[3], y[3], z[3], max_z_world = 0.0;
+/// The watertight test decided exactly, for rays that pass within the float
+/// test's rounding error of an edge or vertex (see intersect_triangle). Woop's
+/// shear x' = x - (dx/dz) z rounds even for a vertex exactly on the ray, so
+/// a ray through a vertex or an edge on the silhouette of a closed mesh could
+/// miss every triangle around it. Here the shear is taken without division,
+/// X = x dz - z dx (the edge functions scale by dz^2 and t by dz, signs
+/// unchanged), in 113-bit binary128 arithmetic: the translation and the
+/// products of floats are exact, so a vertex on the ray maps exactly to the
+/// origin and a point on an edge exactly onto that edge (the edge function's
+/// products have at most ~2 x 50 bits for the geometry near the ray where this
+/// runs). Zeros count as inside, as in the float test. Out of line and slow
+/// (software arithmetic): it runs only for near-misses.
+[[gnu::noinline]] inline bool intersect_triangle_exact(const TrianglePrecomp& pre, float tmax,
+                                                       const Vec3& p0, const Vec3& p1,
+                                                       const Vec3& p2, TriangleHit& hit) {
+  using Q = __float128;
+  const Q dx = pre.dir_k.x, dy = pre.dir_k.y, dz = pre.dir_k.z;
+  if (!(dz != 0)) return false;
+  Q X[3], Y[3], Z[3];
   const Vec3* p[3] = {&p0, &p1, &p2};
   for (int i = 0; i < 3; ++i) {
-    const double dx = double((*p[i])[pre.kx]) - double(pre.origin[pre.kx]);
-    const double dy = double((*p[i])[pre.ky]) - double(pre.origin[pre.ky]);
-    const double dz = double((*p[i])[pre.kz]) - double(pre.origin[pre.kz]);
-    x[i] = dx + sx * dz;
-    y[i] = dy + sy * dz;
-    z[i] = dz * sz;
-    max_z_world = std::max(max_z_world, std::abs(dz));
+    const Q ax = Q((*p[i])[pre.kx]) - Q(pre.origin[pre.kx]);
+    const Q ay = Q((*p[i])[pre.ky]) - Q(pre.origin[pre.ky]);
+    Z[i] = Q((*p[i])[pre.kz]) - Q(pre.origin[pre.kz]);
+    X[i] = ax * dz - Z[i] * dx;
+    Y[i] = ay * dz - Z[i] * dy;
   }
-  const double e0 = x[1] * y[2] - y[1] * x[2];
-  const double e1 = x[2] * y[0] - y[2] * x[0];
-  const double e2 = x[0] * y[1] - y[0] * x[1];
-  const double det = e0 + e1 + e2;
-  if (det == 0.0) return 0.0f;
-  const double t = (e0 * z[0] + e1 * z[1] + e2 * z[2]) / det;
-  // The same bound as the float test, with double's rounding.
-  auto amax = [](const double* v) {
-    return std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
-  };
-  const double max_xt = amax(x), max_yt = amax(y), max_zt = amax(z);
-  const double e[3] = {e0, e1, e2};
-  const double max_e = amax(e);
-  const double delta_x = g(7) * (max_xt + std::abs(sx) * max_z_world);
-  const double delta_y = g(7) * (max_yt + std::abs(sy) * max_z_world);
-  const double delta_z = g(3) * max_zt;
-  const double delta_e = 2.0 * (g(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
-  const double delta_t =
-      3.0 * (g(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) / std::abs(det);
-  if (!(t > delta_t)) return 0.0f;
-  return float(t);
+  const Q e0 = X[1] * Y[2] - Y[1] * X[2];
+  const Q e1 = X[2] * Y[0] - Y[2] * X[0];
+  const Q e2 = X[0] * Y[1] - Y[0] * X[1];
+  if ((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0)) return false;
+  const Q det = e0 + e1 + e2;
+  if (!(det != 0)) return false;
+  const float t = float((e0 * Z[0] + e1 * Z[1] + e2 * Z[2]) / (det * dz));
+  if (!(t > 0.0f) || !(t <= tmax)) return false;
+  hit.t = t;
+  hit.b0 = float(e0 / det);
+  hit.b1 = float(e1 / det);
+  hit.b2 = float(e2 / det);
+  return true;
+}
+
+/// Bound on the rounding error of the float edge functions of a triangle,
+/// given the largest |x'|, |y'| of its sheared vertices and the largest |z|
+/// before scaling (world units). x' = (p.x - o.x) + sx (p.z - o.z) in float
+/// is off by at most gamma(7) (|x'| + |sx| max|z|) (see intersect_triangle),
+/// likewise y'; an edge function x'_i y'_j - y'_i x'_j then by 2 (gamma(2)
+/// |x'| |y'| + delta_y |x'| + delta_x |y'|).
+[[gnu::always_inline]] inline float edge_error_bound(const TrianglePrecomp& pre, float max_xt,
+                                                     float max_yt, float max_z_world) {
+  const float delta_x = gamma(7) * (max_xt + std::abs(pre.sx) * max_z_world);
+  const float delta_y = gamma(7) * (max_yt + std::abs(pre.sy) * max_z_world);
+  return 2.0f * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
 }
 
 /// Watertight ray-triangle test. Returns true and fills `hit` when the ray hits
@@ -119,12 +131,20 @@ struct TriangleHit {
     e1 = float(double(p2t.x) * double(p0t.y) - double(p2t.y) * double(p0t.x));
     e2 = float(double(p0t.x) * double(p1t.y) - double(p0t.y) * double(p1t.x));
   }
-  if ((e0 < 0.0f || e1 < 0.0f || e2 < 0.0f) && (e0 > 0.0f || e1 > 0.0f || e2 > 0.0f)) return false;
+  if ((e0 < 0.0f || e1 < 0.0f || e2 < 0.0f) && (e0 > 0.0f || e1 > 0.0f || e2 > 0.0f)) {
+    // A miss, unless the signs that disagree are within the edge functions'
+    // rounding error: then the ray passes (nearly) through an edge or vertex,
+    // which on a mesh's silhouette no neighbour may cover. Decide exactly.
+    const Vec3 m = glm::max(glm::abs(p0t), glm::max(glm::abs(p1t), glm::abs(p2t)));
+    const float de = edge_error_bound(pre, m.x, m.y, m.z);
+    if ((e0 < -de || e1 < -de || e2 < -de) && (e0 > de || e1 > de || e2 > de)) return false;
+    return intersect_triangle_exact(pre, tmax, p0, p1, p2, hit);
+  }
   float det = e0 + e1 + e2;
   if (det == 0.0f) return false;
 
   // Largest translated z in world units, before scaling: the error of the
-  // sheared x and y is bounded in terms of it (see delta_x below).
+  // sheared x and y is bounded in terms of it (edge_error_bound).
   const float max_z_world = max_component(glm::abs(Vec3(p0t.z, p1t.z, p2t.z)));
 
   // Scaled hit distance; its sign is checked without dividing.
@@ -157,19 +177,19 @@ struct TriangleHit {
   // nearly in the triangle's plane (sx ~ the grazing angle): the t bound then
   // exceeded t and such hits were rejected; rays at ~1e-5 rad slipped through
   // flat meshes (test_stress, Grazing.*).
-  float delta_x = gamma(7) * (max_xt + std::abs(pre.sx) * max_z_world);
-  float delta_y = gamma(7) * (max_yt + std::abs(pre.sy) * max_z_world);
-  float delta_e = 2.0f * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+  float delta_e = edge_error_bound(pre, max_xt, max_yt, max_z_world);
   float max_e = max_component(glm::abs(Vec3(e0, e1, e2)));
   float delta_t =
       3.0f * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * std::abs(inv_det);
   if (!(t > delta_t)) [[unlikely]] {
     // t may still be positive: the float bound is loose for rays grazing the
     // triangle or far from a tiny one (it rejected 7.8% of real hits on
-    // triangles 1e-5..1e-4 rad wide, docs/accuracy.md). Decide in double.
+    // triangles 1e-5..1e-4 rad wide, docs/accuracy.md).
     if (!(t > 0.0f) || std::isnan(delta_t)) return false;
-    t = triangle_t_double(pre, pre.dir_k, p0, p1, p2);
-    if (!(t > 0.0f) || !(t <= tmax)) return false;
+    // Decide exactly: this also rejects triangles of zero area in 3D that
+    // the float shear gave a tiny area (their t bound is huge), whose
+    // neighbours' near misses the exact test then turns into hits.
+    return intersect_triangle_exact(pre, tmax, p0, p1, p2, hit);
   }
 
   hit.t = t;
