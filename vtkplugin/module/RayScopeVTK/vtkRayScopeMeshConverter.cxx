@@ -110,11 +110,6 @@ bool vtkRayScopeMeshConverter::ConvertToMesh(vtkDataSet* input, rayscope::Triang
   return true;
 }
 
-bool vtkRayScopeMeshConverter::ConvertToMesh(vtkDataSet* input, rayscope::TriangleMesh& mesh) {
-  const double origin[3] = {0.0, 0.0, 0.0};
-  return this->ConvertToMesh(input, mesh, origin);
-}
-
 void vtkRayScopeMeshConverter::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ComputeNormals: " << this->ComputeNormals << "\n";
