@@ -105,12 +105,24 @@ def main(out):
     replace_once(p("valid.vtk"), p("bad_count.vtk"), rb"POINTS (\d+)", rb"POINTS 9\1")
     write(vtk.vtkPolyDataWriter(), triangle(), p("triangle.vtk"), binary=False)
     replace_once(p("triangle.vtk"), p("bad_id.vtk"), b"\n0 1 2", b"\n0 1 7")
+    # An unknown value type (VTK's reader went on with a null array: SEGV).
+    replace_once(p("valid.vtk"), p("bad_type.vtk"), rb"POINTS (\d+) float", rb"POINTS \1 floa")
 
     # VTK XML polydata cut off in the middle.
     w = vtk.vtkXMLPolyDataWriter()
     w.SetDataModeToAscii()
     write(w, ball, p("valid.vtp"))
     truncate_copy(p("valid.vtp"), p("truncated.vtp"), 0.5)
+    # Binary, zlib-compressed: a point count 9 times the data, and a
+    # compression header whose block count 1 became 4093640705 (VTK's parser
+    # allocated 16 GB for it).
+    w = vtk.vtkXMLPolyDataWriter()
+    w.SetDataModeToBinary()
+    w.SetCompressorTypeToZLib()
+    write(w, ball, p("valid_zlib.vtp"))
+    replace_once(p("valid_zlib.vtp"), p("bad_count.vtp"), rb'NumberOfPoints="(\d+)"',
+                 rb'NumberOfPoints="9\1"')
+    replace_once(p("valid_zlib.vtp"), p("bad_blocks.vtp"), rb"AQAAAACAAAA", b"AQAA9ACAAAA")
 
     os.makedirs(p("folder.stl"), exist_ok=True)
     os.makedirs(p("output_folder.png"), exist_ok=True)

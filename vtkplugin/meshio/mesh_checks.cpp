@@ -1,5 +1,8 @@
 #include "rayscope_vtk/mesh_checks.h"
 
+#include "check_util.h"
+
+#include <algorithm>
 #include <bit>
 #include <cctype>
 #include <charconv>
@@ -28,17 +31,7 @@ namespace rayscope_vtk {
 namespace {
 
 namespace fs = std::filesystem;
-
-[[noreturn]] void fail(const fs::path& path, const std::string& problem) {
-  throw std::runtime_error(path.string() + ": " + problem);
-}
-
-std::uintmax_t size_of(const fs::path& path) {
-  std::error_code ec;
-  const std::uintmax_t size = fs::file_size(path, ec);
-  if (ec) fail(path, "cannot read its size (" + ec.message() + ")");
-  return size;
-}
+using namespace checks;
 
 // ---- STL ------------------------------------------------------------------
 
@@ -48,6 +41,29 @@ std::uintmax_t size_of(const fs::path& path) {
 // (vtkPLY.cxx, BIG_STRING) and splits longer ones, which shifts every later
 // item; such files are refused.
 constexpr size_t kPlyMaxLine = 4096 - 2;
+
+// VTK's PLY reader rewrites the first "vertex_index" of every line it reads,
+// header or data, to "vertex_indices" and ends the line there (vtkPLY.cxx,
+// get_words: meant for the face list's name). The checks see each line as
+// the reader will; a line where the longer name would not fit its buffer is
+// refused. Returns false for that line.
+bool as_vtk_reads_ply_line(std::string& line) {
+  static constexpr std::string_view kShort = "vertex_index", kLong = "vertex_indices";
+  const size_t at = line.find(kShort);
+  if (at == std::string::npos) return true;
+  if (at + kLong.size() > kPlyMaxLine) return false;
+  line.replace(at, std::string::npos, kLong);
+  return true;
+}
+
+// A PLY scalar as VTK's reader takes it (atoi or strtod): a word that is not
+// wholly a number would be read as 0 or as its leading digits.
+bool is_ply_number(std::string_view word) {
+  const std::string s(word);
+  char* end = nullptr;
+  std::strtod(s.c_str(), &end);
+  return !s.empty() && end == s.c_str() + s.size();
+}
 
 struct PlyProperty {
   std::string name;
@@ -86,26 +102,6 @@ bool ply_type(std::string_view t, int& size, bool& is_float, bool& is_signed) {
       return true;
     }
   return false;
-}
-
-std::vector<std::string_view> words(std::string_view line) {
-  std::vector<std::string_view> w;
-  size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-    size_t j = i;
-    while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
-    if (j > i) w.push_back(line.substr(i, j - i));
-    i = j;
-  }
-  return w;
-}
-
-std::optional<long long> integer(std::string_view s) {
-  long long v = 0;
-  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
-  return v;
 }
 
 // Face corner lists are checked against the vertex count: VTK's reader copies
@@ -147,17 +143,6 @@ void check_ply_layout(const fs::path& path, const std::vector<PlyElement>& eleme
     indices |= p.name == "vertex_indices";
   }
   if (!indices) fail(path, "PLY face element has no list property 'vertex_indices'");
-}
-
-// A scalar of `size` bytes as an integer (the caller knows it is one).
-long long binary_integer(const unsigned char* b, int size, bool is_signed, bool big_endian) {
-  unsigned long long u = 0;
-  for (int k = 0; k < size; ++k) {
-    const int byte = big_endian ? k : size - 1 - k;
-    u = (u << 8) | b[byte];
-  }
-  if (is_signed && size < 8 && (u >> (8 * size - 1)) != 0) u |= ~0ull << (8 * size);
-  return static_cast<long long>(u);
 }
 
 // Reads the binary body through a buffer, so that files of any size are
@@ -239,6 +224,8 @@ void check_ply_file(const fs::path& path) {
     if (line.size() > kPlyMaxLine)
       fail(path, "PLY header line longer than " + std::to_string(kPlyMaxLine) + " characters");
     if (line.find('\0') != std::string::npos) fail(path, "PLY header line with a NUL byte");
+    if (!as_vtk_reads_ply_line(line))
+      fail(path, "PLY header line with 'vertex_index' too near its end for VTK's reader");
     return words(line);
   };
   std::vector<std::string_view> w = next_line("no 'ply'");
@@ -310,6 +297,9 @@ void check_ply_file(const fs::path& path) {
         // VTK's reader splits C strings: a NUL byte ends the line early.
         if (line.find('\0') != std::string::npos)
           fail(path, e.name + " " + std::to_string(item) + ": line with a NUL byte");
+        if (!as_vtk_reads_ply_line(line))
+          fail(path, e.name + " " + std::to_string(item) +
+                         ": 'vertex_index' too near the end of a long line for VTK's reader");
         w = words(line);
         // A short last line without its newline is where a truncated file ends.
         const bool last = in.eof();
@@ -321,6 +311,9 @@ void check_ply_file(const fs::path& path) {
                            std::to_string(e.properties.size()) + " properties");
           }
           if (p.count_size == 0) {
+            if (!is_ply_number(w[at]))
+              fail(path, e.name + " " + std::to_string(item) + ": property '" + p.name + "' is '" +
+                             std::string(w[at]) + "', not a number");
             ++at;
             continue;
           }
@@ -334,6 +327,9 @@ void check_ply_file(const fs::path& path) {
               std::optional<long long> id = integer(w[at]);
               if (!id || *id < 0 || std::uintmax_t(*id) >= vertices)
                 bad_corner(e, item, id ? *id : -1);
+            } else if (!is_ply_number(w[at])) {
+              fail(path, e.name + " " + std::to_string(item) + ": list '" + p.name + "' holds '" +
+                             std::string(w[at]) + "', not a number");
             }
         }
       }
@@ -384,86 +380,6 @@ void check_ply_file(const fs::path& path) {
   }
 }
 
-void check_legacy_vtk_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, "cannot open the file");
-  std::string line;
-  // "# vtk DataFile Version M.m"; VTK reads a version without both numbers
-  // as 0.0, an old version.
-  std::getline(in, line);
-  const size_t v = line.find("Version");
-  int major = 0, minor = 0;
-  if (v == std::string::npos || std::sscanf(line.c_str() + v, "Version %d.%d", &major, &minor) != 2)
-    major = 0;
-  // From version 5 on, cells are offsets and connectivity arrays (checked
-  // after reading by check_cell_point_ids()); before, counts and ids.
-  const bool old_cells = major < 5;
-  std::getline(in, line);  // title
-  std::getline(in, line);
-  std::vector<std::string_view> w = words(line);
-  const bool binary = !w.empty() && (w[0] == "BINARY" || w[0] == "binary");
-  auto upper = [](std::string_view s) {
-    std::string u(s);
-    for (char& c : u) c = char(std::toupper(static_cast<unsigned char>(c)));
-    return u;
-  };
-  while (std::getline(in, line)) {
-    w = words(line);
-    if (w.empty()) continue;
-    const std::string key = upper(w[0]);
-    const bool section = key == "POINTS" || key == "VERTICES" || key == "LINES" ||
-                         key == "POLYGONS" || key == "TRIANGLE_STRIPS" || key == "CELLS";
-    // VTK reads the header's words as tokens, past the end of the line.
-    if (section && w.size() != 3)
-      fail(path, "legacy VTK " + key + " header '" + line + "' is malformed");
-    if (!section) continue;
-    if (key == "POINTS" && !binary) {
-      // VTK's reader goes on after points it could not read, and crashes.
-      const std::optional<long long> n = integer(w[1]);
-      if (!n || *n < 0) fail(path, "legacy VTK POINTS header '" + line + "' is malformed");
-      std::string value;
-      for (long long k = 0; k < 3 * *n; ++k) {
-        char* end = nullptr;
-        if (!(in >> value) || (std::strtod(value.c_str(), &end), *end != '\0'))
-          fail(path, "legacy VTK POINTS declares " + std::to_string(*n) + " points but value " +
-                         std::to_string(k) + " is missing or not a number");
-      }
-      continue;
-    }
-    if (!old_cells || key == "POINTS") continue;
-    const std::optional<long long> cells = integer(w[1]), size = integer(w[2]);
-    if (!cells || !size || *cells < 0 || *size < 0)
-      fail(path, "legacy VTK " + key + " header '" + line + "' is malformed");
-    // Old files list each cell as its point count, then the ids; VTK's
-    // reader trusts the counts. Walked here without storing the values.
-    auto next = [&]() -> long long {
-      if (binary) {
-        unsigned char b[4];
-        if (!in.read(reinterpret_cast<char*>(b), 4)) return -1;
-        return binary_integer(b, 4, true, true);  // legacy binary is big-endian
-      }
-      long long value = -1;
-      if (!(in >> value)) return -1;
-      return value;
-    };
-    long long at = 0, found = 0;
-    while (at < *size) {
-      const long long npts = next();
-      if (npts < 0 || npts > *size - at - 1)
-        fail(path, "legacy VTK " + key + ": cell " + std::to_string(found) +
-                       " has a bad point count or runs past the " + std::to_string(*size) +
-                       " values the section declares");
-      for (long long k = 0; k < npts; ++k)
-        if (next() == -1 && !in) fail(path, "truncated legacy VTK " + key + " section");
-      at += npts + 1;
-      ++found;
-    }
-    if (found != *cells)
-      fail(path, "legacy VTK " + key + " declares " + std::to_string(*cells) + " cells but its " +
-                     std::to_string(*size) + " values hold " + std::to_string(found));
-  }
-}
-
 void check_obj_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open the file");
@@ -471,6 +387,7 @@ void check_obj_file(const fs::path& path) {
   // corner "v/vt/vn" (1-based, or negative: counted back from the last) may
   // name.
   long long counts[3] = {0, 0, 0};
+  int face_kinds = -1;  // which of them the faces name (bits 0..2), -1 before the first
   static constexpr const char* kKinds[3] = {"vertex", "texture coordinate", "normal"};
   std::string line;
   for (long long number = 1; std::getline(in, line); ++number) {
@@ -480,12 +397,26 @@ void check_obj_file(const fs::path& path) {
     if (w[0] == "vt") ++counts[1];
     if (w[0] == "vn") ++counts[2];
     if (w[0] != "f" && w[0] != "l" && w[0] != "p") continue;
+    // VTK's reader takes texture coordinates and normals for every corner
+    // once one corner has them: a corner without crashes it, and a face
+    // naming other kinds than the faces before it is dropped without a word.
+    // So the corners of an element, and all faces, name the same kinds.
+    int first_kinds = w[0] == "f" ? face_kinds : -1;
     for (size_t c = 1; c < w.size(); ++c) {
       std::string_view corner = w[c];
+      // "v", "v/vt", "v//vn" or "v/vt/vn". VTK's reader reads on past white
+      // space after a slash ("1/ 2" as "1/2"), so nothing may end in one.
+      const size_t slashes = size_t(std::count(corner.begin(), corner.end(), '/'));
+      if (corner.front() == '/' || corner.back() == '/' || slashes > 2 ||
+          (slashes == 1 && corner.find("//") != std::string_view::npos))
+        fail(path, "line " + std::to_string(number) + ": malformed corner '" + std::string(corner) +
+                       "' (use v, v/vt, v//vn or v/vt/vn)");
+      int corner_kinds = 0;
       for (int kind = 0; kind < 3 && !corner.empty(); ++kind) {
         const size_t slash = corner.find('/');
         const std::string_view part = corner.substr(0, slash);
         if (!part.empty()) {
+          corner_kinds |= 1 << kind;
           const std::optional<long long> i = integer(part);
           if (!i || *i == 0 || *i > counts[kind] || *i < -counts[kind])
             fail(path, "line " + std::to_string(number) + ": '" + std::string(w[c]) + "' names " +
@@ -494,7 +425,14 @@ void check_obj_file(const fs::path& path) {
         }
         corner = slash == std::string_view::npos ? std::string_view() : corner.substr(slash + 1);
       }
+      if (first_kinds < 0) first_kinds = corner_kinds;
+      if (corner_kinds != first_kinds)
+        fail(path, "line " + std::to_string(number) + ": corner '" + std::string(w[c]) +
+                       "' differs from " +
+                       (c == 1 ? "the faces before it" : "the corners before it") +
+                       " in naming texture coordinates or normals");
     }
+    if (w[0] == "f") face_kinds = first_kinds;
   }
 }
 

@@ -243,6 +243,7 @@ vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path)
       r = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
     if (!r->CanReadFile(f.c_str()))
       throw std::runtime_error(f + ": not a VTK XML " + ext + " file");
+    check_vtk_xml_file(path, ext == ".vtp" ? "PolyData" : "UnstructuredGrid");
     r->SetFileName(f.c_str());
     data = read_with(r, f);
   } else {

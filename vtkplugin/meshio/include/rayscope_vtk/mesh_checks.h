@@ -49,14 +49,17 @@ void check_stl_file(const std::filesystem::path& path);
 void check_ply_file(const std::filesystem::path& path);
 
 /**
- * What VTK's legacy reader trusts in a .vtk file: in ASCII files, the POINTS
- * section holds as many numbers as it declares (the reader goes on after a
- * short one and crashes); in files of a version before 5 (or without a
- * readable version), whose cell sections list each cell as its point count
- * and its ids, every section's counts add up to the values it declares and
- * give the cells it declares (wrong counts make the reader read past its
- * buffer). Later cell arrays (offsets and connectivity) are checked after
- * reading (check_cell_point_ids()). Throws std::runtime_error "FILE: problem".
+ * A legacy .vtk file whose every section VTK's legacy readers can read: a
+ * DATASET of a supported type (POLYDATA, UNSTRUCTURED_GRID,
+ * STRUCTURED_POINTS, STRUCTURED_GRID, RECTILINEAR_GRID), known section
+ * keywords and value types (an unknown type makes the reader go on with a
+ * null array and crash), every section holding the values it declares (ASCII
+ * numbers or binary bytes), cell sections whose counts or offsets fit their
+ * values (old files: each cell's point count and ids; version 5: OFFSETS
+ * from 0 up to the CONNECTIVITY's size), and point and cell data with one
+ * tuple per point and cell. Point ids are checked after reading
+ * (check_cell_point_ids()). Throws std::runtime_error "FILE: legacy VTK:
+ * problem" naming the section.
  */
 void check_legacy_vtk_file(const std::filesystem::path& path);
 
@@ -65,6 +68,22 @@ void check_legacy_vtk_file(const std::filesystem::path& path);
 /// relative). VTK's OBJ reader copies the named tuples unchecked and crashes
 /// on an index out of range. Throws std::runtime_error "FILE: line N: problem".
 void check_obj_file(const std::filesystem::path& path);
+
+/**
+ * A VTK XML file (.vtp: `dataset_type` "PolyData", .vtu: "UnstructuredGrid")
+ * whose sizes VTK's XML reader can trust: the reader allocates by numbers in
+ * the file before it reads what they describe (each piece's point and cell
+ * counts, each binary array's header: its byte count or its compression
+ * blocks, and the last cell offset, which sizes the connectivity), so a few
+ * damaged bytes make it allocate gigabytes. Each is held against the bytes
+ * the file has: counts against the values their arrays hold, a header against
+ * the bytes after it (a compressed block may expand at most
+ * kMaxCompressionRatio times), the offsets' last value against the
+ * connectivity, polyhedron face streams against their offsets. The XML
+ * structure is read by VTK's own parser (vtkXMLDataParser). Throws
+ * std::runtime_error "FILE: problem" naming the array or piece.
+ */
+void check_vtk_xml_file(const std::filesystem::path& path, const char* dataset_type);
 
 /// Empty when every cell of `data` names existing points (ids in
 /// 0..points-1), else the first offending cell and id, e.g. "cell 0 refers to

@@ -1,0 +1,63 @@
+// Helpers shared by the file checks (mesh_checks.cpp, legacy_vtk_checks.cpp,
+// vtk_xml_checks.cpp); internal to rayscope_vtkio.
+#pragma once
+
+#include <charconv>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace rayscope_vtk::checks {
+
+namespace fs = std::filesystem;
+
+/// Throws the one-line error "FILE: problem".
+[[noreturn]] inline void fail(const fs::path& path, const std::string& problem) {
+  throw std::runtime_error(path.string() + ": " + problem);
+}
+
+inline std::uintmax_t size_of(const fs::path& path) {
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) fail(path, "cannot read its size (" + ec.message() + ")");
+  return size;
+}
+
+/// The words of a line, split at spaces, tabs and carriage returns.
+inline std::vector<std::string_view> words(std::string_view line) {
+  std::vector<std::string_view> w;
+  size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+    size_t j = i;
+    while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
+    if (j > i) w.push_back(line.substr(i, j - i));
+    i = j;
+  }
+  return w;
+}
+
+/// `s` as a whole integer, or nullopt.
+inline std::optional<long long> integer(std::string_view s) {
+  long long v = 0;
+  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
+  return v;
+}
+
+// A scalar of `size` bytes as an integer (the caller knows it is one).
+inline long long binary_integer(const unsigned char* b, int size, bool is_signed, bool big_endian) {
+  unsigned long long u = 0;
+  for (int k = 0; k < size; ++k) {
+    const int byte = big_endian ? k : size - 1 - k;
+    u = (u << 8) | b[byte];
+  }
+  if (is_signed && size < 8 && (u >> (8 * size - 1)) != 0) u |= ~0ull << (8 * size);
+  return static_cast<long long>(u);
+}
+
+}  // namespace rayscope_vtk::checks
