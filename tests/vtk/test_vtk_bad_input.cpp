@@ -14,6 +14,7 @@
 
 #include <filesystem>
 #include <string>
+#include <type_traits>
 
 #include <vtkCellArray.h>
 #include <vtkImageData.h>
@@ -173,31 +174,18 @@ TEST(VtkBadInput, InputWithoutTrianglesIsAnError) {
     }
     EXPECT_EQ(alg->GetOutput()->GetNumberOfPoints(), 0);
   };
-  {
-    vtkNew<vtkSTLReader> r;
+  // Each reader class, given the folder.
+  auto read_folder_with = [&](auto reader_type) {
+    using Reader = typename decltype(reader_type)::type;
+    vtkNew<Reader> r;
     r->SetFileName(folder.c_str());
-    read_folder(r, "vtkSTLReader");
-  }
-  {
-    vtkNew<vtkPLYReader> r;
-    r->SetFileName(folder.c_str());
-    read_folder(r, "vtkPLYReader");
-  }
-  {
-    vtkNew<vtkOBJReader> r;
-    r->SetFileName(folder.c_str());
-    read_folder(r, "vtkOBJReader");
-  }
-  {
-    vtkNew<vtkXMLPolyDataReader> r;
-    r->SetFileName(folder.c_str());
-    read_folder(r, "vtkXMLPolyDataReader");
-  }
-  {
-    vtkNew<vtkPolyDataReader> r;
-    r->SetFileName(folder.c_str());
-    read_folder(r, "vtkPolyDataReader");
-  }
+    read_folder(r, r->GetClassName());
+  };
+  read_folder_with(std::type_identity<vtkSTLReader>());
+  read_folder_with(std::type_identity<vtkPLYReader>());
+  read_folder_with(std::type_identity<vtkOBJReader>());
+  read_folder_with(std::type_identity<vtkXMLPolyDataReader>());
+  read_folder_with(std::type_identity<vtkPolyDataReader>());
   std::filesystem::remove_all(folder);
 }
 

@@ -123,6 +123,13 @@ void check_ply_layout(const fs::path& path, const std::vector<PlyElement>& eleme
   for (const PlyElement& e : elements) {
     if (e.name == "vertex" && !vertex) vertex = &e;
     if (e.name == "face" && !face) face = &e;
+    // VTK's reader reads the vertex and face elements where they are and
+    // skips nothing: another element's data before them would be read as
+    // theirs (then faces name points that do not exist). After them it is
+    // never read.
+    if (e.name != "vertex" && e.name != "face" && (!vertex || !face))
+      fail(path, "PLY element '" + e.name +
+                     "' comes before the vertex and face elements (VTK's reader cannot skip it)");
   }
   if (!vertex || !face)
     fail(path, "PLY without a 'vertex' and a 'face' element (VTK's reader needs both)");
@@ -239,6 +246,7 @@ void check_ply_file(const fs::path& path) {
     if (w[0] == "comment" || w[0] == "obj_info") continue;
     if (w[0] == "format") {
       if (w.size() != 3) fail(path, "PLY header: malformed 'format' line");
+      if (format != Format::None) fail(path, "PLY header has two 'format' lines");
       if (w[1] == "ascii")
         format = Format::Ascii;
       else if (w[1] == "binary_little_endian")
@@ -252,6 +260,10 @@ void check_ply_file(const fs::path& path) {
       // VTK's reader keeps counts in an int.
       if (!n || *n < 0 || *n > INT_MAX)
         fail(path, "PLY header: malformed 'element' line '" + line + "'");
+      // VTK's reader finds elements and properties by name: the first of
+      // two namesakes would be read with the layout of either.
+      for (const PlyElement& e : elements)
+        if (e.name == w[1]) fail(path, "PLY header declares element '" + e.name + "' twice");
       elements.push_back({std::string(w[1]), std::uintmax_t(*n), {}});
     } else if (w[0] == "property") {
       if (elements.empty()) fail(path, "PLY header: 'property' before any 'element'");
@@ -267,6 +279,10 @@ void check_ply_file(const fs::path& path) {
         p.name = std::string(w[2]);
       }
       if (!ok) fail(path, "PLY header: malformed or unknown property '" + line + "'");
+      for (const PlyProperty& q : elements.back().properties)
+        if (q.name == p.name)
+          fail(path, "PLY header declares property '" + p.name + "' of element '" +
+                         elements.back().name + "' twice");
       elements.back().properties.push_back(p);
     } else {
       fail(path, "PLY header: unknown line '" + line + "'");
@@ -301,12 +317,12 @@ void check_ply_file(const fs::path& path) {
           fail(path, e.name + " " + std::to_string(item) +
                          ": 'vertex_index' too near the end of a long line for VTK's reader");
         w = words(line);
-        // A short last line without its newline is where a truncated file ends.
-        const bool last = in.eof();
+        // VTK's reader drops a line without its newline (the file ends in
+        // it) and then frees what it never read: such a file is truncated.
+        if (in.eof()) short_body(e, item);
         size_t at = 0;
         for (const PlyProperty& p : e.properties) {
           if (at >= w.size()) {
-            if (last) short_body(e, item);
             fail(path, e.name + " " + std::to_string(item) + ": fewer values than its " +
                            std::to_string(e.properties.size()) + " properties");
           }
@@ -318,7 +334,6 @@ void check_ply_file(const fs::path& path) {
             continue;
           }
           std::optional<long long> n = integer(w[at++]);
-          if (last && n && *n >= 0 && std::uintmax_t(*n) > w.size() - at) short_body(e, item);
           if (!n || *n < 0 || std::uintmax_t(*n) > w.size() - at)
             fail(path, e.name + " " + std::to_string(item) + ": list '" + p.name +
                            "' has a bad count or fewer entries than its count");

@@ -313,7 +313,9 @@ u64 count(const XmlFile& f, vtkXMLDataElement* piece, const char* name) {
   return u64(n);
 }
 
-/// Every DataArray below `parent` must hold `tuples` tuples of its components.
+/// Every DataArray below `parent` must hold `tuples` tuples of its components
+/// (the piece's points or cells, `of`); field data (`of` null) the
+/// NumberOfTuples each array declares, which the reader allocates.
 void check_attribute_arrays(const XmlFile& f, vtkXMLDataElement* parent, u64 tuples,
                             const char* of) {
   if (!parent) return;
@@ -324,10 +326,19 @@ void check_attribute_arrays(const XmlFile& f, vtkXMLDataElement* parent, u64 tup
     if (a->GetAttribute("NumberOfComponents") &&
         (!a->GetScalarAttribute("NumberOfComponents", components) || components < 1))
       fail(f.path, array_name(a) + " has an invalid NumberOfComponents");
+    if (!of) {
+      long long n = 0;
+      if (a->GetAttribute("NumberOfTuples") &&
+          (!a->GetScalarAttribute("NumberOfTuples", n) || n < 0))
+        fail(f.path, array_name(a) + " has an invalid NumberOfTuples");
+      tuples = u64(n);
+    }
     const u64 values = array_values(f, a);
     if (tuples > 0 && values / u64(components) < tuples)
       fail(f.path, array_name(a) + " holds " + std::to_string(values / u64(components)) +
-                       " tuples but the piece declares " + std::to_string(tuples) + " " + of);
+                       " tuples but " +
+                       (of ? "the piece declares " + std::to_string(tuples) + " " + of
+                           : "declares " + std::to_string(tuples)));
   }
 }
 
@@ -463,6 +474,7 @@ void check_vtk_xml_file(const fs::path& path, const char* dataset_type) {
   vtkXMLDataElement* dataset = root->FindNestedElementWithName(dataset_type);
   if (!dataset) fail(path, std::string("no ") + dataset_type + " element");
   const bool poly = std::string_view(dataset_type) == "PolyData";
+  check_attribute_arrays(f, dataset->FindNestedElementWithName("FieldData"), 0, nullptr);
   for (int i = 0; i < dataset->GetNumberOfNestedElements(); ++i) {
     vtkXMLDataElement* piece = dataset->GetNestedElement(i);
     if (std::string_view(piece->GetName()) != "Piece") continue;
