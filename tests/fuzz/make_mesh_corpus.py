@@ -63,6 +63,41 @@ def volume():
     return ug
 
 
+def polyhedron():
+    """A unit cube as one polyhedron cell (its faces listed in the cell)."""
+    pts = vtk.vtkPoints()
+    for p in ((0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0),
+              (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)):
+        pts.InsertNextPoint(p)
+    ug = vtk.vtkUnstructuredGrid()
+    ug.SetPoints(pts)
+    faces = ((0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7))
+    stream = vtk.vtkIdList()
+    stream.InsertNextId(len(faces))
+    for f in faces:
+        stream.InsertNextId(len(f))
+        for i in f:
+            stream.InsertNextId(i)
+    ug.InsertNextCell(vtk.VTK_POLYHEDRON, stream)
+    return ug
+
+
+def image():
+    img = vtk.vtkImageData()
+    img.SetDimensions(3, 2, 2)
+    img.AllocateScalars(vtk.VTK_UNSIGNED_CHAR, 1)
+    return img
+
+
+def lz4_appended_raw():
+    """Appended raw data, LZ4 blocks, 64-bit headers."""
+    w = vtk.vtkXMLPolyDataWriter()
+    w.SetCompressorTypeToLZ4()
+    w.SetHeaderTypeToUInt64()
+    w.EncodeAppendedDataOff()
+    return w
+
+
 def old_legacy():
     """A legacy writer of the pre-5 format (cells as counts and ids)."""
     w = vtk.vtkPolyDataWriter()
@@ -105,6 +140,13 @@ def main(out):
         ("tetra_volume_ascii.vtk", vtk.vtkUnstructuredGridWriter(), volume(), "ascii"),
         ("quad_v42_ascii.vtk", old_legacy(), quad(), "ascii"),
         ("quad_v42_binary.vtk", old_legacy(), quad(), "binary"),
+        ("cube_polyhedron_ascii.vtu", vtk.vtkXMLUnstructuredGridWriter(), polyhedron(), "xml-ascii"),
+        ("cube_polyhedron_binary.vtu", vtk.vtkXMLUnstructuredGridWriter(), polyhedron(),
+         "xml-binary"),
+        ("tetra_lz4_raw.vtp", lz4_appended_raw(), tetra(False), "xml-appended"),
+        ("image_ascii.vtk", vtk.vtkStructuredPointsWriter(), image(), "ascii"),
+        ("image_binary.vtk", vtk.vtkStructuredPointsWriter(), image(), "binary"),
+        ("tetra_volume_binary.vtk", vtk.vtkUnstructuredGridWriter(), volume(), "binary"),
     ]
     with tempfile.TemporaryDirectory() as tmp:
         for name, writer, data, mode in cases:

@@ -27,14 +27,24 @@ inline std::uintmax_t size_of(const fs::path& path) {
   return size;
 }
 
-/// The words of a line, split at spaces, tabs and carriage returns.
-inline std::vector<std::string_view> words(std::string_view line) {
+/// Where a reader's words end: at a space, tab or carriage return (VTK's PLY
+/// reader), or at any C white space, vertical tab and form feed too
+/// (`std::isspace`: istream >>, VTK's OBJ reader).
+enum class Blanks { SpaceTabReturn, CSpace };
+
+/// The words of a line, split as `blanks` says.
+inline std::vector<std::string_view> words(std::string_view line,
+                                           Blanks blanks = Blanks::SpaceTabReturn) {
+  auto blank = [blanks](char c) {
+    return c == ' ' || c == '\t' || c == '\r' ||
+           (blanks == Blanks::CSpace && (c == '\n' || c == '\v' || c == '\f'));
+  };
   std::vector<std::string_view> w;
   size_t i = 0;
   while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+    while (i < line.size() && blank(line[i])) ++i;
     size_t j = i;
-    while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
+    while (j < line.size() && !blank(line[j])) ++j;
     if (j > i) w.push_back(line.substr(i, j - i));
     i = j;
   }

@@ -104,7 +104,7 @@ class LegacyFile {
     std::getline(in_, l);
     line_pending_ = false;
     std::vector<std::string> out;
-    for (std::string_view w : words(l)) out.emplace_back(w);
+    for (std::string_view w : words(l, Blanks::CSpace)) out.emplace_back(w);
     return out;
   }
 

@@ -406,7 +406,7 @@ void check_obj_file(const fs::path& path) {
   static constexpr const char* kKinds[3] = {"vertex", "texture coordinate", "normal"};
   std::string line;
   for (long long number = 1; std::getline(in, line); ++number) {
-    const std::vector<std::string_view> w = words(line);
+    const std::vector<std::string_view> w = words(line, Blanks::CSpace);
     if (w.empty()) continue;
     if (w[0] == "v") ++counts[0];
     if (w[0] == "vt") ++counts[1];
