@@ -236,6 +236,17 @@ Scene facing_mirrors(float r) {
   return s;
 }
 
+// A skipped ray of this kind, parent, depth and reason, never walked.
+void expect_skipped(const RayRecord& r, RayKind kind, int parent, int depth, SkipReason why) {
+  EXPECT_EQ(r.kind, kind);
+  EXPECT_EQ(r.parent, parent);
+  EXPECT_EQ(r.depth, depth);
+  EXPECT_TRUE(r.skipped);
+  EXPECT_EQ(r.skip_reason, why);
+  EXPECT_TRUE(r.traversal.steps.empty());
+  EXPECT_TRUE(r.color == Color(0.0f));
+}
+
 std::vector<const RayRecord*> skipped_rays(const PixelRecord& rec) {
   std::vector<const RayRecord*> out;
   for (const RayRecord& r : rec.rays)
@@ -268,13 +279,8 @@ TEST(RayTree, LightBehindTheSurfaceGivesASkippedShadowRay) {
   ASSERT_TRUE(primary.hit);
   EXPECT_NEAR(primary.point.z, 1.0f, 1e-5f);
   const RayRecord& shadow = rec.rays[1];
-  EXPECT_EQ(shadow.kind, RayKind::Shadow);
-  EXPECT_EQ(shadow.parent, 0);
-  EXPECT_EQ(shadow.depth, 1);
-  EXPECT_TRUE(shadow.skipped);
-  EXPECT_EQ(shadow.skip_reason, SkipReason::Backfacing);
+  expect_skipped(shadow, RayKind::Shadow, 0, 1, SkipReason::Backfacing);
   EXPECT_EQ(shadow.light, 0);
-  EXPECT_TRUE(shadow.traversal.steps.empty());              // never walked
   EXPECT_NEAR(glm::normalize(shadow.dir).z, -1.0f, 1e-5f);  // toward the light at z = -5
   EXPECT_NEAR(shadow.origin.z, 1.0f, 1e-4f);                // from the hit
   EXPECT_TRUE(primary.lights.empty());
@@ -300,15 +306,10 @@ TEST(RayTree, DepthLimitGivesASkippedReflectionRay) {
   EXPECT_FALSE(rec.rays[1].skipped);
   EXPECT_EQ(rec.rays[1].kind, RayKind::Reflection);
   const RayRecord& cut = rec.rays[2];
-  EXPECT_EQ(cut.kind, RayKind::Reflection);
-  EXPECT_EQ(cut.parent, 1);
-  EXPECT_EQ(cut.depth, 2);
-  EXPECT_TRUE(cut.skipped);
-  EXPECT_EQ(cut.skip_reason, SkipReason::Depth);
+  expect_skipped(cut, RayKind::Reflection, 1, 2, SkipReason::Depth);
   EXPECT_NEAR(cut.weight.x, 0.8f * 0.8f, 1e-6f);
   EXPECT_NEAR(glm::normalize(cut.dir).z, -1.0f, 1e-5f);  // back toward the front mirror
   EXPECT_NEAR(cut.origin.z, 10.0f, 1e-4f);               // from the back mirror
-  EXPECT_TRUE(same_bits(cut.color, Color(0.0f)));
 }
 
 // The contribution cutoff: weights 1, 0.5, 0.25, then 0.125 < 0.2 is not traced.
@@ -322,8 +323,7 @@ TEST(RayTree, ContributionCutoffGivesASkippedReflectionRay) {
   std::vector<const RayRecord*> cut = skipped_rays(rec);
   ASSERT_EQ(cut.size(), 1u);
   EXPECT_EQ(cut[0]->id, 3);
-  EXPECT_EQ(cut[0]->depth, 3);
-  EXPECT_EQ(cut[0]->skip_reason, SkipReason::Contribution);
+  expect_skipped(*cut[0], RayKind::Reflection, 2, 3, SkipReason::Contribution);
   EXPECT_NEAR(cut[0]->weight.x, 0.125f, 1e-7f);
   // The counters of a render agree with the tree: one cutoff per pixel.
   RayCounters c;

@@ -16,6 +16,7 @@
 #include <vtkCellData.h>
 #include <vtkCommand.h>
 #include <vtkDataArray.h>
+#include <vtkFieldData.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPNGReader.h>
@@ -24,6 +25,7 @@
 #include <vtkRenderWindow.h>
 #include <vtkRenderWindowInteractor.h>
 #include <vtkRenderer.h>
+#include <vtkStringArray.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkXMLPolyDataReader.h>
 
@@ -66,6 +68,8 @@ struct Fixture {
   }
 
   bool start() { return viewer->Initialize() && viewer->WaitForRender(); }
+  // start(), then pick the glass pixel.
+  bool start_on_glass() { return start() && viewer->PickPixel(kGlassI, kGlassJ); }
 
   // The core's record of pixel (i, j) (VTK coordinates), as the viewer has it.
   rayscope::PixelRecord record(int i, int j) {
@@ -247,8 +251,7 @@ TEST(Viewer, ClickOnASurfaceIn3DPicksItsPixel) {
 // shows one kind: the overlay follows, and the ends of each range say so.
 TEST(Viewer, KeysStepThroughTheTree) {
   Fixture f;
-  ASSERT_TRUE(f.start());
-  ASSERT_TRUE(f.viewer->PickPixel(kGlassI, kGlassJ));
+  ASSERT_TRUE(f.start_on_glass());
   const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
   int deepest = 0;
   for (const rayscope::RayRecord& r : rec.rays) deepest = std::max(deepest, r.depth);
@@ -298,8 +301,7 @@ TEST(Viewer, PlaysTheSelectedRaysBvhWalk) {
   for (bool binary : {false, true}) {
     Fixture f;
     if (binary) f.alg->SetAccelToBinaryBvh();
-    ASSERT_TRUE(f.start());
-    ASSERT_TRUE(f.viewer->PickPixel(kGlassI, kGlassJ));
+    ASSERT_TRUE(f.start_on_glass());
     const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
     const rayscope::TraversalRecord& walk = rec.rays[0].traversal;
     const std::vector<uint32_t> nodes = walk.nodes();
@@ -331,8 +333,7 @@ TEST(Viewer, PlaysTheSelectedRaysBvhWalk) {
 // not blank; x: the ray tree and the BVH as .vtp files that read back.
 TEST(Viewer, BvhLevelsImageModesScreenshotAndExport) {
   Fixture f;
-  ASSERT_TRUE(f.start());
-  ASSERT_TRUE(f.viewer->PickPixel(kGlassI, kGlassJ));
+  ASSERT_TRUE(f.start_on_glass());
   f.key("b");
   ASSERT_TRUE(f.viewer->GetShowBVH());
   const vtkIdType all = f.viewer->GetShownBVH()->GetNumberOfCells();
@@ -382,8 +383,7 @@ TEST(Viewer, BvhLevelsImageModesScreenshotAndExport) {
 // their ranges they do nothing and say so.
 TEST(Viewer, SamplesAndDepthKeysRerender) {
   Fixture f(1);
-  ASSERT_TRUE(f.start());
-  ASSERT_TRUE(f.viewer->PickPixel(kGlassI, kGlassJ));
+  ASSERT_TRUE(f.start_on_glass());
   f.key("minus");
   EXPECT_EQ(f.alg->GetSamples(), 1);
   EXPECT_NE(std::string(f.viewer->GetMessage()).find("minimum"), std::string::npos);
@@ -407,6 +407,40 @@ TEST(Viewer, SamplesAndDepthKeysRerender) {
   f.key("bracketright");
   ASSERT_TRUE(f.viewer->WaitForRender());
   EXPECT_EQ(f.alg->GetMaxDepth(), 1);
+}
+
+// d labels every shown ray with its id, depth and weight; p switches to a
+// parallel projection (all primary rays parallel) and back, re-rendering.
+TEST(Viewer, LabelsAndProjectionKeys) {
+  Fixture f;
+  ASSERT_TRUE(f.start_on_glass());
+  f.key("d");
+  ASSERT_TRUE(f.viewer->GetShowLabels());
+  vtkPolyData* labels = f.viewer->GetRayLabels();
+  const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
+  ASSERT_EQ(labels->GetNumberOfPoints(), vtkIdType(rec.rays.size()));
+  auto* text = vtkStringArray::SafeDownCast(labels->GetPointData()->GetAbstractArray("Label"));
+  ASSERT_NE(text, nullptr);
+  EXPECT_EQ(text->GetValue(0), "#0 d0 w1");
+  f.key("Down");  // labels follow what is shown: one depth less
+  vtkIdType shown = 0;
+  for (const rayscope::RayRecord& r : rec.rays) shown += r.depth < f.viewer->GetShownDepth() + 1;
+  EXPECT_EQ(labels->GetNumberOfPoints(), shown);
+  EXPECT_LT(shown, vtkIdType(rec.rays.size()));
+  f.key("d");
+  EXPECT_FALSE(f.viewer->GetShowLabels());
+
+  f.key("p");
+  ASSERT_TRUE(f.viewer->WaitForRender());
+  ASSERT_TRUE(f.alg->GetParallelProjection());
+  const rayscope::Vec3 a = f.record(10, 10).rays[0].dir, b = f.record(100, 70).rays[0].dir;
+  EXPECT_NEAR(glm::length(glm::normalize(a) - glm::normalize(b)), 0.0f, 1e-6f);
+  EXPECT_EQ(lines_by_kind(f.viewer->GetShownRays()), recorded_by_kind(f.record(kGlassI, kGlassJ)));
+  f.key("p");
+  ASSERT_TRUE(f.viewer->WaitForRender());
+  EXPECT_FALSE(f.alg->GetParallelProjection());
+  const rayscope::Vec3 c = f.record(10, 10).rays[0].dir, d = f.record(100, 70).rays[0].dir;
+  EXPECT_GT(glm::length(glm::normalize(c) - glm::normalize(d)), 0.1f);
 }
 
 // A scene source without a scene: Initialize fails with a message, no crash.

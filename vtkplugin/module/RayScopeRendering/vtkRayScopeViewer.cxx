@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "vtkActor.h"
+#include "vtkActor2D.h"
 #include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
@@ -26,8 +27,10 @@
 #include "vtkImageMapper3D.h"
 #include "vtkIntArray.h"
 #include "vtkInteractorStyleTrackballCamera.h"
+#include "vtkLabeledDataMapper.h"
 #include "vtkLegendBoxActor.h"
 #include "vtkLookupTable.h"
+#include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPNGWriter.h"
@@ -43,6 +46,7 @@
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
+#include "vtkStringArray.h"
 #include "vtkTextActor.h"
 #include "vtkTextProperty.h"
 #include "vtkThreshold.h"
@@ -83,6 +87,7 @@ constexpr const char* kKindNames[4] = {"primary", "shadow", "reflection", "refra
 constexpr double kSkippedColor[3] = {0.5, 0.5, 0.5};
 constexpr double kNormalColor[3] = {1.0, 0.55, 0.1};
 constexpr double kPickColor[3] = {1.0, 0.1, 0.1};
+constexpr double kSelectedColor[3] = {1.0, 1.0, 1.0};
 constexpr double kWalkColors[6][3] = {{0, 0, 0},       {0.9, 0.9, 0.3}, {0.9, 0.2, 0.2},
                                       {0.2, 0.9, 0.2}, {0.3, 0.5, 1.0}, {1.0, 1.0, 1.0}};
 constexpr const char* kWalkNames[6] = {"",        "box hit, not entered yet",   "box missed",
@@ -90,8 +95,8 @@ constexpr const char* kWalkNames[6] = {"",        "box hit, not entered yet",   
 
 const char* kHelp =
     "click: pick pixel | Up/Down: depth | Right/Left: ray | t/T: BVH walk | b: BVH  l/L: level | "
-    "k: ray kind | m: image mode | +/-: spp  ]/[: max depth  r: 3D camera (re-render) | "
-    "s: screenshot  x: export .vtp | q: quit";
+    "k: ray kind | d: labels | m: image mode | +/-: spp  ]/[: max depth  p: projection  "
+    "r: 3D camera (re-render) | s: screenshot  x: export .vtp | q: quit";
 
 vtkSmartPointer<vtkThreshold> make_threshold(vtkAlgorithmOutput* input, const char* array) {
   auto t = vtkSmartPointer<vtkThreshold>::New();
@@ -172,7 +177,10 @@ struct vtkRayScopeViewer::Internals {
   vtkNew<vtkPassArrays> NoStrings;
   vtkSmartPointer<vtkThreshold> ByDepth, ByRay, ByKind, Traced, Skipped;
   vtkNew<vtkGeometryFilter> Shown;
-  vtkNew<vtkActor> TracedActor, SkippedActor, NormalActor;
+  vtkNew<vtkActor> TracedActor, SkippedActor, NormalActor, SelectedActor;
+  vtkSmartPointer<vtkThreshold> Selected;
+  vtkNew<vtkPolyData> Labels;  // a point per shown ray, at its middle, with its label
+  vtkNew<vtkActor2D> LabelActor;
   vtkNew<vtkHedgeHog> Normals;
   vtkNew<vtkRayScopeBVHSource> BVH;
   vtkNew<vtkPolyData> NoBoxes;
@@ -207,6 +215,8 @@ struct vtkRayScopeViewer::Internals {
   void FinishRender();
   void ShowImage();
   void UpdateOverlay();
+  void UpdateBVH();
+  void UpdateLabels();
   void UpdatePanel();
   void UpdateLegend();
   void Say(const std::string& message) {
@@ -272,6 +282,7 @@ vtkRayScopeViewer::vtkRayScopeViewer()
       ShowBVH(false),
       BVHLevel(-1),
       ImageMode(COLOR),
+      ShowLabels(false),
       LastRenderSeconds(0.0),
       OutputPrefix(nullptr),
       WindowSize{1400, 820},
@@ -342,6 +353,10 @@ vtkImageData* vtkRayScopeViewer::GetLastImage() {
 
 vtkPolyData* vtkRayScopeViewer::GetShownRays() {
   return this->Internal->Shown->GetOutput();
+}
+
+vtkPolyData* vtkRayScopeViewer::GetRayLabels() {
+  return this->Internal->Labels;
 }
 
 vtkPolyData* vtkRayScopeViewer::GetShownBVH() {
@@ -430,11 +445,36 @@ void vtkRayScopeViewer::Internals::Build() {
   this->NormalActor->GetProperty()->SetColor(kNormalColor[0], kNormalColor[1], kNormalColor[2]);
   this->NormalActor->GetProperty()->SetLineWidth(2.0);
   this->NormalActor->GetProperty()->LightingOff();
-  for (vtkActor* a : {this->TracedActor.Get(), this->SkippedActor.Get(), this->NormalActor.Get()}) {
+  // The selected ray, drawn over the others.
+  this->Selected = make_threshold(this->Shown->GetOutputPort(), "RayId");
+  vtkNew<vtkDataSetMapper> selected_mapper;
+  selected_mapper->SetInputConnection(this->Selected->GetOutputPort());
+  selected_mapper->ScalarVisibilityOff();
+  this->SelectedActor->SetMapper(selected_mapper);
+  this->SelectedActor->GetProperty()->SetColor(kSelectedColor[0], kSelectedColor[1],
+                                               kSelectedColor[2]);
+  this->SelectedActor->GetProperty()->SetLineWidth(6.0);
+  this->SelectedActor->GetProperty()->SetPointSize(12.0);
+  this->SelectedActor->GetProperty()->RenderPointsAsSpheresOn();
+  this->SelectedActor->GetProperty()->LightingOff();
+  for (vtkActor* a : {this->TracedActor.Get(), this->SkippedActor.Get(), this->NormalActor.Get(),
+                      this->SelectedActor.Get()}) {
     a->VisibilityOff();
     a->PickableOff();
     this->SceneRen->AddActor(a);
   }
+  // Labels on demand: "#id dDEPTH wWEIGHT" at the middle of each shown ray
+  // (the mapper's "field data" mode reads the named point-data array).
+  vtkNew<vtkLabeledDataMapper> label_mapper;
+  label_mapper->SetInputData(this->Labels);
+  label_mapper->SetLabelModeToLabelFieldData();
+  label_mapper->SetFieldDataName("Label");
+  label_mapper->GetLabelTextProperty()->SetFontSize(12);
+  label_mapper->GetLabelTextProperty()->SetColor(1.0, 1.0, 1.0);
+  label_mapper->GetLabelTextProperty()->ShadowOn();
+  this->LabelActor->SetMapper(label_mapper);
+  this->LabelActor->VisibilityOff();
+  this->SceneRen->AddActor2D(this->LabelActor);
 
   // BVH boxes: by level, or a played walk by state.
   this->BVH->SetSceneSource(this->Algorithm);
@@ -948,6 +988,10 @@ void vtkRayScopeViewer::Internals::UpdateOverlay() {
   this->Shown->Update();
   for (vtkActor* a : {this->TracedActor.Get(), this->SkippedActor.Get(), this->NormalActor.Get()})
     a->VisibilityOn();
+  this->Selected->SetLowerThreshold(self->SelectedRay);
+  this->Selected->SetUpperThreshold(self->SelectedRay);
+  this->SelectedActor->SetVisibility(self->SelectedRay >= 0);
+  this->UpdateLabels();
 
   // Image marker: the picked pixel's square and a cross hair.
   vtkNew<vtkPoints> pts;
@@ -977,9 +1021,48 @@ void vtkRayScopeViewer::Internals::UpdateOverlay() {
   this->Marker->SetLines(lines);
   this->MarkerActor->VisibilityOn();
 
-  // BVH: the selected ray's walk, or the boxes of a level, or nothing.
+  this->UpdateBVH();
+  this->UpdatePanel();
+}
+
+// A label per shown ray (line cell): its id, depth and weight, at its middle.
+void vtkRayScopeViewer::Internals::UpdateLabels() {
+  this->LabelActor->SetVisibility(this->Self->ShowLabels);
+  vtkPolyData* shown = this->Shown->GetOutput();
+  vtkDataArray* id = shown->GetCellData()->GetArray("RayId");
+  vtkDataArray* depth = shown->GetCellData()->GetArray("Depth");
+  vtkDataArray* weight = shown->GetCellData()->GetArray("Weight");
+  vtkNew<vtkPoints> pts;
+  vtkNew<vtkStringArray> text;
+  text->SetName("Label");
+  vtkNew<vtkCellArray> verts;
+  for (vtkIdType c = 0; id && depth && weight && c < shown->GetNumberOfCells(); ++c) {
+    if (shown->GetCellType(c) != VTK_LINE) continue;
+    double a[3], b[3];
+    shown->GetPoint(shown->GetCell(c)->GetPointId(0), a);
+    shown->GetPoint(shown->GetCell(c)->GetPointId(1), b);
+    const vtkIdType k =
+        pts->InsertNextPoint(0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2]));
+    verts->InsertNextCell(1, &k);
+    const double* w = weight->GetTuple3(c);
+    char label[64];
+    std::snprintf(label, sizeof label, "#%d d%d w%.3g", int(id->GetTuple1(c)),
+                  int(depth->GetTuple1(c)), std::max({w[0], w[1], w[2]}));
+    text->InsertNextValue(label);
+  }
+  this->Labels->Initialize();
+  this->Labels->SetPoints(pts);
+  this->Labels->SetVerts(verts);
+  this->Labels->GetPointData()->AddArray(text);
+}
+
+// The BVH shown: the selected ray's walk, or the boxes of a level (all
+// levels), or nothing.
+void vtkRayScopeViewer::Internals::UpdateBVH() {
+  vtkRayScopeViewer* self = this->Self;
+  const int i = self->PickedPixel[0], j = self->PickedPixel[1];
   vtkRayScopeBVHSource* bvh = this->BVH;
-  if (self->TraversalSteps >= 0 && self->SelectedRay >= 0) {
+  if (self->PickedPixel[0] >= 0 && self->TraversalSteps >= 0 && self->SelectedRay >= 0) {
     bvh->SetVisitModeToPixel();
     bvh->SetPixel(i, j);
     bvh->SetVisitRay(self->SelectedRay);
@@ -1008,7 +1091,6 @@ void vtkRayScopeViewer::Internals::UpdateOverlay() {
   } else {
     this->BVHMapper->SetInputData(this->NoBoxes);
   }
-  this->UpdatePanel();
 }
 
 // The panel: the inspect text from a few lines before the selected ray,
@@ -1122,19 +1204,8 @@ int vtkRayScopeViewer::HandleKey(const char* keysym) {
   }
   if (key == "b") {
     this->ShowBVH = !this->ShowBVH;
-    if (!picked) {
-      // Without a pick the BVH is still worth seeing.
-      in.BVH->SetVisitModeToNone();
-      in.BVH->SetTraversalSteps(-1);
-      in.BVH->SetLevelRange(0, VTK_INT_MAX);
-      if (this->ShowBVH) {
-        in.BVH->Update();
-        in.BVHMapper->SetInputConnection(in.BVH->GetOutputPort());
-        in.BVHMapper->SetLookupTable(in.LevelTable);
-        in.BVHMapper->SelectColorArray("Level");
-      } else {
-        in.BVHMapper->SetInputData(in.NoBoxes);
-      }
+    if (!picked) {  // without a pick the BVH is still worth seeing
+      in.UpdateBVH();
       return say(this->ShowBVH ? "BVH shown" : "BVH hidden");
     }
     return refresh(this->ShowBVH ? "BVH shown" : "BVH hidden");
@@ -1150,13 +1221,7 @@ int vtkRayScopeViewer::HandleKey(const char* keysym) {
     const std::string m =
         this->BVHLevel < 0 ? "BVH: every level" : "BVH: level " + std::to_string(this->BVHLevel);
     if (picked) return refresh(m);
-    in.BVH->SetVisitModeToNone();
-    if (this->BVHLevel < 0)
-      in.BVH->SetLevelRange(0, VTK_INT_MAX);
-    else
-      in.BVH->SetLevelRange(this->BVHLevel, this->BVHLevel);
-    in.BVH->Update();
-    in.BVHMapper->SetInputConnection(in.BVH->GetOutputPort());
+    in.UpdateBVH();
     return say(m);
   }
   if (key == "k") {
@@ -1193,6 +1258,27 @@ int vtkRayScopeViewer::HandleKey(const char* keysym) {
     alg->SetMaxDepth(d + (up ? 1 : -1));
     this->ShownDepth = VTK_INT_MAX;
     return rerender("re-rendering with maximum depth " + std::to_string(alg->GetMaxDepth()));
+  }
+  if (key == "d") {
+    this->ShowLabels = !this->ShowLabels;
+    const std::string m = this->ShowLabels ? "ray labels: #id, depth, weight" : "ray labels hidden";
+    if (!picked) return say(m);
+    return refresh(m);
+  }
+  if (key == "p") {
+    // Central <-> parallel projection, for contrast; the parallel view shows
+    // what the central one shows at the focal point.
+    const bool parallel = !alg->GetParallelProjection();
+    if (parallel) {
+      double eye[3], at[3];
+      alg->GetPosition(eye);
+      alg->GetFocalPoint(at);
+      const double d = std::sqrt(vtkMath::Distance2BetweenPoints(eye, at));
+      alg->SetParallelScale(d * std::tan(0.5 * vtkMath::RadiansFromDegrees(alg->GetViewAngle())));
+    }
+    alg->SetParallelProjection(parallel);
+    return rerender(parallel ? "re-rendering with a parallel projection"
+                             : "re-rendering with the central projection");
   }
   if (key == "r") {
     alg->CopyCamera(in.SceneRen->GetActiveCamera());
@@ -1274,6 +1360,7 @@ void vtkRayScopeViewer::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "TraversalSteps: " << this->TraversalSteps << "\n";
   os << indent << "ShowBVH: " << this->ShowBVH << "\n";
   os << indent << "BVHLevel: " << this->BVHLevel << "\n";
+  os << indent << "ShowLabels: " << this->ShowLabels << "\n";
   os << indent << "ImageMode: " << rayscope_vtk::display_mode_name(this->ImageMode) << "\n";
   os << indent << "OutputPrefix: " << (this->OutputPrefix ? this->OutputPrefix : "") << "\n";
 }

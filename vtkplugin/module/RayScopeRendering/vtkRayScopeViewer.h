@@ -17,11 +17,10 @@
  * as a frustum with its image plane and the pixel grid around the picked
  * pixel; point lights as spheres) and a text panel below with the picked
  * pixel's ray tree as `rayscope inspect` prints it (the selected ray marked
- * ">>"). The overlay is the output of a vtkRayScopeRayTreeSource (a line per
- * ray in its kind's color, gray for rays the integrator skipped, hit points,
- * shading normals), and of a vtkRayScopeBVHSource (the BVH by level, or the
- * selected ray's walk played node by node: entered boxes, missed boxes,
- * culled boxes and the hit leaf in the colors of the legend).
+ * ">>", and drawn white and thick in 3D). The overlay is the output of a vtkRayScopeRayTreeSource
+ * (a line per ray in its kind's color, gray for rays the integrator skipped, hit points, shading
+ * normals), and of a vtkRayScopeBVHSource (the BVH by level, or the selected ray's walk played node
+ * by node: entered boxes, missed boxes, culled boxes and the hit leaf in the colors of the legend).
  *
  * Interaction (an interactor style that extends trackball camera):
  * - a click in the image picks that pixel; a click (press and release
@@ -31,9 +30,10 @@
  *   by one recursion depth; Right/Left select the next/previous ray in trace
  *   order (rays after it are hidden); t/T play the selected ray's BVH walk
  *   one node forward/back; b shows/hides the BVH, l/L walk its levels; k
- *   shows one ray kind only (cycles); m cycles the image mode; +/- change the
- *   samples per pixel, ]/[ the maximum depth, r takes the 3D view's camera,
- *   each then re-renders; s saves a screenshot; x exports the ray tree and
+ *   shows one ray kind only (cycles); d shows labels (ray id, depth,
+ *   weight); m cycles the image mode; +/- change the samples per pixel, ]/[
+ *   the maximum depth, p switches central and parallel projection, r takes
+ *   the 3D view's camera, each then re-renders; s saves a screenshot; x exports the ray tree and
  *   the BVH as .vtp; q quits. At the end of a range a key does nothing and
  *   says so in the message line.
  *
@@ -130,6 +130,8 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   vtkGetMacro(TraversalSteps, int);
   vtkGetMacro(ShowBVH, bool);
   vtkGetMacro(BVHLevel, int);
+  /// Labels "#id dDEPTH wWEIGHT" on the shown rays (key d).
+  vtkGetMacro(ShowLabels, bool);
   ///@}
 
   /// Image modes (the values of the image viewport's ImageMode).
@@ -147,6 +149,9 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   /// cells for rays, vertex cells for hit points, the source's cell data
   /// except the strings of "KindName", which "Kind" numbers).
   vtkPolyData* GetShownRays();
+  /// The ray labels (a vertex per shown ray at its middle; point data
+  /// "Label"), drawn when ShowLabels is on.
+  vtkPolyData* GetRayLabels();
   /// The BVH boxes shown (empty when hidden).
   vtkPolyData* GetShownBVH();
   /// The sources behind the overlay.
@@ -190,6 +195,7 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   bool ShowBVH;
   int BVHLevel;
   int ImageMode;
+  bool ShowLabels;
   double LastRenderSeconds;
   char* OutputPrefix;
   int WindowSize[2];

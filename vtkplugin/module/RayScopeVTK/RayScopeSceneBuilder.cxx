@@ -126,19 +126,24 @@ void SceneBuilder::SetFixedScene(const rayscope::Scene& scene) {
   this->GeometryInputs.clear();
 }
 
+int SceneBuilder::Commit(vtkRayScopeImageAlgorithm* alg, const rayscope::AccelConfig& accel) {
+  try {
+    this->Scene.commit(accel);
+    ++this->Commits;
+  } catch (const std::exception& e) {
+    vtkErrorWithObjectMacro(alg, << "invalid scene: " << e.what());
+    return 0;
+  }
+  return 1;
+}
+
 int SceneBuilder::UpdateFixed(vtkRayScopeImageAlgorithm* alg) {
   rayscope::Scene& s = this->Scene;
   rayscope::AccelConfig accel;
   accel.kind = rayscope::AccelKind(alg->GetAccel());
   if (s.accel().kind() != accel.kind) {
     this->HasScene = false;
-    try {
-      s.commit(accel);
-      ++this->Commits;
-    } catch (const std::exception& e) {
-      vtkErrorWithObjectMacro(alg, << "invalid scene: " << e.what());
-      return 0;
-    }
+    if (!this->Commit(alg, accel)) return 0;
   }
   return this->PrepareCamera(alg);
 }
@@ -225,13 +230,7 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
     }
     s.materials = std::move(materials);
     s.lights = std::move(core);
-    try {
-      s.commit(accel);
-      ++this->Commits;
-    } catch (const std::exception& e) {
-      vtkErrorWithObjectMacro(alg, << "invalid scene: " << e.what());
-      return 0;
-    }
+    if (!this->Commit(alg, accel)) return 0;
     // Input data the scene worked around (non-finite points, normals, colors):
     // rendered without it, reported once per problem and input.
     for (const std::string& w : s.summary().warnings) vtkWarningWithObjectMacro(alg, << w);

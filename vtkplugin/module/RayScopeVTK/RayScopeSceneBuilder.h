@@ -57,6 +57,8 @@ class SceneBuilder {
                             const std::vector<rayscope::TriangleMesh>& meshes);
 
   int UpdateFixed(vtkRayScopeImageAlgorithm* alg);
+  // Scene.commit(accel), its error reported on `alg`; 1 on success.
+  int Commit(vtkRayScopeImageAlgorithm* alg, const rayscope::AccelConfig& accel);
   // The camera of `alg` into the scene, prepared for the image size.
   int PrepareCamera(vtkRayScopeImageAlgorithm* alg);
 
