@@ -3,6 +3,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <vtkNew.h>
 
@@ -18,6 +19,7 @@ struct ViewOptions {
   SceneOptions scene;
   std::string pixel;
   std::string screenshot;
+  std::vector<std::string> keys;
 };
 
 int run_view(const ViewOptions& o) {
@@ -44,6 +46,11 @@ int run_view(const ViewOptions& o) {
     viewer->WaitForRender();
     viewer->PickPixel(pxy[0], rs.height - 1 - pxy[1]);  // the viewer counts from the bottom
   }
+  for (const std::string& key : o.keys) {
+    viewer->WaitForRender();  // keys that re-render finish before the next key
+    if (!viewer->HandleKey(key.c_str()))
+      throw std::invalid_argument("--keys: '" + key + "' is not a key of the viewer");
+  }
   if (!o.screenshot.empty()) {
     viewer->WaitForRender();
     if (!viewer->SaveScreenshot(o.screenshot.c_str()))
@@ -67,6 +74,10 @@ void add_view_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--pixel", opts->pixel,
                   "X,Y: pick this pixel at the start (0,0 is the top-left pixel; y grows "
                   "downward, as for render and inspect)");
+  cmd->add_option("--keys", opts->keys,
+                  "KEY...: keys to press after the render and the pick, as the window names "
+                  "them (Up, Right, t, b, plus, bracketright, ...), e.g. for --screenshot")
+      ->delimiter(',');
   cmd->add_option("--screenshot", opts->screenshot,
                   "FILE.png: wait for the render, save the window and exit (no event loop)");
   cmd->callback([opts, &exit_code]() { exit_code = run_view(*opts); });

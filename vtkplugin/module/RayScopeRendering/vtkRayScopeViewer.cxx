@@ -94,9 +94,9 @@ constexpr const char* kWalkNames[6] = {"",        "box hit, not entered yet",   
                                        "entered", "culled (early termination)", "hit leaf"};
 
 const char* kHelp =
-    "click: pick pixel | Up/Down: depth | Right/Left: ray | t/T: BVH walk | b: BVH  l/L: level | "
-    "k: ray kind | d: labels | m: image mode | +/-: spp  ]/[: max depth  p: projection  "
-    "r: 3D camera (re-render) | s: screenshot  x: export .vtp | q: quit";
+    "click: pick | Up/Down: depth | Right/Left: ray | t/T: BVH walk | b: BVH, l/L: level | "
+    "k: kind | d: labels | m: image | +/-: spp, ]/[: depth, p: projection, r: 3D camera | "
+    "s: screenshot, x: .vtp | q: quit";
 
 vtkSmartPointer<vtkThreshold> make_threshold(vtkAlgorithmOutput* input, const char* array) {
   auto t = vtkSmartPointer<vtkThreshold>::New();
