@@ -78,6 +78,8 @@ constexpr double kImagePlaneFraction = 0.25;   // image plane at this fraction o
 constexpr double kNormalFraction = 0.04;       // normals drawn this fraction of the scene size
 constexpr double kLightFraction = 0.015;       // light markers' radius, same
 constexpr unsigned char kUnrenderedGray = 40;  // pixels not rendered yet
+constexpr double kSceneZoom =
+    1.6;  // the 3D view, closer than VTK's ResetCamera (a bounding sphere)
 
 // Colors of the overlay, one per ray kind (rayscope::RayKind order), then
 // skipped rays; and the played walk's states (vtkRayScopeBVHSource order).
@@ -680,8 +682,10 @@ void vtkRayScopeViewer::Internals::UpdateCameraGeometry() {
 }
 
 void vtkRayScopeViewer::Internals::UpdateLegend() {
+  // Rebuilt only when its entries change: each entry is text to rasterize.
   const bool walk = this->Self->TraversalSteps >= 0;
   const int n = 6 + (walk ? 5 : 0);
+  if (this->Legend->GetNumberOfEntries() == n) return;
   this->Legend->SetNumberOfEntries(n);
   vtkSmartPointer<vtkPolyData> symbol = legend_symbol();
   int e = 0;
@@ -878,6 +882,7 @@ int vtkRayScopeViewer::Initialize() {
   const rayscope::DVec3 lo = in.scene()->to_world(b.lo), hi = in.scene()->to_world(b.hi);
   double bounds[6] = {lo.x, hi.x, lo.y, hi.y, lo.z, hi.z};
   in.SceneRen->ResetCamera(bounds);
+  in.SceneRen->GetActiveCamera()->Zoom(kSceneZoom);
   in.Redraw();
   return 1;
 }
