@@ -6,6 +6,7 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkIntArray.h"
+#include "vtkLookupTable.h"
 #include "vtkPointData.h"
 #include "vtkUnsignedCharArray.h"
 
@@ -30,7 +31,64 @@ rayscope::Color id_color(int id) {
   return table[std::clamp(sector, 0, 5)] * 0.8f + rayscope::Color(0.1f);
 }
 
+// The modes that map one value per pixel onto a color scale.
+struct Scale {
+  vtkDataArray* values = nullptr;
+  double lo = 0.0, hi = 1.0;                    // the range shown, the image's own
+  rayscope::Color (*color)(float t) = nullptr;  // t in [0, 1], linear RGB
+  const char* title = "";
+};
+
+rayscope::Color cost_color(float t) {
+  return rayscope::heat_color(t);  // the scale of `rayscope render --aov cost`
+}
+rayscope::Color depth_color(float t) {
+  return rayscope::Color(1.0f - 0.85f * std::clamp(t, 0.0f, 1.0f));  // near white, far dark
+}
+
+bool scale_of(vtkImageData* image, int mode, Scale& sc) {
+  vtkPointData* pd = image->GetPointData();
+  if (mode == kDisplayCost) {
+    sc.values = vtkIntArray::SafeDownCast(pd->GetArray("Cost"));
+    sc.color = cost_color;
+    sc.title = "BVH nodes visited";
+    sc.lo = 0.0;
+    sc.hi = 1.0;  // 0 .. the image's maximum (at least 1)
+  } else if (mode == kDisplayDepth) {
+    sc.values = vtkFloatArray::SafeDownCast(pd->GetArray("Depth"));
+    sc.color = depth_color;
+    sc.title = "distance to the first hit";
+    sc.lo = INFINITY;
+    sc.hi = -INFINITY;
+  } else {
+    return false;
+  }
+  if (!sc.values) return false;
+  for (vtkIdType i = 0; i < sc.values->GetNumberOfTuples(); ++i) {
+    const double v = sc.values->GetTuple1(i);
+    if (!std::isfinite(v)) continue;
+    if (mode != kDisplayCost) sc.lo = std::min(sc.lo, v);
+    sc.hi = std::max(sc.hi, v);
+  }
+  if (!(sc.lo <= sc.hi)) sc.lo = sc.hi = 0.0;  // no hit at all
+  return true;
+}
+
 }  // namespace
+
+bool display_scale(vtkImageData* image, int mode, vtkLookupTable* table, std::string& title) {
+  Scale sc;
+  if (!scale_of(image, mode, sc)) return false;
+  constexpr int kSteps = 256;
+  table->SetNumberOfTableValues(kSteps);
+  for (int k = 0; k < kSteps; ++k) {
+    const rayscope::Color c = sc.color(float(k) / float(kSteps - 1));
+    table->SetTableValue(k, to_byte(c[0]) / 255.0, to_byte(c[1]) / 255.0, to_byte(c[2]) / 255.0);
+  }
+  table->SetTableRange(sc.lo, std::max(sc.hi, sc.lo + 1e-30));
+  title = sc.title;
+  return true;
+}
 
 const char* display_mode_name(int mode) {
   switch (mode) {
@@ -67,14 +125,14 @@ std::vector<unsigned char> display_pixels(vtkImageData* image, int mode) {
       rgb.assign(p, p + size_t(n) * 3);
       break;
     }
-    case kDisplayCost: {
-      // The heat-map scale of `rayscope render --aov cost`: 0 .. the image's maximum.
-      auto* cost = vtkIntArray::SafeDownCast(pd->GetArray("Cost"));
-      if (!cost) return {};
-      int max_cost = 1;
-      for (vtkIdType i = 0; i < n; ++i) max_cost = std::max(max_cost, cost->GetValue(i));
+    case kDisplayCost:
+    case kDisplayDepth: {
+      Scale sc;
+      if (!scale_of(image, mode, sc)) return {};
       fill([&](vtkIdType i) {
-        return rayscope::heat_color(float(cost->GetValue(i)) / float(max_cost));
+        const double v = sc.values->GetTuple1(i);
+        if (!std::isfinite(v)) return rayscope::Color(0.0f);
+        return sc.color(float((v - sc.lo) / std::max(sc.hi - sc.lo, 1e-30)));
       });
       break;
     }
@@ -85,22 +143,6 @@ std::vector<unsigned char> display_pixels(vtkImageData* image, int mode) {
         rayscope::Color c;
         for (int k = 0; k < 3; ++k) c[k] = normal->GetTypedComponent(i, k);
         return c == rayscope::Color(0.0f) ? c : 0.5f * (c + rayscope::Color(1.0f));
-      });
-      break;
-    }
-    case kDisplayDepth: {
-      auto* depth = vtkFloatArray::SafeDownCast(pd->GetArray("Depth"));
-      if (!depth) return {};
-      float lo = INFINITY, hi = 0.0f;
-      for (vtkIdType i = 0; i < n; ++i)
-        if (std::isfinite(depth->GetValue(i))) {
-          lo = std::min(lo, depth->GetValue(i));
-          hi = std::max(hi, depth->GetValue(i));
-        }
-      fill([&](vtkIdType i) {
-        const float d = depth->GetValue(i);
-        if (!std::isfinite(d)) return rayscope::Color(0.0f);
-        return rayscope::Color(1.0f - 0.85f * (d - lo) / std::max(hi - lo, 1e-30f));
       });
       break;
     }

@@ -3,9 +3,11 @@
 // RGB bytes, made in one place.
 #pragma once
 
+#include <string>
 #include <vector>
 
 class vtkImageData;
+class vtkLookupTable;
 
 namespace rayscope_vtk {
 
@@ -22,6 +24,11 @@ enum DisplayMode {
 
 /// Name of a display mode ("color", "cost", ...).
 const char* display_mode_name(int mode);
+
+/// The color scale of a mode that maps one value per pixel (cost, depth):
+/// `table` gets its colors over the range the image holds, `title` what it
+/// measures. False for the other modes (and an image without the array).
+bool display_scale(vtkImageData* image, int mode, vtkLookupTable* table, std::string& title);
 
 /// RGB bytes of `image` (a vtkRayScopeImageAlgorithm output, VTK row order)
 /// in `mode`; empty when the image lacks the array the mode needs.

@@ -44,6 +44,7 @@
 #include "vtkRenderWindow.h"
 #include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
+#include "vtkScalarBarActor.h"
 #include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
 #include "vtkStringArray.h"
@@ -153,6 +154,8 @@ struct vtkRayScopeViewer::Internals {
   // The image: the last finished render with every array, and what is shown.
   vtkNew<vtkImageData> Image, Display;
   vtkNew<vtkImageActor> ImageActor;
+  vtkNew<vtkLookupTable> ScaleTable;
+  vtkNew<vtkScalarBarActor> ScaleBar;
   vtkNew<vtkPolyData> Marker;
   vtkNew<vtkActor> MarkerActor;
   bool HasImage = false;
@@ -401,6 +404,15 @@ void vtkRayScopeViewer::Internals::Build() {
   this->MarkerActor->VisibilityOff();
   this->ImageRen->AddActor(this->MarkerActor);
   this->ImageRen->GetActiveCamera()->ParallelProjectionOn();
+  this->ScaleBar->SetLookupTable(this->ScaleTable);
+  this->ScaleBar->SetOrientationToHorizontal();
+  this->ScaleBar->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+  this->ScaleBar->GetPositionCoordinate()->SetValue(0.1, 0.01);
+  this->ScaleBar->SetWidth(0.8);
+  this->ScaleBar->SetHeight(0.12);
+  this->ScaleBar->SetNumberOfLabels(5);
+  this->ScaleBar->VisibilityOff();
+  this->ImageRen->AddActor2D(this->ScaleBar);
 
   // Ray tree: filtered by depth, ray and kind; traced rays in their kind's
   // color with hit points and normals, skipped rays gray.
@@ -836,6 +848,12 @@ void vtkRayScopeViewer::Internals::ShowImage() {
   auto* shown = vtkUnsignedCharArray::SafeDownCast(this->Display->GetPointData()->GetScalars());
   std::copy(rgb.begin(), rgb.end(), shown->GetPointer(0));
   this->Display->Modified();
+  // The color scale of the cost and depth modes.
+  std::string title;
+  const bool scale =
+      rayscope_vtk::display_scale(this->Image, this->Self->ImageMode, this->ScaleTable, title);
+  this->ScaleBar->SetVisibility(scale);
+  if (scale) this->ScaleBar->SetTitle(title.c_str());
 }
 
 int vtkRayScopeViewer::Initialize() {
