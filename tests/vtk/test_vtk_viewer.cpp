@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -207,6 +208,23 @@ TEST(Viewer, ClickOnTheImageShowsTheRecordedTree) {
   for (const rayscope::RayRecord& r : rec.rays)
     hits += r.kind != rayscope::RayKind::Shadow && r.hit;
   EXPECT_EQ(verts, hits);
+  // A marker where each occluded shadow ray is blocked: at its line's end.
+  int occluded = 0;
+  for (const rayscope::RayRecord& r : rec.rays) occluded += r.occluded;
+  EXPECT_GT(occluded, 0);
+  vtkPolyData* markers = f.viewer->GetOccluderMarkers();
+  ASSERT_EQ(markers->GetNumberOfVerts(), occluded);
+  vtkDataArray* end_kind = shown->GetCellData()->GetArray("EndKind");
+  std::vector<std::array<double, 3>> ends;
+  for (vtkIdType c = 0; c < shown->GetNumberOfCells(); ++c)
+    if (shown->GetCellType(c) == VTK_LINE && end_kind->GetTuple1(c) == 3) {
+      std::array<double, 3> e;
+      shown->GetPoint(shown->GetCell(c)->GetPointId(1), e.data());
+      ends.push_back(e);
+    }
+  ASSERT_EQ(ends.size(), size_t(occluded));
+  for (vtkIdType k = 0; k < markers->GetNumberOfPoints(); ++k)
+    for (int d = 0; d < 3; ++d) EXPECT_EQ(markers->GetPoint(k)[d], ends[size_t(k)][d]);
   // The text panel is the inspect text.
   EXPECT_NE(std::string(f.viewer->GetInspectText()).find("pixel (49, 52)"), std::string::npos);
 }

@@ -91,6 +91,8 @@ constexpr double kSkippedColor[3] = {0.5, 0.5, 0.5};
 constexpr double kNormalColor[3] = {1.0, 0.55, 0.1};
 constexpr double kPickColor[3] = {1.0, 0.1, 0.1};
 constexpr double kSelectedColor[3] = {1.0, 1.0, 1.0};
+constexpr double kOccluderColor[3] = {0.95, 0.2, 0.15};
+constexpr int kEndOccluder = 3;  // vtkRayScopeRayTreeSource's EndKind of a blocked shadow ray
 constexpr double kWalkColors[6][3] = {{0, 0, 0},       {0.9, 0.9, 0.3}, {0.9, 0.2, 0.2},
                                       {0.2, 0.9, 0.2}, {0.3, 0.5, 1.0}, {1.0, 1.0, 1.0}};
 constexpr const char* kWalkNames[6] = {"",        "box hit, not entered yet",   "box missed",
@@ -186,6 +188,8 @@ struct vtkRayScopeViewer::Internals {
   vtkSmartPointer<vtkThreshold> Selected;
   vtkNew<vtkPolyData> Labels;  // a point per shown ray, at its middle, with its label
   vtkNew<vtkActor2D> LabelActor;
+  vtkNew<vtkPolyData> Occluders;  // where shown shadow rays are blocked
+  vtkNew<vtkActor> OccluderActor;
   vtkNew<vtkHedgeHog> Normals;
   vtkNew<vtkRayScopeBVHSource> BVH;
   vtkNew<vtkPolyData> NoBoxes;
@@ -222,6 +226,7 @@ struct vtkRayScopeViewer::Internals {
   void UpdateOverlay();
   void UpdateBVH();
   void UpdateLabels();
+  void UpdateOccluders();
   void UpdatePanel();
   void UpdateLegend();
   void Say(const std::string& message) {
@@ -360,6 +365,10 @@ vtkPolyData* vtkRayScopeViewer::GetShownRays() {
   return this->Internal->Shown->GetOutput();
 }
 
+vtkPolyData* vtkRayScopeViewer::GetOccluderMarkers() {
+  return this->Internal->Occluders;
+}
+
 vtkPolyData* vtkRayScopeViewer::GetRayLabels() {
   return this->Internal->Labels;
 }
@@ -477,6 +486,19 @@ void vtkRayScopeViewer::Internals::Build() {
     a->PickableOff();
     this->SceneRen->AddActor(a);
   }
+  // Occluders of shadow rays.
+  vtkNew<vtkPolyDataMapper> occluder_mapper;
+  occluder_mapper->SetInputData(this->Occluders);
+  occluder_mapper->ScalarVisibilityOff();
+  this->OccluderActor->SetMapper(occluder_mapper);
+  this->OccluderActor->GetProperty()->SetColor(kOccluderColor[0], kOccluderColor[1],
+                                               kOccluderColor[2]);
+  this->OccluderActor->GetProperty()->SetPointSize(13.0);
+  this->OccluderActor->GetProperty()->RenderPointsAsSpheresOn();
+  this->OccluderActor->GetProperty()->LightingOff();
+  this->OccluderActor->PickableOff();
+  this->OccluderActor->VisibilityOff();
+  this->SceneRen->AddActor(this->OccluderActor);
   // Labels on demand: "#id dDEPTH wWEIGHT" at the middle of each shown ray
   // (the mapper's "field data" mode reads the named point-data array).
   vtkNew<vtkLabeledDataMapper> label_mapper;
@@ -627,13 +649,33 @@ void vtkRayScopeViewer::Internals::BuildSceneGeometry() {
     add(src->GetOutput(), nullptr, pl.material, true);
   }
   for (const rayscope::Light& l : s.lights) {
-    if (l.type != rayscope::Light::Type::Point) continue;
     vtkNew<vtkSphereSource> src;
-    const rayscope::DVec3 c = s.to_world(l.position);
-    src->SetCenter(c.x, c.y, c.z);
     src->SetRadius(kLightFraction * size);
+    if (l.type == rayscope::Light::Type::Point) {
+      const rayscope::DVec3 c = s.to_world(l.position);
+      src->SetCenter(c.x, c.y, c.z);
+      src->Update();
+      add(src->GetOutput(), nullptr, ~0u, false);
+      continue;
+    }
+    // A directional light: a sphere outside the scene where its light comes
+    // from, and a line along the way it travels.
+    const rayscope::Vec3 d = glm::normalize(l.direction);
+    const rayscope::DVec3 from = s.to_world(b.center() - float(size) * d),
+                          to = s.to_world(b.center() - float(0.6 * size) * d);
+    src->SetCenter(from.x, from.y, from.z);
     src->Update();
     add(src->GetOutput(), nullptr, ~0u, false);
+    vtkNew<vtkPolyData> ray;
+    vtkNew<vtkPoints> pts;
+    pts->InsertNextPoint(from.x, from.y, from.z);
+    pts->InsertNextPoint(to.x, to.y, to.z);
+    vtkNew<vtkCellArray> line;
+    const vtkIdType ids[2] = {0, 1};
+    line->InsertNextCell(2, ids);
+    ray->SetPoints(pts);
+    ray->SetLines(line);
+    add(ray, nullptr, ~0u, false);
   }
   this->Normals->SetScaleFactor(kNormalFraction * size);
 }
@@ -696,7 +738,7 @@ void vtkRayScopeViewer::Internals::UpdateCameraGeometry() {
 void vtkRayScopeViewer::Internals::UpdateLegend() {
   // Rebuilt only when its entries change: each entry is text to rasterize.
   const bool walk = this->Self->TraversalSteps >= 0;
-  const int n = 6 + (walk ? 5 : 0);
+  const int n = 7 + (walk ? 5 : 0);
   if (this->Legend->GetNumberOfEntries() == n) return;
   this->Legend->SetNumberOfEntries(n);
   vtkSmartPointer<vtkPolyData> symbol = legend_symbol();
@@ -709,6 +751,8 @@ void vtkRayScopeViewer::Internals::UpdateLegend() {
   this->Legend->SetEntry(e++, symbol, "skipped (not traced)", gray);
   double orange[3] = {kNormalColor[0], kNormalColor[1], kNormalColor[2]};
   this->Legend->SetEntry(e++, symbol, "shading normal", orange);
+  double dark[3] = {kOccluderColor[0], kOccluderColor[1], kOccluderColor[2]};
+  this->Legend->SetEntry(e++, symbol, "shadow ray blocked here", dark);
   if (walk)
     for (int k = 1; k < 6; ++k) {
       double c[3] = {kWalkColors[k][0], kWalkColors[k][1], kWalkColors[k][2]};
@@ -1015,6 +1059,7 @@ void vtkRayScopeViewer::Internals::UpdateOverlay() {
   this->Selected->SetUpperThreshold(self->SelectedRay);
   this->SelectedActor->SetVisibility(self->SelectedRay >= 0);
   this->UpdateLabels();
+  this->UpdateOccluders();
 
   // Image marker: the picked pixel's square and a cross hair.
   vtkNew<vtkPoints> pts;
@@ -1046,6 +1091,24 @@ void vtkRayScopeViewer::Internals::UpdateOverlay() {
 
   this->UpdateBVH();
   this->UpdatePanel();
+}
+
+// A marker where each shown shadow ray is blocked: the end of its line, on
+// the nearest occluder (the ray-tree source's EndKind 3).
+void vtkRayScopeViewer::Internals::UpdateOccluders() {
+  vtkPolyData* shown = this->Shown->GetOutput();
+  vtkDataArray* end = shown->GetCellData()->GetArray("EndKind");
+  vtkNew<vtkPoints> pts;
+  vtkNew<vtkCellArray> verts;
+  for (vtkIdType c = 0; end && c < shown->GetNumberOfCells(); ++c) {
+    if (shown->GetCellType(c) != VTK_LINE || int(end->GetTuple1(c)) != kEndOccluder) continue;
+    const vtkIdType k = pts->InsertNextPoint(shown->GetPoint(shown->GetCell(c)->GetPointId(1)));
+    verts->InsertNextCell(1, &k);
+  }
+  this->Occluders->Initialize();
+  this->Occluders->SetPoints(pts);
+  this->Occluders->SetVerts(verts);
+  this->OccluderActor->VisibilityOn();
 }
 
 // A label per shown ray (line cell): its id, depth and weight, at its middle.

@@ -12,15 +12,17 @@
  *
  * One vtkRenderWindow with three viewports: the ray-traced image (left; its
  * ImageMode shows colors, the BVH cost heat map, normals, depth or object
- * ids), the scene drawn by VTK (right: the scene source's inputs, or the
- * spheres, planes and meshes of a core scene, half transparent; the camera
+ * ids), the scene drawn by VTK (right: the triangles, spheres and planes the
+ * tracer intersects, in their material colors, half transparent; the camera
  * as a frustum with its image plane and the pixel grid around the picked
- * pixel; point lights as spheres) and a text panel below with the picked
+ * pixel; lights as spheres) and a text panel below with the picked
  * pixel's ray tree as `rayscope inspect` prints it (the selected ray marked
- * ">>", and drawn white and thick in 3D). The overlay is the output of a vtkRayScopeRayTreeSource
- * (a line per ray in its kind's color, gray for rays the integrator skipped, hit points, shading
- * normals), and of a vtkRayScopeBVHSource (the BVH by level, or the selected ray's walk played node
- * by node: entered boxes, missed boxes, culled boxes and the hit leaf in the colors of the legend).
+ * ">>", and drawn white and thick in 3D). The overlay is the output of a
+ * vtkRayScopeRayTreeSource (a line per ray in its kind's color, gray for rays
+ * the integrator skipped, hit points, shading normals, a red dot where a
+ * shadow ray is blocked), and of a vtkRayScopeBVHSource (the BVH by level, or
+ * the selected ray's walk played node by node: entered boxes, missed boxes,
+ * culled boxes and the hit leaf in the colors of the legend).
  *
  * Interaction (an interactor style that extends trackball camera):
  * - a click in the image picks that pixel; a click (press and release
@@ -152,6 +154,9 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   /// The ray labels (a vertex per shown ray at its middle; point data
   /// "Label"), drawn when ShowLabels is on.
   vtkPolyData* GetRayLabels();
+  /// The markers of blocked shadow rays: a vertex where each shown shadow
+  /// ray meets its nearest occluder.
+  vtkPolyData* GetOccluderMarkers();
   /// The BVH boxes shown (empty when hidden).
   vtkPolyData* GetShownBVH();
   /// The sources behind the overlay.
