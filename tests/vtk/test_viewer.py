@@ -36,14 +36,7 @@ def kinds(pd):
     return out
 
 
-def main():
-    sphere = vtk.vtkSphereSource()
-    sphere.SetThetaResolution(48)
-    sphere.SetPhiResolution(32)
-    floor = vtk.vtkPlaneSource()
-    floor.SetOrigin(-3, -0.5, -3)
-    floor.SetPoint1(3, -0.5, -3)
-    floor.SetPoint2(-3, -0.5, 3)
+def make_tracer(sphere, floor):
     tracer = rayscope.vtkRayScopeImageAlgorithm()
     tracer.AddInputConnection(sphere.GetOutputPort())
     tracer.AddInputConnection(floor.GetOutputPort())
@@ -52,6 +45,18 @@ def main():
     tracer.SetFocalPoint(0, 0, 0)
     tracer.AddPointLight(2, 3, 2, 1, 1, 1, 1.0)
     tracer.GetMaterial().SetReflectivity(0.3)
+    return tracer
+
+
+def main():
+    sphere = vtk.vtkSphereSource()
+    sphere.SetThetaResolution(48)
+    sphere.SetPhiResolution(32)
+    floor = vtk.vtkPlaneSource()
+    floor.SetOrigin(-3, -0.5, -3)
+    floor.SetPoint1(3, -0.5, -3)
+    floor.SetPoint2(-3, -0.5, 3)
+    tracer = make_tracer(sphere, floor)
 
     viewer = rayscope.vtkRayScopeViewer()
     viewer.SetSceneSource(tracer)
@@ -59,14 +64,7 @@ def main():
     check(viewer.Initialize() == 1, "Initialize: " + viewer.GetMessage())
     check(viewer.WaitForRender() == 1, "the first render finishes")
 
-    ref = rayscope.vtkRayScopeImageAlgorithm()
-    ref.AddInputConnection(sphere.GetOutputPort())
-    ref.AddInputConnection(floor.GetOutputPort())
-    ref.SetSize(96, 72)
-    ref.SetPosition(0, 1, 3)
-    ref.SetFocalPoint(0, 0, 0)
-    ref.AddPointLight(2, 3, 2, 1, 1, 1, 1.0)
-    ref.GetMaterial().SetReflectivity(0.3)
+    ref = make_tracer(sphere, floor)  # a second algorithm: its own render
     ref.Update()
     want = ref.GetOutput().GetPointData().GetScalars()
     got = viewer.GetShownImage().GetPointData().GetScalars()
