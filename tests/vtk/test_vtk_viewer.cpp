@@ -14,6 +14,7 @@
 #include <set>
 #include <string>
 
+#include <vtkCamera.h>
 #include <vtkCellData.h>
 #include <vtkCommand.h>
 #include <vtkDataArray.h>
@@ -459,6 +460,25 @@ TEST(Viewer, LabelsAndProjectionKeys) {
   EXPECT_FALSE(f.alg->GetParallelProjection());
   const rayscope::Vec3 c = f.record(10, 10).rays[0].dir, d = f.record(100, 70).rays[0].dir;
   EXPECT_GT(glm::length(glm::normalize(c) - glm::normalize(d)), 0.1f);
+}
+
+// r takes the 3D view's camera (after orbiting it) as the ray-tracing camera
+// and re-renders: the primary ray of the picked pixel starts at that camera.
+TEST(Viewer, CameraKeyRerendersFromThe3DView) {
+  Fixture f;
+  ASSERT_TRUE(f.start_on_glass());
+  vtkCamera* cam = f.viewer->GetSceneRenderer()->GetActiveCamera();
+  cam->Azimuth(30.0);
+  cam->Elevation(10.0);
+  cam->OrthogonalizeViewUp();
+  double eye[3];
+  cam->GetPosition(eye);
+  f.key("r");
+  ASSERT_TRUE(f.viewer->WaitForRender());
+  for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(f.alg->GetPosition()[k], eye[k]);
+  const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(rec.rays[0].origin[k], eye[k], 1e-4);
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("rendered"), std::string::npos);
 }
 
 // A scene source without a scene: Initialize fails with a message, no crash.
