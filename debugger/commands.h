@@ -9,5 +9,9 @@ namespace rayscope::cli {
 void add_render_command(CLI::App& app, int& exit_code);
 /// Registers `rayscope inspect`.
 void add_inspect_command(CLI::App& app, int& exit_code);
+#ifdef RAYSCOPE_HAVE_VIEWER
+/// Registers `rayscope view` (built with the VTK module).
+void add_view_command(CLI::App& app, int& exit_code);
+#endif
 
 }  // namespace rayscope::cli

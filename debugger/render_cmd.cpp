@@ -150,16 +150,13 @@ void print_explain(const Scene& scene, const RenderSettings& rs, const RayCounte
 int run_render(const RenderOptions& o) {
   namespace fs = std::filesystem;
   int pxy[2] = {-1, -1};
-  if (!o.pixel.empty() && !parse_ints(o.pixel, 2, pxy))
-    throw std::invalid_argument("--pixel: expected X,Y, got '" + o.pixel + "'");
+  if (!o.pixel.empty()) parse_pixel_option(o.pixel, pxy);
   const int px = pxy[0], py = pxy[1];
   auto t0 = std::chrono::steady_clock::now();
   LoadedScene loaded = o.scene.load();
   auto t1 = std::chrono::steady_clock::now();
   RenderSettings& rs = loaded.settings;
-  if (!o.pixel.empty() && (px < 0 || py < 0 || px >= rs.width || py >= rs.height))
-    throw std::out_of_range("--pixel: (" + o.pixel + ") is outside the " +
-                            std::to_string(rs.width) + "x" + std::to_string(rs.height) + " image");
+  if (!o.pixel.empty()) check_pixel_option(o.pixel, pxy, rs);
 
   // Fail on an unwritable output before spending time on the render.
   fs::path out(o.output);

@@ -113,6 +113,17 @@ void SceneOptions::add_to(CLI::App* cmd) {
           "bvh|bvh2|none"));
 }
 
+void parse_pixel_option(const std::string& text, int xy[2]) {
+  if (!parse_ints(text, 2, xy))
+    throw std::invalid_argument("--pixel: expected X,Y, got '" + text + "'");
+}
+
+void check_pixel_option(const std::string& text, const int xy[2], const RenderSettings& rs) {
+  if (xy[0] < 0 || xy[1] < 0 || xy[0] >= rs.width || xy[1] >= rs.height)
+    throw std::out_of_range("--pixel: (" + text + ") is outside the " + std::to_string(rs.width) +
+                            "x" + std::to_string(rs.height) + " image");
+}
+
 LoadedScene SceneOptions::load() const {
   const std::string name = scene.empty() ? std::string("default scene") : scene;
   const bool mesh = !scene.empty() && is_mesh_path(scene);

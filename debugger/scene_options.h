@@ -15,6 +15,13 @@ namespace rayscope::cli {
 /// the text is not exactly that.
 bool parse_ints(const std::string& s, int n, int* out);
 
+/// A --pixel X,Y option: parsed (throws std::invalid_argument "--pixel:
+/// expected X,Y, got '...'"), and checked against the image once the settings
+/// are known (throws std::out_of_range "--pixel: (X,Y) is outside the WxH
+/// image"). Pixels count from the top-left corner.
+void parse_pixel_option(const std::string& text, int xy[2]);
+void check_pixel_option(const std::string& text, const int xy[2], const RenderSettings& settings);
+
 struct SceneOptions {
   std::string scene;  ///< Empty: the built-in default scene.
   std::string size;

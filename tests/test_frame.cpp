@@ -39,12 +39,12 @@ std::vector<glm::ivec2> some_pixels(const RenderSettings& rs) {
 
 PixelCost walk_of(const PixelRecord& rec) {
   PixelCost c;
-  c.rays = uint32_t(rec.rays.size());
   for (const RayRecord& r : rec.rays) {
-    c.nodes += uint32_t(r.traversal.nodes.size());
-    c.boxes += r.traversal.boxes_tested;
+    c.rays += !r.skipped;  // skipped rays are recorded, not traced
+    c.nodes += uint32_t(r.traversal.nodes().size());
+    c.boxes += r.traversal.boxes_tested();
     c.prims += r.traversal.prims_tested;
-    c.culled += r.traversal.culled;
+    c.culled += r.traversal.culled();
   }
   return c;
 }
@@ -112,7 +112,7 @@ TEST_P(FrameWalk, StatisticsAndRecordingObserveThePlainWalk) {
     const PixelRecord alone = record_pixel(scene, rs, pixels[k].x, pixels[k].y);
     ASSERT_EQ(alone.rays.size(), records[k].rays.size());
     for (size_t r = 0; r < alone.rays.size(); ++r)
-      EXPECT_EQ(alone.rays[r].traversal.nodes, records[k].rays[r].traversal.nodes);
+      EXPECT_EQ(alone.rays[r].traversal.nodes(), records[k].rays[r].traversal.nodes());
   }
 }
 
@@ -155,7 +155,7 @@ TEST(FrameWalk, DefaultWalkIsTheWideOneAndBinaryIsAChoice) {
   size_t nodes = 0;
   for (const PixelRecord& rec : records)
     for (const RayRecord& r : rec.rays)
-      for (uint32_t n : r.traversal.nodes) {
+      for (uint32_t n : r.traversal.nodes()) {
         ASSERT_TRUE(is_top[n]) << "node " << n << " is inside a 4-wide node";
         ++nodes;
       }
@@ -186,6 +186,36 @@ TEST(Frame, PolicyFinishSeesEveryPixelOnce) {
   EXPECT_EQ(total_tiles, size_t(3 * 2));  // 16-pixel tiles
   EXPECT_EQ(progress_calls, total_tiles);
   EXPECT_EQ(last_done, total_tiles);
+}
+
+TEST(Frame, TileDoneShowsFinishedPixelsOnce) {
+  // tile_done() (what a progressive display reads) covers every pixel exactly
+  // once, and the colors it sees are the final ones.
+  struct CopyTiles : FramePolicy {
+    std::vector<std::atomic<int>>* seen;
+    std::vector<Color>* copy;
+    void tile_done(int x0, int y0, int x1, int y1, const Framebuffer& fb) {
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          (*seen)[fb.index(x, y)]++;
+          (*copy)[fb.index(x, y)] = fb.color[fb.index(x, y)];
+        }
+    }
+  };
+  Scene scene = make_default_scene();
+  scene.commit();
+  const RenderSettings rs = rstest::small_render(37, 29, 1);
+  prepare_frame(scene, rs);
+  std::vector<std::atomic<int>> seen(size_t(rs.width * rs.height));
+  std::vector<Color> copy(seen.size(), Color(-1.0f));
+  CopyTiles policy;
+  policy.seen = &seen;
+  policy.copy = &copy;
+  Framebuffer fb = render_frame(scene, rs, policy);
+  for (size_t i = 0; i < seen.size(); ++i) {
+    ASSERT_EQ(seen[i].load(), 1) << "pixel " << i;
+    ASSERT_EQ(0, std::memcmp(&copy[i], &fb.color[i], sizeof(Color))) << "pixel " << i;
+  }
 }
 
 }  // namespace

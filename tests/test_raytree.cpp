@@ -204,8 +204,255 @@ TEST(RayTree, RenderAndRecordMatchesReplay) {
     EXPECT_TRUE(same_bits(records[k].color, replay.color)) << "record " << k;
     ASSERT_EQ(records[k].rays.size(), replay.rays.size());
     for (size_t i = 0; i < replay.rays.size(); ++i)
-      EXPECT_EQ(records[k].rays[i].traversal.nodes, replay.rays[i].traversal.nodes);
+      EXPECT_EQ(records[k].rays[i].traversal.nodes(), replay.rays[i].traversal.nodes());
   }
   std::vector<PixelRecord> none;
   EXPECT_THROW(render_and_record(scene, rs, {{64, 0}}, none), std::out_of_range);
+}
+
+// --- What the viewer and `rayscope inspect` show of each hit and walk --------
+
+namespace {
+
+// A 9x9 image whose center pixel (4, 4), with one sample, looks straight down
+// -z from (0, 0, 5).
+RenderSettings center_render(int max_depth = 5, float min_contribution = 1e-3f) {
+  RenderSettings rs = rstest::small_render(9, 9, 1);
+  rs.max_depth = max_depth;
+  rs.min_contribution = min_contribution;
+  return rs;
+}
+
+// Two facing mirrors (reflectivity r) at z = -2 and z = 10, no lights: the
+// center ray bounces between them until the depth limit or the cutoff stops it.
+Scene facing_mirrors(float r) {
+  Scene s;
+  Material m;
+  m.name = "mirror";
+  m.reflectivity = r;
+  s.materials = {m};
+  s.planes.push_back(Plane{"front", Vec3(0, 0, -2), Vec3(0, 0, 1), 0});
+  s.planes.push_back(Plane{"back", Vec3(0, 0, 10), Vec3(0, 0, -1), 0});
+  return s;
+}
+
+// A skipped ray of this kind, parent, depth and reason, never walked.
+void expect_skipped(const RayRecord& r, RayKind kind, int parent, int depth, SkipReason why) {
+  EXPECT_EQ(r.kind, kind);
+  EXPECT_EQ(r.parent, parent);
+  EXPECT_EQ(r.depth, depth);
+  EXPECT_TRUE(r.skipped);
+  EXPECT_EQ(r.skip_reason, why);
+  EXPECT_TRUE(r.traversal.steps.empty());
+  EXPECT_TRUE(r.color == Color(0.0f));
+}
+
+std::vector<const RayRecord*> skipped_rays(const PixelRecord& rec) {
+  std::vector<const RayRecord*> out;
+  for (const RayRecord& r : rec.rays)
+    if (r.skipped) out.push_back(&r);
+  return out;
+}
+
+}  // namespace
+
+// A sphere lit from behind: the shadow ray to the light is not traced (N.L <=
+// 0) and appears in the tree as skipped, pointing at the light; the hit's
+// local illumination is its ambient term alone.
+TEST(RayTree, LightBehindTheSurfaceGivesASkippedShadowRay) {
+  Scene s;
+  Material m;
+  m.name = "matte";
+  m.ambient = 0.25f;
+  s.materials = {m};
+  s.spheres.push_back(Sphere{"ball", Vec3(0), 1.0f, 0});
+  Light l;
+  l.name = "back";
+  l.position = Vec3(0, 0, -5);
+  s.lights.push_back(l);
+  s.commit();
+  RenderSettings rs = center_render();
+  prepare_frame(s, rs);
+  PixelRecord rec = record_pixel(s, rs, 4, 4);
+  ASSERT_EQ(rec.rays.size(), 2u);
+  const RayRecord& primary = rec.rays[0];
+  ASSERT_TRUE(primary.hit);
+  EXPECT_NEAR(primary.point.z, 1.0f, 1e-5f);
+  const RayRecord& shadow = rec.rays[1];
+  expect_skipped(shadow, RayKind::Shadow, 0, 1, SkipReason::Backfacing);
+  EXPECT_EQ(shadow.light, 0);
+  EXPECT_NEAR(glm::normalize(shadow.dir).z, -1.0f, 1e-5f);  // toward the light at z = -5
+  EXPECT_NEAR(shadow.origin.z, 1.0f, 1e-4f);                // from the hit
+  EXPECT_TRUE(primary.lights.empty());
+  // ambient 0.25 x material color 0.8 x ambient light 1, and nothing else
+  for (int k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(primary.ambient[k], 0.25f * 0.8f);
+  EXPECT_TRUE(same_bits(primary.ambient, primary.color));
+  // The renderer counts what the tree shows.
+  RayCounters c;
+  render(s, rs, &c);
+  EXPECT_EQ(c.rays[int(RayKind::Shadow)], 0u);
+  EXPECT_GT(c.shadow_skipped_backfacing, 0u);
+}
+
+// Depth limit 1 between two mirrors: primary (depth 0) -> reflection (depth 1)
+// -> a reflection at depth 2 that is not traced, reason "depth limit".
+TEST(RayTree, DepthLimitGivesASkippedReflectionRay) {
+  Scene s = facing_mirrors(0.8f);
+  s.commit();
+  RenderSettings rs = center_render(1);
+  prepare_frame(s, rs);
+  PixelRecord rec = record_pixel(s, rs, 4, 4);
+  ASSERT_EQ(rec.rays.size(), 3u);
+  EXPECT_FALSE(rec.rays[1].skipped);
+  EXPECT_EQ(rec.rays[1].kind, RayKind::Reflection);
+  const RayRecord& cut = rec.rays[2];
+  expect_skipped(cut, RayKind::Reflection, 1, 2, SkipReason::Depth);
+  EXPECT_NEAR(cut.weight.x, 0.8f * 0.8f, 1e-6f);
+  EXPECT_NEAR(glm::normalize(cut.dir).z, -1.0f, 1e-5f);  // back toward the front mirror
+  EXPECT_NEAR(cut.origin.z, 10.0f, 1e-4f);               // from the back mirror
+}
+
+// The contribution cutoff: weights 1, 0.5, 0.25, then 0.125 < 0.2 is not traced.
+TEST(RayTree, ContributionCutoffGivesASkippedReflectionRay) {
+  Scene s = facing_mirrors(0.5f);
+  s.commit();
+  RenderSettings rs = center_render(20, 0.2f);
+  prepare_frame(s, rs);
+  PixelRecord rec = record_pixel(s, rs, 4, 4);
+  ASSERT_EQ(rec.rays.size(), 4u);
+  std::vector<const RayRecord*> cut = skipped_rays(rec);
+  ASSERT_EQ(cut.size(), 1u);
+  EXPECT_EQ(cut[0]->id, 3);
+  expect_skipped(*cut[0], RayKind::Reflection, 2, 3, SkipReason::Contribution);
+  EXPECT_NEAR(cut[0]->weight.x, 0.125f, 1e-7f);
+  // The counters of a render agree with the tree: one cutoff per pixel.
+  RayCounters c;
+  render(s, rs, &c);
+  EXPECT_EQ(c.weight_cutoffs, uint64_t(rs.width * rs.height));
+  EXPECT_EQ(c.depth_cutoffs, 0u);
+}
+
+// The recorded local terms add up to what the integrator adds: on a diffuse
+// and specular scene (no secondary rays) every hit's color is its ambient term
+// plus the diffuse and specular terms of the lights reaching it; and each
+// light is accounted for once per hit: reaching it, occluded, or skipped.
+TEST(RayTree, LocalTermsAddUpToTheHitColor) {
+  Scene s = diffuse_scene(true);
+  s.materials[0].specular = 0.6f;
+  s.materials[0].shininess = 20.0f;
+  Light fill;
+  fill.name = "fill";
+  fill.type = Light::Type::Directional;
+  fill.direction = Vec3(1, -1, -1);
+  fill.intensity = 0.5f;
+  s.lights.push_back(fill);
+  s.commit();
+  RenderSettings rs = rstest::small_render(40, 30, 2);
+  prepare_frame(s, rs);
+  int hits = 0, lit = 0, skipped = 0, occluded = 0;
+  float max_specular = 0.0f;
+  for (int y = 0; y < rs.height; y += 2)
+    for (int x = 0; x < rs.width; x += 2) {
+      PixelRecord rec = record_pixel(s, rs, x, y);
+      for (const RayRecord& r : rec.rays) {
+        if (r.kind != RayKind::Primary || !r.hit) continue;
+        ++hits;
+        Color sum = r.ambient;
+        for (const LightTerms& t : r.lights) {
+          sum += t.diffuse + t.specular;
+          max_specular = std::max(max_specular, max_component(t.specular));
+        }
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(sum[k], r.color[k], 1e-6f) << x << "," << y;
+        // Every light once: a term, an occluded shadow ray, or a skipped one.
+        std::vector<int> seen(s.lights.size(), 0);
+        for (const LightTerms& t : r.lights) seen[size_t(t.light)]++;
+        for (int c : r.children) {
+          const RayRecord& sh = rec.rays[size_t(c)];
+          ASSERT_EQ(sh.kind, RayKind::Shadow);
+          if (sh.skipped || sh.occluded) seen[size_t(sh.light)]++;
+          skipped += sh.skipped;
+          occluded += sh.occluded;
+        }
+        for (int n : seen) EXPECT_EQ(n, 1) << x << "," << y;
+        lit += !r.lights.empty();
+      }
+    }
+  EXPECT_GT(hits, 200);
+  EXPECT_GT(lit, 100);
+  EXPECT_GT(skipped, 10);
+  EXPECT_GT(occluded, 10);
+  EXPECT_GT(max_specular, 0.05f);  // highlights were among them
+}
+
+// The walk in order: the root's box test first; every node entered after the
+// root was tested and hit before; missed boxes are never entered; culled nodes
+// were hit and never entered after; the hit's leaf is an entered leaf that
+// holds a primitive of the hit object (shadow rays: of the occluder).
+TEST(RayTree, WalkStepsAndHitLeaf) {
+  for (AccelKind accel : {AccelKind::Bvh, AccelKind::BinaryBvh}) {
+    Scene s = make_default_scene();
+    AccelConfig config;
+    config.kind = accel;
+    s.commit(config);
+    ASSERT_TRUE(s.summary().bvh_used);
+    const Bvh& bvh = s.bvh();
+    RenderSettings rs = rstest::small_render(48, 36, 1);
+    prepare_frame(s, rs);
+    int leaves = 0, culls = 0, misses = 0;
+    for (int y = 0; y < rs.height; y += 3)
+      for (int x = 0; x < rs.width; x += 3) {
+        PixelRecord rec = record_pixel(s, rs, x, y);
+        for (const RayRecord& r : rec.rays) {
+          if (r.skipped) continue;
+          const std::vector<TraversalStep>& st = r.traversal.steps;
+          ASSERT_FALSE(st.empty());
+          EXPECT_EQ(st[0].node, 0u);
+          EXPECT_NE(st[0].kind, TraversalStep::Kind::Enter);
+          std::vector<int> state(bvh.nodes.size(), 0);  // 1 hit, 2 missed, 3 entered, 4 culled
+          for (size_t i = 0; i < st.size(); ++i) {
+            int& n = state.at(st[i].node);
+            switch (st[i].kind) {
+              case TraversalStep::Kind::BoxHit:
+                EXPECT_EQ(n, 0);
+                n = 1;
+                break;
+              case TraversalStep::Kind::BoxMiss:
+                EXPECT_EQ(n, 0);
+                n = 2;
+                ++misses;
+                break;
+              case TraversalStep::Kind::Enter:
+                EXPECT_EQ(n, 1) << "node " << st[i].node << " entered without a box hit";
+                n = 3;
+                break;
+              case TraversalStep::Kind::Cull:
+                EXPECT_EQ(n, 1) << "node " << st[i].node << " culled without a box hit";
+                n = 4;
+                ++culls;
+                break;
+            }
+          }
+          const bool hit = r.kind == RayKind::Shadow ? r.occluded : r.hit;
+          const uint32_t object = r.kind == RayKind::Shadow ? r.occluder : r.object;
+          if (!hit || s.object_type(object) == ObjectType::Plane) {
+            EXPECT_EQ(r.traversal.hit_leaf, kNoNode);
+            continue;
+          }
+          const uint32_t leaf = r.traversal.hit_leaf;
+          ASSERT_NE(leaf, kNoNode);
+          EXPECT_EQ(state.at(leaf), 3);
+          ASSERT_TRUE(bvh.nodes[leaf].is_leaf());
+          bool holds = false;
+          for (uint32_t i = 0; i < bvh.nodes[leaf].count; ++i)
+            holds |= s.prim_object(bvh.prim_indices[bvh.nodes[leaf].index + i]) == object;
+          EXPECT_TRUE(holds) << "leaf " << leaf << " holds no primitive of object " << object;
+          ++leaves;
+        }
+      }
+    EXPECT_GT(leaves, 100);
+    EXPECT_GT(misses, 100);
+    if (accel == AccelKind::Bvh) {
+      EXPECT_GT(culls, 0);
+    }
+  }
 }

@@ -427,3 +427,30 @@ TEST(Render, AnalyticMirrorImage) {
   EXPECT_GT(n.mirrored_ball, 100);
   EXPECT_GT(n.mirrored_sky, 1000);
 }
+
+// Camera::project() inverts generate_ray(): a point along the ray through an
+// image-plane position projects back to that position (central and parallel
+// projections), and a point behind the eye does not project.
+TEST(Camera, ProjectInvertsGenerateRay) {
+  for (bool parallel : {false, true}) {
+    Camera c;
+    c.eye = Vec3(1.0f, 2.0f, 6.0f);
+    c.look_at = Vec3(-0.5f, 0.3f, 0.0f);
+    c.up = Vec3(0.1f, 1.0f, 0.0f);
+    c.parallel = parallel;
+    c.parallel_scale = 2.5f;
+    c.prepare(64, 48);
+    for (auto [px, py] : {std::pair{0.5f, 0.5f}, {31.25f, 20.0f}, {63.5f, 47.5f}, {10.0f, 40.0f}})
+      for (float t : {0.5f, 3.0f, 40.0f}) {
+        const Ray r = c.generate_ray(px, py);
+        float qx = -1.0f, qy = -1.0f;
+        ASSERT_TRUE(c.project(r.origin + t * r.dir, qx, qy));
+        EXPECT_NEAR(qx, px, 2e-3f) << parallel << " t=" << t;
+        EXPECT_NEAR(qy, py, 2e-3f) << parallel << " t=" << t;
+      }
+    float qx, qy;
+    if (!parallel) {
+      EXPECT_FALSE(c.project(c.eye - 2.0f * c.forward(), qx, qy));
+    }
+  }
+}

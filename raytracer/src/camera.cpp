@@ -34,6 +34,20 @@ void Camera::prepare(int width, int height) {
   inv_height_ = 1.0f / float(height);
 }
 
+bool Camera::project(const Vec3& p, float& px, float& py) const {
+  const Vec3 q = p - eye;
+  float sx = glm::dot(q, right_), sy = glm::dot(q, up_ortho_);
+  if (!parallel) {
+    const float depth = glm::dot(q, forward_);  // the image plane is at distance 1
+    if (!(depth > 0.0f)) return false;
+    sx /= depth;
+    sy /= depth;
+  }
+  px = 0.5f * (sx / half_width_ + 1.0f) / inv_width_;
+  py = 0.5f * (1.0f - sy / half_height_) / inv_height_;
+  return std::isfinite(px) && std::isfinite(py);
+}
+
 Camera frame_bounds(const Bounds3& bounds, float aspect, const Camera& view) {
   Vec3 center(0.0f);
   float radius = 1.0f;

@@ -47,21 +47,27 @@ const char* object_kind(const Scene& s, uint32_t o) {
   return "?";
 }
 
+const std::string& light_name(const Scene& s, int light) {
+  static const std::string unknown = "?";
+  return light >= 0 && size_t(light) < s.lights.size() ? s.lights[size_t(light)].name : unknown;
+}
+
 void text_ray(const PixelRecord& rec, const Scene& s, int id, int indent, std::string& out) {
   const RayRecord& r = rec.rays[size_t(id)];
   std::string pad(size_t(indent) * 2, ' ');
   std::string line = pad + fmt("#%d %s  depth %d  weight %.4g", r.id, to_string(r.kind), r.depth,
                                max_component(r.weight));
   if (r.kind == RayKind::Shadow) {
-    const std::string& lname = r.light >= 0 && size_t(r.light) < s.lights.size()
-                                   ? s.lights[size_t(r.light)].name
-                                   : std::string("?");
-    line += fmt("  to light %d \"%s\": ", r.light, lname.c_str());
-    if (r.occluded)
+    line += fmt("  to light %d \"%s\": ", r.light, light_name(s, r.light).c_str());
+    if (r.skipped)
+      line += fmt("skipped (%s)", to_string(r.skip_reason));
+    else if (r.occluded)
       line += fmt("occluded by \"%s\" (%s)", s.object_name(r.occluder).c_str(),
                   object_kind(s, r.occluder));
     else
       line += "visible, light " + v3(r.color);
+  } else if (r.skipped) {
+    line += fmt("  skipped (%s)", to_string(r.skip_reason));
   } else if (r.hit) {
     line += fmt("  hit \"%s\" (%s", s.object_name(r.object).c_str(), object_kind(s, r.object));
     if (s.object_type(r.object) == ObjectType::Mesh) line += fmt(" triangle %u", r.prim);
@@ -69,15 +75,24 @@ void text_ray(const PixelRecord& rec, const Scene& s, int id, int indent, std::s
     line += "\n" + pad + "   at " + world(s, r.point) + "  normal " + v3(r.ns);
     if (r.ns != r.ng) line += "  geometric " + v3(r.ng);
     line += "\n" + pad + "   returned " + v3(r.color);
+    line += "\n" + pad + "   local: ambient " + v3(r.ambient);
+    for (const LightTerms& l : r.lights)
+      line += "\n" + pad +
+              fmt("     + light %d \"%s\": diffuse ", l.light, light_name(s, l.light).c_str()) +
+              v3(l.diffuse) + " specular " + v3(l.specular);
   } else {
     line += "  miss (background) returned " + v3(r.color);
   }
   out += line + "\n";
-  out += pad + fmt("   walk: %zu nodes visited, %u boxes tested, %u primitives tested",
-                   r.traversal.nodes.size(), r.traversal.boxes_tested, r.traversal.prims_tested);
-  if (r.traversal.culled) out += fmt(", %u nodes culled", r.traversal.culled);
-  if (r.traversal.early_terminated) out += ", early termination";
-  out += "\n";
+  if (!r.skipped) {
+    const TraversalRecord& w = r.traversal;
+    out += pad + fmt("   walk: %zu nodes visited, %u boxes tested, %u primitives tested",
+                     w.nodes().size(), w.boxes_tested(), w.prims_tested);
+    if (w.culled()) out += fmt(", %u nodes culled", w.culled());
+    if (w.early_terminated) out += ", early termination";
+    if (w.hit_leaf != kNoNode) out += fmt(", hit in leaf %u", w.hit_leaf);
+    out += "\n";
+  }
   if (r.has_refraction) {
     const RefractionEvent& e = r.refraction;
     out += pad + fmt("   refraction: n1 %.4g -> n2 %.4g, incidence %.2f deg, ", e.n1, e.n2,
@@ -91,11 +106,19 @@ void text_ray(const PixelRecord& rec, const Scene& s, int id, int indent, std::s
   for (int c : r.children) text_ray(rec, s, c, indent + 1, out);
 }
 
+constexpr const char* kLocalLegend =
+    "local: the hit's local illumination, ambient + per light reaching it diffuse and specular\n"
+    "skipped: rays not traced (N.L <= 0: light behind the surface; depth limit; contribution\n"
+    "  cutoff: weight below --min-contribution)\n";
+
 // What the "walk:" line of each ray counts, for the structure the scene walks.
 std::string walk_legend(const Scene& s) {
   const Aggregate& a = s.accel();
   if (!a.walks_structure())
-    return "walk: no structure; every primitive is tested (primitives tested = all of them)\n";
+    return std::string(
+               "walk: no structure; every primitive is tested (primitives tested = all of "
+               "them)\n") +
+           kLocalLegend;
   const char* walk = a.kind() == AccelKind::BinaryBvh
                          ? "the binary BVH, node by node (--accel bvh2)"
                          : "the 4-wide BVH, as renders walk it (--accel bvh); nodes are named by "
@@ -105,7 +128,8 @@ std::string walk_legend(const Scene& s) {
          "ray,\n  hit or missed (the root's, then every child box of each node entered, so more "
          "boxes\n  than nodes); primitives tested = triangles and spheres in the leaves entered;"
          "\n  culled = boxes hit but skipped because a closer hit was found first (early "
-         "termination)\n";
+         "termination);\n  hit in leaf = the leaf holding the primitive hit\n" +
+         kLocalLegend;
 }
 
 nlohmann::json jv(const Vec3& v) {
@@ -152,12 +176,19 @@ std::string format_json(const PixelRecord& rec, const Scene& s, int indent) {
               {"tmax", jf(r.tmax)},
               {"weight", jv(r.weight)},
               {"color", jv(r.color)},
-              {"bvh",
-               {{"nodes", r.traversal.nodes},
-                {"boxes_tested", r.traversal.boxes_tested},
-                {"primitives_tested", r.traversal.prims_tested},
-                {"culled", r.traversal.culled},
-                {"early_termination", r.traversal.early_terminated}}}};
+              {"skipped", r.skipped}};
+    if (r.skipped) j["skip_reason"] = to_string(r.skip_reason);
+    json steps = json::array();
+    for (const TraversalStep& st : r.traversal.steps)
+      steps.push_back({to_string(st.kind), st.node});
+    j["bvh"] = {
+        {"nodes", r.traversal.nodes()},
+        {"boxes_tested", r.traversal.boxes_tested()},
+        {"primitives_tested", r.traversal.prims_tested},
+        {"culled", r.traversal.culled()},
+        {"early_termination", r.traversal.early_terminated},
+        {"hit_leaf", r.traversal.hit_leaf == kNoNode ? json(nullptr) : json(r.traversal.hit_leaf)},
+        {"steps", std::move(steps)}};
     if (r.kind == RayKind::Shadow) {
       j["light"] = r.light;
       j["occluded"] = r.occluded;
@@ -176,6 +207,13 @@ std::string format_json(const PixelRecord& rec, const Scene& s, int indent) {
         j["object_name"] = s.object_name(r.object);
         j["primitive"] = r.prim;
         j["material"] = s.materials[r.material].name;
+        json lights = json::array();
+        for (const LightTerms& l : r.lights)
+          lights.push_back({{"light", l.light},
+                            {"name", light_name(s, l.light)},
+                            {"diffuse", jv(l.diffuse)},
+                            {"specular", jv(l.specular)}});
+        j["local"] = {{"ambient", jv(r.ambient)}, {"lights", std::move(lights)}};
       }
     }
     if (r.has_refraction) {

@@ -115,7 +115,7 @@ TEST(VtkRayTree, MatchesRecordPixelJson) {
   }
 
   std::map<std::string, int> kinds_seen;
-  int occluded_seen = 0;
+  int occluded_seen = 0, skipped_seen = 0;
   vtkNew<vtkIdList> ids;
   auto* kind_names = vtkStringArray::SafeDownCast(pd->GetCellData()->GetAbstractArray("KindName"));
   ASSERT_NE(kind_names, nullptr);
@@ -170,6 +170,7 @@ TEST(VtkRayTree, MatchesRecordPixelJson) {
       if (ray["kind"] == "shadow") {
         const bool occluded = ray["occluded"].get<bool>();
         EXPECT_EQ(arr(pd, "Occluded", c), occluded) << what;
+        EXPECT_EQ(arr(pd, "Skipped", c), ray["skipped"].get<bool>() ? 1 : 0) << what;
         EXPECT_EQ(arr(pd, "LightId", c), ray["light"].get<int>()) << what;
         if (occluded) {
           ++occluded_seen;
@@ -201,6 +202,17 @@ TEST(VtkRayTree, MatchesRecordPixelJson) {
       }
       const bool hit = ray["hit"].get<bool>();
       EXPECT_EQ(arr(pd, "Hit", c), hit) << what;
+      if (ray["skipped"].get<bool>()) {  // not traced: a stub along its direction
+        ++skipped_seen;
+        EXPECT_FALSE(hit) << what;
+        EXPECT_EQ(arr(pd, "EndKind", c), 4) << what;
+        EXPECT_EQ(arr(pd, "Skipped", c), ray["skip_reason"] == "depth limit"           ? 2
+                                         : ray["skip_reason"] == "contribution cutoff" ? 3
+                                                                                       : -1)
+            << what;
+        continue;
+      }
+      EXPECT_EQ(arr(pd, "Skipped", c), 0) << what;
       if (!hit) {
         EXPECT_EQ(arr(pd, "EndKind", c), 0) << what;
         EXPECT_EQ(arr(pd, "ObjectId", c), -1) << what;
@@ -230,6 +242,7 @@ TEST(VtkRayTree, MatchesRecordPixelJson) {
   for (const char* k : {"primary", "shadow", "reflection", "refraction"})
     EXPECT_GT(kinds_seen[k], 0) << k;
   EXPECT_GT(occluded_seen, 0);
+  EXPECT_GT(skipped_seen, 0);
 }
 
 // One sample only; the ray tree of a single pixel through SetPixel.

@@ -176,6 +176,7 @@ bool Aggregate::intersect(const Ray& ray, PrimHit& hit, Observer& obs) const {
       TriangleHit th;
       if (test_prim(r, ray, pre, t, best != ~0u, th) &&
           (th.t < t || best == ~0u || wins_tie(r.id, best_id))) {
+        if constexpr (Observer::kActive) obs.on_prim_hit(r.id);
         t = th.t;
         best = i;
         best_id = r.id;
@@ -195,6 +196,7 @@ bool Aggregate::intersect(const Ray& ray, PrimHit& hit, Observer& obs) const {
     }
   }
   if (best_plane >= 0) {
+    if constexpr (Observer::kActive) obs.on_prim_hit(kPrimOutsideStructure);
     hit = PrimHit{};
     hit.t = tmax;
     hit.plane = best_plane;
@@ -216,6 +218,7 @@ bool Aggregate::occluded(const Ray& ray, Observer& obs, PrimHit* which) const {
   for (size_t k = 0; k < planes_.size(); ++k) {
     float tp;
     if (intersect_plane(ray, planes_[k].point, planes_[k].normal, ray.tmax, tp)) {
+      if constexpr (Observer::kActive) obs.on_prim_hit(kPrimOutsideStructure);
       if (which) {
         *which = PrimHit{};
         which->t = tp;
@@ -233,6 +236,7 @@ bool Aggregate::occluded(const Ray& ray, Observer& obs, PrimHit* which) const {
       if constexpr (Observer::kActive) obs.on_prim_test(r.id);
       TriangleHit th;
       if (test_prim(r, ray, pre, t, false, th)) {
+        if constexpr (Observer::kActive) obs.on_prim_hit(r.id);
         hit_record = i;
         return true;
       }

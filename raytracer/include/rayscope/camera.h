@@ -29,6 +29,11 @@ struct Camera {
     return Ray{eye, forward_ + sx * right_ + sy * up_ortho_, kInfinity};
   }
 
+  /// The inverse of generate_ray(): the image-plane point (px, py), in pixel
+  /// units, whose primary ray passes through p. False for a point not in
+  /// front of the camera (central projection: at or behind the eye's plane).
+  bool project(const Vec3& p, float& px, float& py) const;
+
   const Vec3& forward() const { return forward_; }
   const Vec3& right() const { return right_; }
   const Vec3& up_vector() const { return up_ortho_; }

@@ -10,6 +10,12 @@
 //   void begin(Framebuffer&);              before the first pixel (e.g. allocate AOVs)
 //   void finish(size_t index, Recorder&, RayCounters&, Framebuffer&);
 //                                          after pixel `index` (fb.index(x, y))
+//   void tile_done(int x0, int y0, int x1, int y1, const Framebuffer&);
+//                                          after the pixels [x0, x1) x [y0, y1)
+//                                          of a tile are in the framebuffer
+//                                          (e.g. to show them while the frame
+//                                          renders; other tiles are being
+//                                          written meanwhile)
 //   static constexpr bool kSelects;        some pixels are rendered by select():
 //   bool tile_selected(size_t tile) const;   tiles holding such a pixel ask
 //   template <bool kShadows, bool kSecondary>
@@ -19,8 +25,8 @@
 //                                          true, or returns false for the plain
 //                                          path; tiles without a selected pixel
 //                                          run the very code of a plain render.
-// recorder(), finish() and select() run concurrently on several threads for
-// different pixels.
+// recorder(), finish(), tile_done() and select() run concurrently on several
+// threads for different pixels.
 #pragma once
 
 #include <algorithm>
@@ -44,6 +50,7 @@ struct FramePolicy {
   void begin(Framebuffer&) {}
   template <class Recorder>
   void finish(size_t, Recorder&, RayCounters&, Framebuffer&) {}
+  void tile_done(int, int, int, int, const Framebuffer&) {}
   bool tile_selected(size_t) const { return false; }
   template <bool kShadows, bool kSecondary>
   bool select(int, int, const Scene&, const RenderSettings&, RayCounters&, Color&, SurfaceHit&,
@@ -121,6 +128,7 @@ Framebuffer render_frame(const Scene& scene, const RenderSettings& settings, Pol
           tile_pixels.template operator()<true>(x0, y0, x1, y1, cnt);
         else
           tile_pixels.template operator()<false>(x0, y0, x1, y1, cnt);
+        policy.tile_done(x0, y0, x1, y1, fb);
         const size_t d = ++done;
         if (progress) {
           std::lock_guard<std::mutex> lock(progress_mutex);

@@ -25,7 +25,26 @@ struct RefractionEvent {
   float fresnel_reflect, fresnel_transmit;
 };
 
-/// The recorder interface, with every hook empty.
+/// Why a ray the lecture's algorithm would cast was not traced.
+enum class SkipReason : uint8_t {
+  Backfacing,    ///< Shadow ray: the light is behind the surface (N.L <= 0).
+  Depth,         ///< Secondary ray: the parent is at the maximum depth.
+  Contribution,  ///< Secondary ray: its weight is below the minimum contribution.
+};
+inline const char* to_string(SkipReason r) {
+  switch (r) {
+    case SkipReason::Backfacing:
+      return "N.L <= 0";
+    case SkipReason::Depth:
+      return "depth limit";
+    case SkipReason::Contribution:
+      return "contribution cutoff";
+  }
+  return "?";
+}
+
+/// The recorder interface, with every hook empty. A recorder derives from it,
+/// defines kActive = true and the hooks it needs (the others stay no-ops).
 struct NullRecorder {
   static constexpr bool kActive = false;
   /// Called before each sample of a pixel.
@@ -38,6 +57,17 @@ struct NullRecorder {
   void on_hit(int /*node*/, const SurfaceHit&) {}
   void on_shadow(int /*node*/, uint32_t /*light*/, bool /*occluded*/, uint32_t /*occluder*/) {}
   void on_refraction(int /*node*/, const RefractionEvent&) {}
+  /// Local illumination at the hit of ray `node`: the ambient term, then the
+  /// diffuse and specular terms of each light that reaches it (as added to the
+  /// ray's color; the terms of a light are multiplied out separately, so their
+  /// sum may differ from the color's in the last bits).
+  void on_ambient(int /*node*/, const Color& /*ambient*/) {}
+  void on_light_terms(int /*node*/, uint32_t /*light*/, const Color& /*diffuse*/,
+                      const Color& /*specular*/) {}
+  /// A ray that is not traced (with the ray it would have been; light >= 0 for
+  /// shadow rays).
+  void skip_ray(RayKind, const Ray&, int /*depth*/, const Color& /*weight*/, int /*parent*/,
+                SkipReason, int /*light*/) {}
   void end_ray(int /*node*/, const Color& /*returned*/) {}
 };
 
@@ -99,6 +129,7 @@ class WhittedIntegrator {
 
     // Local illumination: ambient + (diffuse + specular) per visible light.
     Color c = opaque * m.ambient * albedo * scene_.ambient_light;
+    if constexpr (Recorder::kActive) rec_.on_ambient(node, c);
     if constexpr (kShadows) shade_lights(hit, m, albedo, ng, ns, v, opaque, depth, weight, node, c);
     if constexpr (kSecondary) shade_secondary(hit, m, d, ng, ns, v, front, depth, weight, node, c);
     return c;
@@ -111,26 +142,28 @@ class WhittedIntegrator {
       const Light& light = scene_.lights[li];
       Vec3 l;
       float dist;
-      Ray shadow;
-      if (light.type == Light::Type::Point) {
+      const bool point = light.type == Light::Type::Point;
+      if (point) {
         Vec3 to = light.position - hit.p;
         dist = glm::length(to);
         if (!(dist > 0.0f)) continue;
         l = to / dist;
-        if (glm::dot(ng, l) <= 0.0f || glm::dot(ns, l) <= 0.0f) {  // light behind the surface
-          counters_.shadow_skipped_backfacing++;
-          continue;
-        }
-        shadow = spawn_ray_to(hit.p, hit.p_error, ng, light.position);
       } else {
         l = -glm::normalize(light.direction);
         dist = kInfinity;
-        if (glm::dot(ng, l) <= 0.0f || glm::dot(ns, l) <= 0.0f) {
-          counters_.shadow_skipped_backfacing++;
-          continue;
-        }
-        shadow = spawn_ray(hit.p, hit.p_error, ng, l);
       }
+      auto shadow_ray = [&] {
+        return point ? spawn_ray_to(hit.p, hit.p_error, ng, light.position)
+                     : spawn_ray(hit.p, hit.p_error, ng, l);
+      };
+      if (glm::dot(ng, l) <= 0.0f || glm::dot(ns, l) <= 0.0f) {  // light behind the surface
+        counters_.shadow_skipped_backfacing++;
+        if constexpr (Recorder::kActive)
+          rec_.skip_ray(RayKind::Shadow, shadow_ray(), depth + 1, weight, node,
+                        SkipReason::Backfacing, int(li));
+        continue;
+      }
+      const Ray shadow = shadow_ray();
       if (light.casts_shadows) {
         counters_.rays[int(RayKind::Shadow)]++;
         bool blocked;
@@ -150,8 +183,12 @@ class WhittedIntegrator {
         }
       }
       PhongTerms t = phong_terms(m, ns, l, v);
-      c += light.radiance_at(dist) *
+      const Color radiance = light.radiance_at(dist);
+      c += radiance *
            (opaque * m.diffuse * t.diffuse * albedo + m.specular * t.specular * m.specular_color);
+      if constexpr (Recorder::kActive)
+        rec_.on_light_terms(node, li, radiance * (opaque * m.diffuse * t.diffuse * albedo),
+                            radiance * (m.specular * t.specular * m.specular_color));
     }
   }
 
@@ -185,13 +222,19 @@ class WhittedIntegrator {
     }
     auto spawn_child = [&](float w, RayKind kind, const Vec3& dir) {
       if (w <= 0.0f) return;
+      Color cw = weight * w;
+      auto skip = [&](SkipReason why) {
+        if constexpr (Recorder::kActive)
+          rec_.skip_ray(kind, spawn_ray(hit.p, hit.p_error, ng, dir), depth + 1, cw, node, why, -1);
+      };
       if (depth >= settings_.max_depth) {
         counters_.depth_cutoffs++;
+        skip(SkipReason::Depth);
         return;
       }
-      Color cw = weight * w;
       if (max_component(cw) < cutoff_) {
         counters_.weight_cutoffs++;
+        skip(SkipReason::Contribution);
         return;
       }
       Ray child = spawn_ray(hit.p, hit.p_error, ng, dir);

@@ -14,20 +14,51 @@
 
 namespace rayscope {
 
+/// One event of a walk through the acceleration structure (traversal.h).
+struct TraversalStep {
+  enum class Kind : uint8_t {
+    Enter,    ///< The node is entered: its child boxes or primitives are tested next.
+    BoxHit,   ///< The node's box was tested and overlaps the ray.
+    BoxMiss,  ///< The node's box was tested and missed.
+    Cull,     ///< The node's box was hit, but it is skipped: a closer hit was found.
+  };
+  Kind kind;
+  uint32_t node;  ///< Binary BVH node id.
+  bool operator==(const TraversalStep&) const = default;
+};
+const char* to_string(TraversalStep::Kind kind);
+
+/// No node (TraversalRecord::hit_leaf when the hit came from outside a leaf).
+inline constexpr uint32_t kNoNode = ~0u;
+
 /// How one ray walked the acceleration structure: the walk renders do (the
 /// 4-wide BVH by default), named by the binary BVH's node ids.
 struct TraversalRecord {
-  /// Nodes entered, in order (a 4-wide node is named by the binary node at its
-  /// top; its children's boxes are tested together).
-  std::vector<uint32_t> nodes;
-  /// Boxes tested against the ray: the root's, then every child box of each
-  /// entered node, hit or missed (so usually more than the nodes entered).
-  uint32_t boxes_tested = 0;
+  /// Every node event, in walk order: the root's box test, then for each node
+  /// entered its Enter step and the tests of its child boxes; culls where the
+  /// walk pops a node it skips. (A 4-wide node is named by the binary node at
+  /// its top; its children's boxes are tested together.)
+  std::vector<TraversalStep> steps;
   uint32_t prims_tested = 0;
-  uint32_t culled = 0;  ///< Nodes skipped because a closer hit was already found.
+  /// The leaf whose primitive is the ray's hit (closest hit, or a shadow ray's
+  /// occluder); kNoNode for a miss, a plane or a walk without a structure.
+  uint32_t hit_leaf = kNoNode;
   /// Early termination cut the walk short: nodes were culled by a closer hit, or
   /// an any-hit (shadow) query stopped at its first occluder.
   bool early_terminated = false;
+
+  /// Nodes entered, in order.
+  std::vector<uint32_t> nodes() const;
+  /// Boxes tested against the ray: the root's, then every child box of each
+  /// entered node, hit or missed (so usually more than the nodes entered).
+  uint32_t boxes_tested() const;
+  uint32_t culled() const;  ///< Nodes skipped because a closer hit was already found.
+};
+
+/// The diffuse and specular terms one light adds at a hit.
+struct LightTerms {
+  int light = -1;
+  Color diffuse{0.0f}, specular{0.0f};
 };
 
 /// One node of the ray tree.
@@ -58,6 +89,16 @@ struct RayRecord {
   bool has_refraction = false;
   RefractionEvent refraction{};
 
+  /// Local illumination at the hit: the ambient term and, per light reaching
+  /// it, the diffuse and specular terms (as the integrator adds them).
+  Color ambient{0.0f};
+  std::vector<LightTerms> lights;
+
+  /// Not traced (origin, direction, weight and, for shadow rays, light are the
+  /// ray's that would have been; color 0, no walk).
+  bool skipped = false;
+  SkipReason skip_reason = SkipReason::Backfacing;
+
   TraversalRecord traversal;
 };
 
@@ -74,21 +115,27 @@ class RayTreeRecorder {
   struct Observer : TraversalHooks {
     static constexpr bool kActive = true;
     TraversalRecord* rec;  ///< Null for rays of samples that are not recorded.
+    uint32_t entered = kNoNode;
     explicit Observer(TraversalRecord* r) : rec(r) {}
+    void step(TraversalStep::Kind kind, uint32_t node) {
+      if (rec) rec->steps.push_back({kind, node});
+    }
     void on_node(uint32_t node) {
-      if (rec) rec->nodes.push_back(node);
+      entered = node;
+      step(TraversalStep::Kind::Enter, node);
     }
-    void on_box_test(uint32_t, bool) {
-      if (rec) rec->boxes_tested++;
+    void on_box_test(uint32_t node, bool hit) {
+      step(hit ? TraversalStep::Kind::BoxHit : TraversalStep::Kind::BoxMiss, node);
     }
-    void on_cull(uint32_t) {
-      if (rec) {
-        rec->culled++;
-        rec->early_terminated = true;
-      }
+    void on_cull(uint32_t node) {
+      step(TraversalStep::Kind::Cull, node);
+      if (rec) rec->early_terminated = true;
     }
     void on_prim_test(uint32_t) {
       if (rec) rec->prims_tested++;
+    }
+    void on_prim_hit(uint32_t prim) {
+      if (rec) rec->hit_leaf = prim == kPrimOutsideStructure ? kNoNode : entered;
     }
   };
 
@@ -139,6 +186,20 @@ class RayTreeRecorder {
     if (node < 0) return;
     rays[size_t(node)].has_refraction = true;
     rays[size_t(node)].refraction = e;
+  }
+  void on_ambient(int node, const Color& ambient) {
+    if (node >= 0) rays[size_t(node)].ambient = ambient;
+  }
+  void on_light_terms(int node, uint32_t light, const Color& diffuse, const Color& specular) {
+    if (node >= 0) rays[size_t(node)].lights.push_back({int(light), diffuse, specular});
+  }
+  void skip_ray(RayKind kind, const Ray& ray, int depth, const Color& weight, int parent,
+                SkipReason why, int light) {
+    const int node = begin_ray(kind, ray, depth, weight, parent);
+    if (node < 0) return;
+    rays[size_t(node)].skipped = true;
+    rays[size_t(node)].skip_reason = why;
+    rays[size_t(node)].light = light;
   }
   void end_ray(int node, const Color& c) {
     if (node >= 0) rays[size_t(node)].color = c;

@@ -88,6 +88,12 @@ struct StatsRecorder {
   template <class... A>
   void on_refraction(A&&...) {}
   template <class... A>
+  void on_ambient(A&&...) {}
+  template <class... A>
+  void on_light_terms(A&&...) {}
+  template <class... A>
+  void skip_ray(A&&...) {}
+  template <class... A>
   void end_ray(A&&...) {}
 
   void add_to(RayCounters& c) const {

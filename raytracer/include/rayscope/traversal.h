@@ -15,6 +15,10 @@
 
 namespace rayscope {
 
+/// The "primitive" of on_prim_hit for a hit outside the structure (an unbounded
+/// plane, tested beside it).
+inline constexpr uint32_t kPrimOutsideStructure = ~0u;
+
 /// Every hook, each doing nothing. An observer derives from this and defines
 /// kActive = true and the hooks it needs (the others stay no-ops).
 struct TraversalHooks {
@@ -29,6 +33,11 @@ struct TraversalHooks {
   void on_cull(uint32_t /*node*/) {}
   /// Primitive `prim` (global primitive index) is tested against the ray.
   void on_prim_test(uint32_t /*prim*/) {}
+  /// Primitive `prim`, just tested, is now the query's hit: the closest so far
+  /// (a later call replaces it) or, for an any-hit query, the occluder. The
+  /// leaf that holds it is the node entered last. kPrimOutsideStructure: a
+  /// plane beside the structure became the hit.
+  void on_prim_hit(uint32_t /*prim*/) {}
 };
 
 /// The observer of plain queries: compiled out.

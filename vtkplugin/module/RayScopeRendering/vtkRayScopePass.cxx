@@ -16,6 +16,7 @@
 #include "vtkRenderer.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "RayScopeDisplay.h"
 #include "rayscope/image.h"
 #include "vtkRayScopeImageAlgorithm.h"
 
@@ -49,28 +50,6 @@ vtkImageData* vtkRayScopePass::GetLastImage() {
   return this->HasImage ? this->Algorithm->GetOutput() : nullptr;
 }
 
-namespace {
-
-// The per-pixel BVH cost as RGB bytes, 0 .. the image's maximum on the
-// heat-map scale of `rayscope render --aov cost`.
-std::vector<unsigned char> cost_heat_map(vtkImageData* image) {
-  auto* cost = vtkIntArray::SafeDownCast(image->GetPointData()->GetArray("Cost"));
-  if (!cost) return {};
-  const vtkIdType n = cost->GetNumberOfTuples();
-  int max_cost = 1;
-  for (vtkIdType i = 0; i < n; ++i) max_cost = std::max(max_cost, cost->GetValue(i));
-  std::vector<unsigned char> rgb(size_t(n) * 3);
-  for (vtkIdType i = 0; i < n; ++i) {
-    const rayscope::Color c = rayscope::heat_color(float(cost->GetValue(i)) / float(max_cost));
-    for (int k = 0; k < 3; ++k)
-      rgb[size_t(i) * 3 + size_t(k)] = (unsigned char)std::lround(
-          255.0f * rayscope::linear_to_srgb(std::clamp(c[k], 0.0f, 1.0f)));
-  }
-  return rgb;
-}
-
-}  // namespace
-
 void vtkRayScopePass::Render(const vtkRenderState* s) {
   this->NumberOfRenderedProps = 0;
   vtkRenderer* ren = s->GetRenderer();
@@ -101,7 +80,7 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
   std::vector<unsigned char> heat;
   void* pixels = nullptr;
   if (this->DisplayMode == COST) {
-    heat = cost_heat_map(image);
+    heat = rayscope_vtk::display_pixels(image, rayscope_vtk::kDisplayCost);
     if (!heat.empty()) pixels = heat.data();
   } else if (auto* color = vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetScalars()))
     pixels = color->GetVoidPointer(0);

@@ -119,7 +119,37 @@ int SceneBuilder::CheckTriangles(vtkRayScopeImageAlgorithm* alg,
   return 1;
 }
 
+void SceneBuilder::SetFixedScene(const rayscope::Scene& scene) {
+  this->Scene = scene;
+  this->Fixed = true;
+  this->HasScene = false;
+  this->GeometryInputs.clear();
+}
+
+int SceneBuilder::Commit(vtkRayScopeImageAlgorithm* alg, const rayscope::AccelConfig& accel) {
+  try {
+    this->Scene.commit(accel);
+    ++this->Commits;
+  } catch (const std::exception& e) {
+    vtkErrorWithObjectMacro(alg, << "invalid scene: " << e.what());
+    return 0;
+  }
+  return 1;
+}
+
+int SceneBuilder::UpdateFixed(vtkRayScopeImageAlgorithm* alg) {
+  rayscope::Scene& s = this->Scene;
+  rayscope::AccelConfig accel;
+  accel.kind = rayscope::AccelKind(alg->GetAccel());
+  if (s.accel().kind() != accel.kind) {
+    this->HasScene = false;
+    if (!this->Commit(alg, accel)) return 0;
+  }
+  return this->PrepareCamera(alg);
+}
+
 int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<SceneLight>& lights) {
+  if (this->Fixed) return this->UpdateFixed(alg);
   const int n = alg->GetNumberOfInputConnections(0);
   if (n == 0) {
     vtkErrorWithObjectMacro(alg, << "no input: connect at least one vtkDataSet to port 0");
@@ -200,13 +230,7 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
     }
     s.materials = std::move(materials);
     s.lights = std::move(core);
-    try {
-      s.commit(accel);
-      ++this->Commits;
-    } catch (const std::exception& e) {
-      vtkErrorWithObjectMacro(alg, << "invalid scene: " << e.what());
-      return 0;
-    }
+    if (!this->Commit(alg, accel)) return 0;
     // Input data the scene worked around (non-finite points, normals, colors):
     // rendered without it, reported once per problem and input.
     for (const std::string& w : s.summary().warnings) vtkWarningWithObjectMacro(alg, << w);
@@ -215,14 +239,19 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
       this->GeometryTime.Modified();
     }
   }
+  s.background = linear_color(alg->GetBackground());
+  s.ambient_light = linear_color(alg->GetAmbientLight());
+  return this->PrepareCamera(alg);
+}
+
+int SceneBuilder::PrepareCamera(vtkRayScopeImageAlgorithm* alg) {
+  rayscope::Scene& s = this->Scene;
   s.camera.eye = local(s, alg->GetPosition());
   s.camera.look_at = local(s, alg->GetFocalPoint());
   s.camera.up = vec3(alg->GetViewUp());
   s.camera.vfov_degrees = float(alg->GetViewAngle());
   s.camera.parallel = alg->GetParallelProjection() != 0;
   s.camera.parallel_scale = float(alg->GetParallelScale());
-  s.background = linear_color(alg->GetBackground());
-  s.ambient_light = linear_color(alg->GetAmbientLight());
   try {
     rayscope::prepare_frame(s, alg->GetRenderSettings());
   } catch (const std::exception& e) {

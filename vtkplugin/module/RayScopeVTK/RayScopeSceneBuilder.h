@@ -37,6 +37,12 @@ class SceneBuilder {
   /// returns 1 on success, 0 after an error (the scene is then unusable).
   int Update(vtkRayScopeImageAlgorithm* alg, const std::vector<SceneLight>& lights);
 
+  /// From now on Update() uses `scene` (committed) as it is, instead of the
+  /// inputs, materials and lights: only the camera is taken from the
+  /// algorithm, and the BVH is rebuilt when the algorithm's Accel differs from
+  /// the scene's.
+  void SetFixedScene(const rayscope::Scene& scene);
+
   /// The scene of the last successful Update(), else null.
   rayscope::Scene* GetScene() { return this->HasScene ? &this->Scene : nullptr; }
   /// How often Update() converted the inputs to triangles, and committed the
@@ -50,8 +56,15 @@ class SceneBuilder {
   static int CheckTriangles(vtkRayScopeImageAlgorithm* alg, const std::vector<vtkDataSet*>& inputs,
                             const std::vector<rayscope::TriangleMesh>& meshes);
 
+  int UpdateFixed(vtkRayScopeImageAlgorithm* alg);
+  // Scene.commit(accel), its error reported on `alg`; 1 on success.
+  int Commit(vtkRayScopeImageAlgorithm* alg, const rayscope::AccelConfig& accel);
+  // The camera of `alg` into the scene, prepared for the image size.
+  int PrepareCamera(vtkRayScopeImageAlgorithm* alg);
+
   rayscope::Scene Scene;
   bool HasScene = false;
+  bool Fixed = false;         // SetFixedScene() was called
   vtkTimeStamp GeometryTime;  // when the meshes were last converted
   std::vector<vtkDataSet*> GeometryInputs;
   size_t Conversions = 0, Commits = 0;

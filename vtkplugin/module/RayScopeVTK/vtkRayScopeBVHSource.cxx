@@ -37,7 +37,9 @@ vtkRayScopeBVHSource::vtkRayScopeBVHSource()
       GenerateFaces(0),
       VisitMode(VISIT_NONE),
       Pixel{0, 0},
-      VisitRay(-1) {
+      VisitRay(-1),
+      TraversalSteps(-1),
+      NumberOfTraversalEntries(0) {
   this->SetNumberOfInputPorts(0);
 }
 
@@ -53,10 +55,12 @@ vtkMTimeType vtkRayScopeBVHSource::GetMTime() {
 
 namespace {
 
-// Integrator recorder that counts node visits per binary BVH node.
-struct NodeVisitRecorder {
+// Integrator recorder that counts node visits per binary BVH node (the other
+// hooks are NullRecorder's no-ops).
+struct NodeVisitRecorder : rayscope::NullRecorder {
   static constexpr bool kActive = true;
   std::vector<uint32_t>* counts;
+  explicit NodeVisitRecorder(std::vector<uint32_t>* c) : counts(c) {}
 
   struct Observer : rayscope::TraversalHooks {
     static constexpr bool kActive = true;
@@ -64,15 +68,7 @@ struct NodeVisitRecorder {
     explicit Observer(std::vector<uint32_t>* counts) : c(counts) {}
     void on_node(uint32_t node) { (*c)[node]++; }
   };
-  void begin_sample(int) {}
-  int begin_ray(rayscope::RayKind, const rayscope::Ray&, int, const rayscope::Color&, int) {
-    return 0;
-  }
   Observer traversal(int) { return Observer{counts}; }
-  void on_hit(int, const rayscope::SurfaceHit&) {}
-  void on_shadow(int, uint32_t, bool, uint32_t) {}
-  void on_refraction(int, const rayscope::RefractionEvent&) {}
-  void end_ray(int, const rayscope::Color&) {}
 };
 
 // Frame policy: every pixel with a NodeVisitRecorder on its thread's counts.
@@ -134,8 +130,15 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector**,
   const std::vector<rayscope::BvhNode>& nodes = bvh.nodes;
   const size_t nn = nodes.size();
 
-  // Visit counts.
+  // Visit counts, and the states of a played walk.
   std::vector<uint32_t> visits(nn, 0u);
+  std::vector<int> state, entry;
+  const bool play = this->TraversalSteps >= 0;
+  if (play && (this->VisitMode != VISIT_PIXEL || this->VisitRay < 0)) {
+    vtkErrorMacro(<< "TraversalSteps " << this->TraversalSteps
+                  << " plays one ray's walk: it needs VisitModeToPixel and a VisitRay >= 0");
+    return 0;
+  }
   if (this->VisitMode == VISIT_PIXEL) {
     const int i = this->Pixel[0], j = this->Pixel[1];
     if (i < 0 || j < 0 || i >= settings.width || j >= settings.height) {
@@ -158,7 +161,28 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector**,
     }
     for (const rayscope::RayRecord& r : rec.rays)
       if (this->VisitRay < 0 || r.id == this->VisitRay)
-        for (uint32_t n : r.traversal.nodes) visits[n]++;
+        for (uint32_t n : r.traversal.nodes()) visits[n]++;
+    if (play) {
+      const rayscope::TraversalRecord& walk = rec.rays[size_t(this->VisitRay)].traversal;
+      state.assign(nn, 0);
+      entry.assign(nn, -1);
+      int entered = 0;
+      for (const rayscope::TraversalStep& st : walk.steps) {
+        using Kind = rayscope::TraversalStep::Kind;
+        if (st.kind == Kind::Enter) {
+          if (entered == this->TraversalSteps) break;
+          state[st.node] = ENTERED;
+          entry[st.node] = entered++;
+        } else {
+          state[st.node] = st.kind == Kind::BoxHit    ? BOX_HIT
+                           : st.kind == Kind::BoxMiss ? BOX_MISSED
+                                                      : CULLED;
+        }
+      }
+      if (walk.hit_leaf != rayscope::kNoNode && state[walk.hit_leaf] == ENTERED)
+        state[walk.hit_leaf] = HIT_LEAF;
+      this->NumberOfTraversalEntries = int(walk.nodes().size());
+    }
   } else if (this->VisitMode == VISIT_FRAME && nn > 0) {
     try {
       visits = frame_visits(scene, settings, this);
@@ -207,7 +231,7 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector**,
   std::vector<uint32_t> shown;
   for (uint32_t i : order)
     if (level[i] >= this->LevelRange[0] && level[i] <= this->LevelRange[1] &&
-        (!this->OnlyLeaves || nodes[i].is_leaf()))
+        (!this->OnlyLeaves || nodes[i].is_leaf()) && (!play || state[i] != 0))
       shown.push_back(i);
   std::sort(shown.begin(), shown.end());
 
@@ -229,6 +253,11 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector**,
   auto a_offset = make_array<vtkIntArray>("PrimitiveOffset", 1, ncells);
   auto a_sah = make_array<vtkDoubleArray>("SAHCost", 1, ncells);
   auto a_visits = make_array<vtkIntArray>("VisitCount", 1, ncells);
+  vtkSmartPointer<vtkIntArray> a_state, a_entry;
+  if (play) {
+    a_state = make_array<vtkIntArray>("TraversalState", 1, ncells);
+    a_entry = make_array<vtkIntArray>("EntryOrder", 1, ncells);
+  }
   vtkIdType cell = 0;
   for (vtkIdType b = 0; b < nboxes; ++b) {
     const uint32_t i = shown[size_t(b)];
@@ -254,6 +283,10 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector**,
       a_offset->SetValue(cell, n.is_leaf() ? int(n.index) : -1);
       a_sah->SetValue(cell, sah[i]);
       a_visits->SetValue(cell, int(visits[i]));
+      if (play) {
+        a_state->SetValue(cell, state[i]);
+        a_entry->SetValue(cell, entry[i]);
+      }
     }
   }
 
@@ -267,6 +300,10 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector**,
   for (vtkAbstractArray* a : std::initializer_list<vtkAbstractArray*>{
            a_level, a_node, a_parent, a_leaf, a_count, a_offset, a_sah, a_visits})
     cd->AddArray(a);
+  if (play) {
+    cd->AddArray(a_state);
+    cd->AddArray(a_entry);
+  }
   cd->SetActiveScalars("Level");
 
   vtkFieldData* fd = output->GetFieldData();
@@ -290,4 +327,5 @@ void vtkRayScopeBVHSource::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "VisitMode: " << this->VisitMode << "\n";
   os << indent << "Pixel: " << this->Pixel[0] << " " << this->Pixel[1] << "\n";
   os << indent << "VisitRay: " << this->VisitRay << "\n";
+  os << indent << "TraversalSteps: " << this->TraversalSteps << "\n";
 }

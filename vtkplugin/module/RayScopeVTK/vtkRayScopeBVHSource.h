@@ -95,6 +95,29 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeBVHSource : public vtkPolyDataAlgorithm {
   vtkGetMacro(VisitRay, int);
   ///@}
 
+  ///@{
+  /// Plays the walk of one ray: with VisitModeToPixel and a VisitRay >= 0,
+  /// TraversalSteps = N >= 0 outputs only the boxes that ray's walk touched
+  /// before it entered its (N+1)-th node (its first N nodes entered, in the
+  /// order the recorder logged them, and the boxes tested, missed and culled
+  /// on the way), with the cell arrays "TraversalState" (a TraversalStates
+  /// value) and "EntryOrder" (k for the k-th node entered, from 0; -1 for
+  /// boxes only tested). -1 (default): every node, no traversal arrays.
+  /// GetNumberOfTraversalEntries() is the ray's total, after an update.
+  vtkSetMacro(TraversalSteps, int);
+  vtkGetMacro(TraversalSteps, int);
+  vtkGetMacro(NumberOfTraversalEntries, int);
+  ///@}
+
+  /// "TraversalState" values.
+  enum TraversalStates {
+    BOX_HIT = 1,  ///< box tested and hit, node not entered (yet)
+    BOX_MISSED = 2,
+    ENTERED = 3,
+    CULLED = 4,   ///< box hit, then skipped: a closer hit was found (early termination)
+    HIT_LEAF = 5  ///< entered leaf holding the primitive the ray hit
+  };
+
   /// Includes the scene source's modification time.
   vtkMTimeType GetMTime() override;
 
@@ -112,6 +135,8 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeBVHSource : public vtkPolyDataAlgorithm {
   int VisitMode;
   int Pixel[2];
   int VisitRay;
+  int TraversalSteps;
+  int NumberOfTraversalEntries;
 
  private:
   vtkRayScopeBVHSource(const vtkRayScopeBVHSource&) = delete;

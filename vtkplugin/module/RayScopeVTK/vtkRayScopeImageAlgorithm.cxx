@@ -326,6 +326,26 @@ rayscope::RenderSettings vtkRayScopeImageAlgorithm::GetRenderSettings() {
   return s;
 }
 
+void vtkRayScopeImageAlgorithm::SetCoreScene(const rayscope::Scene& scene) {
+  this->Internal->builder.SetFixedScene(scene);
+  const rayscope::Camera& c = scene.camera;
+  const rayscope::DVec3 eye = scene.to_world(c.eye), at = scene.to_world(c.look_at);
+  this->SetPosition(eye.x, eye.y, eye.z);
+  this->SetFocalPoint(at.x, at.y, at.z);
+  this->SetViewUp(c.up.x, c.up.y, c.up.z);
+  this->SetViewAngle(c.vfov_degrees);
+  this->SetParallelProjection(c.parallel);
+  this->SetParallelScale(c.parallel_scale);
+  this->SetAccel(int(scene.accel().kind()));
+  this->Modified();
+}
+
+void vtkRayScopeImageAlgorithm::FramebufferToImage(const rayscope::Framebuffer& fb,
+                                                   const rayscope::RayCounters& counters,
+                                                   vtkImageData* image) {
+  rayscope_vtk::framebuffer_to_image(fb, counters, image);
+}
+
 rayscope::Scene* vtkRayScopeImageAlgorithm::GetCoreScene() {
   return this->Internal->builder.GetScene();
 }
@@ -368,6 +388,9 @@ int vtkRayScopeImageAlgorithm::FillInputPortInformation(int port, vtkInformation
   if (port != 0) return 0;
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
   info->Set(vtkAlgorithm::INPUT_IS_REPEATABLE(), 1);
+  // Optional for the pipeline: a core scene (SetCoreScene) needs no input;
+  // without one, the scene builder reports the missing input.
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
   return 1;
 }
 

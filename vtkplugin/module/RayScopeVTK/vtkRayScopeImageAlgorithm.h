@@ -75,6 +75,8 @@ class vtkRenderer;
 namespace rayscope {
 class Scene;
 struct RenderSettings;
+struct Framebuffer;
+struct RayCounters;
 }  // namespace rayscope
 #endif
 
@@ -302,6 +304,20 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// The core settings of a render with the current parameters (not
   /// validated: RenderSettings::validate() does that).
   rayscope::RenderSettings GetRenderSettings();
+
+  /// Renders this committed core scene (a scene file's, as `rayscope view`
+  /// loads it) instead of the inputs: its geometry, materials, lights,
+  /// background and ambient light are used as they are, and inputs, materials,
+  /// lights and colors set here are ignored. Its camera becomes Position,
+  /// FocalPoint, ViewUp, ViewAngle, ParallelProjection and ParallelScale (so it
+  /// moves like any other) and its walk becomes Accel.
+  void SetCoreScene(const rayscope::Scene& scene);
+
+  /// The output image of a core framebuffer: the arrays listed above, as
+  /// RequestData makes them (for callers that run the core's frame loop
+  /// themselves, such as vtkRayScopeViewer's progressive renders).
+  static void FramebufferToImage(const rayscope::Framebuffer& fb,
+                                 const rayscope::RayCounters& counters, vtkImageData* image);
 #endif
 
  protected:

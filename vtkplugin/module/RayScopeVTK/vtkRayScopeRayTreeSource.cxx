@@ -74,7 +74,11 @@ vtkMTimeType vtkRayScopeRayTreeSource::GetMTime() {
 
 namespace {
 
-enum EndKind { kMiss = 0, kHit = 1, kLight = 2, kOccluder = 3 };
+enum EndKind { kMiss = 0, kHit = 1, kLight = 2, kOccluder = 3, kSkipped = 4 };
+
+/// A skipped reflection or refraction ray is drawn as a stub this fraction of
+/// a miss's length: where it would have gone, not where it would have ended.
+constexpr float kSkippedStubFraction = 0.15f;
 
 struct Row {
   int pixel;
@@ -153,7 +157,10 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
     for (const rayscope::RayRecord& r : records[p].rays) {
       Row row{int(p), &r, r.origin, 0.0f, kMiss, -1};
       if (r.kind != rayscope::RayKind::Shadow) {
-        if (r.hit) {
+        if (r.skipped) {
+          row.t = kSkippedStubFraction * far_t(r);
+          row.end_kind = kSkipped;
+        } else if (r.hit) {
           row.end = r.point;
           row.t = r.t;
           row.end_kind = kHit;
@@ -233,6 +240,7 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
   auto prims = make_array<vtkIntArray>("PrimitivesTested", 1, ncells);
   auto culled = make_array<vtkIntArray>("NodesCulled", 1, ncells);
   auto is_hit_point = make_array<vtkUnsignedCharArray>("IsHitPoint", 1, ncells);
+  auto skipped = make_array<vtkIntArray>("Skipped", 1, ncells);
   auto fill = [&](vtkIdType cell, vtkIdType k, bool vertex) {
     const Row& row = rows[size_t(k)];
     const rayscope::RayRecord& r = *row.ray;
@@ -258,11 +266,12 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
       weight->SetTypedComponent(cell, c, r.weight[c]);
       color->SetTypedComponent(cell, c, r.color[c]);
     }
-    nodes->SetValue(cell, int(r.traversal.nodes.size()));
-    boxes->SetValue(cell, int(r.traversal.boxes_tested));
+    nodes->SetValue(cell, int(r.traversal.nodes().size()));
+    boxes->SetValue(cell, int(r.traversal.boxes_tested()));
     prims->SetValue(cell, int(r.traversal.prims_tested));
-    culled->SetValue(cell, int(r.traversal.culled));
+    culled->SetValue(cell, int(r.traversal.culled()));
     is_hit_point->SetValue(cell, vertex ? 1 : 0);
+    skipped->SetValue(cell, r.skipped ? 1 + int(r.skip_reason) : 0);
   };
   vtkIdType cell = 0;
   for (vtkIdType k : hit_rows) fill(cell++, k, true);
@@ -276,9 +285,9 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
   output->GetPointData()->AddArray(gnormals);
   vtkCellData* cd = output->GetCellData();
   for (vtkAbstractArray* a : std::initializer_list<vtkAbstractArray*>{
-           ray_id, parent,   pixel,  pixel_index, sample, kind,        kind_name,  depth,
-           hit,    occluded, object, light,       tarr,   end_kind,    end_object, weight,
-           color,  nodes,    boxes,  prims,       culled, is_hit_point})
+           ray_id, parent,   pixel,  pixel_index, sample, kind,         kind_name,  depth,
+           hit,    occluded, object, light,       tarr,   end_kind,     end_object, weight,
+           color,  nodes,    boxes,  prims,       culled, is_hit_point, skipped})
     cd->AddArray(a);
   cd->SetActiveScalars("Kind");
   auto pixel_color = make_array<vtkFloatArray>("PixelColor", 3, vtkIdType(records.size()));

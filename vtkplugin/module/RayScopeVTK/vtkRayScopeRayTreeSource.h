@@ -18,7 +18,10 @@
  *   for a miss a point MissLength beyond the origin (automatic by default:
  *   past the scene's bounds), for a shadow ray that reaches its light the
  *   light (point lights) or MissLength along it (directional lights), for an
- *   occluded shadow ray the nearest occluding surface along it;
+ *   occluded shadow ray the nearest occluding surface along it; for a ray
+ *   the integrator did not trace (skipped) the light (shadow rays skipped
+ *   because N.L <= 0) or a short stub along its direction (reflection and
+ *   refraction rays cut by the depth limit or the contribution cutoff);
  * - one vertex cell per closest hit (primary, reflection and refraction rays
  *   that hit), at the hit point.
  * As in any vtkPolyData the vertex cells come first, then the lines; each cell
@@ -29,7 +32,9 @@
  *   "Depth", "Hit" (1 if the ray hit a surface; for shadow rays: occluded),
  *   "Occluded", "ObjectId" (object hit, or the occluder the shadow query
  *   found, -1), "LightId" (-1), "T" (distance along the ray direction to its
- *   end), "EndKind" (0 miss, 1 hit, 2 light, 3 occluder), "EndObjectId" (the
+ *   end), "EndKind" (0 miss, 1 hit, 2 light, 3 occluder, 4 skipped stub),
+ *   "Skipped" (0 traced; not traced: 1 N.L <= 0, 2 depth limit, 3
+ *   contribution cutoff: 1 + rayscope::SkipReason), "EndObjectId" (the
  *   object at the end point: for occluded shadow rays the nearest occluding
  *   surface, which may differ from the first occluder the any-hit query
  *   stopped at), "Weight" (RGB weight in the pixel),

@@ -1,0 +1,494 @@
+// vtkRayScopeViewer, driven headlessly through its interactor: synthesized
+// clicks and keys (SetEventInformation + InvokeEvent), and what the window
+// then shows checked against the core's recorder. Opens an OpenGL window: run
+// under xvfb-run.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+
+#include <vtkCamera.h>
+#include <vtkCellData.h>
+#include <vtkCommand.h>
+#include <vtkDataArray.h>
+#include <vtkFieldData.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPNGReader.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderWindowInteractor.h>
+#include <vtkRenderer.h>
+#include <vtkStringArray.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include "rayscope/render.h"
+#include "rayscope/replay.h"
+#include "rayscope/shapes.h"
+#include "vtkRayScopeBVHSource.h"
+#include "vtkRayScopeImageAlgorithm.h"
+#include "vtkRayScopeViewer.h"
+
+namespace {
+
+constexpr int kW = 120, kH = 90;
+// A pixel of the default scene on the glass sphere (VTK image coordinates):
+// primary, shadow, reflection and refraction rays, skipped ones too.
+constexpr int kGlassI = 49, kGlassJ = kH - 1 - 52;
+
+struct Fixture {
+  rayscope::Scene scene;
+  rayscope::RenderSettings settings;
+  vtkNew<vtkRayScopeImageAlgorithm> alg;
+  vtkNew<vtkRayScopeViewer> viewer;
+
+  explicit Fixture(int max_depth = 3) {
+    scene = rayscope::make_default_scene();
+    scene.commit();
+    alg->SetSize(kW, kH);
+    alg->SetSamples(1);
+    alg->SetMaxDepth(max_depth);
+    alg->SetThreads(2);
+    alg->SetCoreScene(scene);
+    viewer->SetSceneSource(alg);
+    viewer->SetWindowSize(1000, 640);
+    viewer->SetOutputPrefix(out("viewer").c_str());
+  }
+
+  static std::string out(const std::string& name) {
+    std::filesystem::create_directories(RAYSCOPE_TEST_OUTPUT_DIR);
+    return (std::filesystem::path(RAYSCOPE_TEST_OUTPUT_DIR) / name).string();
+  }
+
+  bool start() { return viewer->Initialize() && viewer->WaitForRender(); }
+  // start(), then pick the glass pixel.
+  bool start_on_glass() { return start() && viewer->PickPixel(kGlassI, kGlassJ); }
+
+  // The core's record of pixel (i, j) (VTK coordinates), as the viewer has it.
+  rayscope::PixelRecord record(int i, int j) {
+    rayscope::RenderSettings rs = alg->GetRenderSettings();
+    return rayscope::record_pixel(*alg->GetCoreScene(), rs, i, rs.height - 1 - j);
+  }
+
+  // Display position of pixel (i, j)'s center in the image viewport.
+  void pixel_display(int i, int j, int& x, int& y) {
+    vtkRenderer* ren = viewer->GetImageRenderer();
+    ren->SetWorldPoint(i, j, 0.0, 1.0);
+    ren->WorldToDisplay();
+    double d[3];
+    ren->GetDisplayPoint(d);
+    x = int(std::lround(d[0]));
+    y = int(std::lround(d[1]));
+  }
+
+  void click(int x, int y) {
+    vtkRenderWindowInteractor* iren = viewer->GetInteractor();
+    iren->SetEventInformation(x, y, 0, 0);
+    iren->InvokeEvent(vtkCommand::LeftButtonPressEvent);
+    iren->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
+  }
+
+  void key(const char* keysym) {
+    vtkRenderWindowInteractor* iren = viewer->GetInteractor();
+    const char code = std::strlen(keysym) == 1 ? keysym[0] : 0;
+    iren->SetEventInformation(0, 0, 0, 0, code, 1, keysym);
+    iren->InvokeEvent(vtkCommand::KeyPressEvent);
+    iren->InvokeEvent(vtkCommand::CharEvent);
+  }
+};
+
+// Line cells of the shown rays by kind, and the hit points by ray id.
+std::map<int, int> lines_by_kind(vtkPolyData* pd) {
+  std::map<int, int> n;
+  vtkDataArray* kind = pd->GetCellData()->GetArray("Kind");
+  for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c)
+    if (pd->GetCellType(c) == VTK_LINE) n[int(kind->GetTuple1(c))]++;
+  return n;
+}
+
+std::map<int, int> recorded_by_kind(const rayscope::PixelRecord& rec, int max_depth = 1 << 30,
+                                    int max_id = 1 << 30) {
+  std::map<int, int> n;
+  for (const rayscope::RayRecord& r : rec.rays)
+    if (r.depth <= max_depth && r.id <= max_id) n[int(r.kind)]++;
+  return n;
+}
+
+// NodeId of the boxes shown with each TraversalState.
+std::map<int, std::set<int>> boxes_by_state(vtkPolyData* pd) {
+  std::map<int, std::set<int>> out;
+  vtkDataArray* state = pd->GetCellData()->GetArray("TraversalState");
+  vtkDataArray* node = pd->GetCellData()->GetArray("NodeId");
+  if (!state || !node) return out;
+  for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c)
+    out[int(state->GetTuple1(c))].insert(int(node->GetTuple1(c)));
+  return out;
+}
+
+bool png_varies(const std::string& file) {
+  if (!std::filesystem::exists(file)) return false;
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkDataArray* a = reader->GetOutput()->GetPointData()->GetScalars();
+  if (!a) return false;
+  for (int k = 0; k < a->GetNumberOfComponents(); ++k) {
+    double r[2];
+    a->GetRange(r, k);
+    if (r[1] > r[0]) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+// The progressive render shows exactly the image the image algorithm makes.
+TEST(Viewer, ShownImageEqualsTheImageAlgorithm) {
+  Fixture f;
+  ASSERT_TRUE(f.start()) << f.viewer->GetMessage();
+  vtkNew<vtkRayScopeImageAlgorithm> ref;
+  ref->SetSize(kW, kH);
+  ref->SetSamples(1);
+  ref->SetMaxDepth(3);
+  ref->SetThreads(2);
+  ref->SetCoreScene(f.scene);
+  ref->Update();
+  auto* want = vtkUnsignedCharArray::SafeDownCast(ref->GetOutput()->GetPointData()->GetScalars());
+  auto* got =
+      vtkUnsignedCharArray::SafeDownCast(f.viewer->GetShownImage()->GetPointData()->GetScalars());
+  ASSERT_NE(want, nullptr);
+  ASSERT_NE(got, nullptr);
+  ASSERT_EQ(got->GetNumberOfValues(), want->GetNumberOfValues());
+  for (vtkIdType v = 0; v < got->GetNumberOfValues(); ++v)
+    ASSERT_EQ(got->GetValue(v), want->GetValue(v)) << "value " << v;
+  EXPECT_GT(f.viewer->GetLastRenderSeconds(), 0.0);
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("rendered 120x90"), std::string::npos)
+      << f.viewer->GetMessage();
+}
+
+// A synthesized click on the image picks that pixel; the overlay has as many
+// rays of each kind as the recorder, and hit points at the recorded points.
+TEST(Viewer, ClickOnTheImageShowsTheRecordedTree) {
+  Fixture f;
+  ASSERT_TRUE(f.start());
+  int x, y;
+  f.pixel_display(kGlassI, kGlassJ, x, y);
+  f.click(x, y);
+  ASSERT_EQ(f.viewer->GetPickedPixel()[0], kGlassI);
+  ASSERT_EQ(f.viewer->GetPickedPixel()[1], kGlassJ);
+  const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
+  std::map<int, int> want = recorded_by_kind(rec);
+  ASSERT_EQ(want.size(), 4u) << "the pixel should show every ray kind";
+  int skipped = 0;
+  for (const rayscope::RayRecord& r : rec.rays) skipped += r.skipped;
+  EXPECT_GT(skipped, 0);
+  vtkPolyData* shown = f.viewer->GetShownRays();
+  EXPECT_EQ(lines_by_kind(shown), want);
+  // Hit points: one vertex per closest hit, at the recorded point.
+  vtkDataArray* ray_id = shown->GetCellData()->GetArray("RayId");
+  int verts = 0;
+  for (vtkIdType c = 0; c < shown->GetNumberOfCells(); ++c) {
+    if (shown->GetCellType(c) != VTK_VERTEX) continue;
+    ++verts;
+    const rayscope::RayRecord& r = rec.rays[size_t(ray_id->GetTuple1(c))];
+    ASSERT_TRUE(r.hit);
+    double p[3];
+    shown->GetPoint(shown->GetCell(c)->GetPointId(0), p);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(p[k], r.point[k], 1e-5) << "ray " << r.id;
+  }
+  int hits = 0;
+  for (const rayscope::RayRecord& r : rec.rays)
+    hits += r.kind != rayscope::RayKind::Shadow && r.hit;
+  EXPECT_EQ(verts, hits);
+  // A marker where each occluded shadow ray is blocked: at its line's end.
+  int occluded = 0;
+  for (const rayscope::RayRecord& r : rec.rays) occluded += r.occluded;
+  EXPECT_GT(occluded, 0);
+  vtkPolyData* markers = f.viewer->GetOccluderMarkers();
+  ASSERT_EQ(markers->GetNumberOfVerts(), occluded);
+  vtkDataArray* end_kind = shown->GetCellData()->GetArray("EndKind");
+  std::vector<std::array<double, 3>> ends;
+  for (vtkIdType c = 0; c < shown->GetNumberOfCells(); ++c)
+    if (shown->GetCellType(c) == VTK_LINE && end_kind->GetTuple1(c) == 3) {
+      std::array<double, 3> e;
+      shown->GetPoint(shown->GetCell(c)->GetPointId(1), e.data());
+      ends.push_back(e);
+    }
+  ASSERT_EQ(ends.size(), size_t(occluded));
+  for (vtkIdType k = 0; k < markers->GetNumberOfPoints(); ++k)
+    for (int d = 0; d < 3; ++d) EXPECT_EQ(markers->GetPoint(k)[d], ends[size_t(k)][d]);
+  // The text panel is the inspect text.
+  EXPECT_NE(std::string(f.viewer->GetInspectText()).find("pixel (49, 52)"), std::string::npos);
+}
+
+// A click outside the image (in the image viewport's margin or past the
+// image) changes nothing.
+TEST(Viewer, ClickOutsideTheImageDoesNothing) {
+  Fixture f;
+  ASSERT_TRUE(f.start());
+  EXPECT_EQ(f.viewer->PickPixel(kW, 3), 0);
+  EXPECT_EQ(f.viewer->PickPixel(-1, 3), 0);
+  int x, y;
+  // Above and below the image, in its viewport's margin.
+  for (int j : {kH + 4, -5}) {
+    f.pixel_display(kW / 2, j, x, y);
+    ASSERT_TRUE(f.viewer->GetImageRenderer()->IsInViewport(x, y)) << j;
+    f.click(x, y);
+    EXPECT_EQ(f.viewer->GetPickedPixel()[0], -1) << j;
+  }
+}
+
+// Clicking a surface in the 3D view picks the pixel that sees that point.
+TEST(Viewer, ClickOnASurfaceIn3DPicksItsPixel) {
+  Fixture f;
+  ASSERT_TRUE(f.start());
+  const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
+  ASSERT_TRUE(rec.rays[0].hit);
+  vtkRenderer* ren = f.viewer->GetSceneRenderer();
+  const rayscope::Vec3 p = rec.rays[0].point;
+  ren->SetWorldPoint(p.x, p.y, p.z, 1.0);
+  ren->WorldToDisplay();
+  double d[3];
+  ren->GetDisplayPoint(d);
+  ASSERT_TRUE(ren->IsInViewport(int(d[0]), int(d[1])));
+  f.click(int(std::lround(d[0])), int(std::lround(d[1])));
+  // The 3D view's pixel grid is coarser than the image's: within a pixel.
+  EXPECT_NEAR(f.viewer->GetPickedPixel()[0], kGlassI, 1);
+  EXPECT_NEAR(f.viewer->GetPickedPixel()[1], kGlassJ, 1);
+}
+
+// Up/Down grow and shrink the tree by depth, Right/Left step ray by ray, k
+// shows one kind: the overlay follows, and the ends of each range say so.
+TEST(Viewer, KeysStepThroughTheTree) {
+  Fixture f;
+  ASSERT_TRUE(f.start_on_glass());
+  const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
+  int deepest = 0;
+  for (const rayscope::RayRecord& r : rec.rays) deepest = std::max(deepest, r.depth);
+  ASSERT_EQ(f.viewer->GetShownDepth(), deepest);
+  f.key("Up");
+  EXPECT_EQ(f.viewer->GetShownDepth(), deepest);
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("whole tree"), std::string::npos);
+  for (int d = deepest - 1; d >= 0; --d) {
+    f.key("Down");
+    ASSERT_EQ(f.viewer->GetShownDepth(), d);
+    EXPECT_EQ(lines_by_kind(f.viewer->GetShownRays()), recorded_by_kind(rec, d)) << "depth " << d;
+  }
+  f.key("Down");
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("only the primary"), std::string::npos);
+  f.key("Up");
+  EXPECT_EQ(f.viewer->GetShownDepth(), 1);
+  for (int k = 0; k < deepest; ++k) f.key("Up");
+  // Ray by ray, in trace order.
+  f.key("Left");
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("no ray is selected"), std::string::npos);
+  for (int id = 0; id < 3; ++id) {
+    f.key("Right");
+    ASSERT_EQ(f.viewer->GetSelectedRay(), id);
+    EXPECT_EQ(lines_by_kind(f.viewer->GetShownRays()), recorded_by_kind(rec, 1 << 30, id));
+    EXPECT_NE(std::string(f.viewer->GetPanelText()).find(">>"), std::string::npos);
+  }
+  while (f.viewer->GetSelectedRay() < int(rec.rays.size()) - 1) f.key("Right");
+  f.key("Right");
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("last ray"), std::string::npos);
+  while (f.viewer->GetSelectedRay() >= 0) f.key("Left");
+  // One kind at a time.
+  const std::map<int, int> all = recorded_by_kind(rec);
+  for (int kind = 0; kind < 4; ++kind) {
+    f.key("k");
+    ASSERT_EQ(f.viewer->GetShownKind(), kind);
+    EXPECT_EQ(lines_by_kind(f.viewer->GetShownRays()), (std::map<int, int>{{kind, all.at(kind)}}));
+  }
+  f.key("k");
+  EXPECT_EQ(f.viewer->GetShownKind(), -1);
+  EXPECT_EQ(lines_by_kind(f.viewer->GetShownRays()), all);
+}
+
+// t plays the selected ray's walk: after N steps the entered boxes are the
+// first N nodes the recorder logged; boxes missed and culled on the way are
+// marked, the hit leaf when it is reached; T steps back.
+TEST(Viewer, PlaysTheSelectedRaysBvhWalk) {
+  for (bool binary : {false, true}) {
+    Fixture f;
+    if (binary) f.alg->SetAccelToBinaryBvh();
+    ASSERT_TRUE(f.start_on_glass());
+    const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
+    const rayscope::TraversalRecord& walk = rec.rays[0].traversal;
+    const std::vector<uint32_t> nodes = walk.nodes();
+    ASSERT_GE(nodes.size(), 2u);
+    for (size_t n = 1; n <= nodes.size(); ++n) {
+      f.key("t");
+      ASSERT_EQ(f.viewer->GetTraversalSteps(), int(n));
+      std::map<int, std::set<int>> shown = boxes_by_state(f.viewer->GetShownBVH());
+      std::set<int> entered = shown[vtkRayScopeBVHSource::ENTERED];
+      entered.insert(shown[vtkRayScopeBVHSource::HIT_LEAF].begin(),
+                     shown[vtkRayScopeBVHSource::HIT_LEAF].end());
+      EXPECT_EQ(entered, std::set<int>(nodes.begin(), nodes.begin() + long(n))) << "step " << n;
+      EXPECT_FALSE(shown[vtkRayScopeBVHSource::BOX_MISSED].empty() &&
+                   shown[vtkRayScopeBVHSource::BOX_HIT].empty() && n < nodes.size())
+          << "step " << n << ": the boxes tested on the way are shown";
+    }
+    std::map<int, std::set<int>> done = boxes_by_state(f.viewer->GetShownBVH());
+    if (walk.hit_leaf != rayscope::kNoNode) {
+      EXPECT_EQ(done[vtkRayScopeBVHSource::HIT_LEAF], std::set<int>{int(walk.hit_leaf)});
+    }
+    f.key("t");
+    EXPECT_NE(std::string(f.viewer->GetMessage()).find("complete"), std::string::npos);
+    f.key("T");
+    EXPECT_EQ(f.viewer->GetTraversalSteps(), int(nodes.size()) - 1);
+  }
+}
+
+// b, l, L: the BVH and its levels; m: image modes; s: a screenshot that is
+// not blank; x: the ray tree and the BVH as .vtp files that read back.
+TEST(Viewer, BvhLevelsImageModesScreenshotAndExport) {
+  Fixture f;
+  ASSERT_TRUE(f.start_on_glass());
+  f.key("b");
+  ASSERT_TRUE(f.viewer->GetShowBVH());
+  const vtkIdType all = f.viewer->GetShownBVH()->GetNumberOfCells();
+  EXPECT_EQ(all, 12 * vtkIdType(f.alg->GetCoreScene()->bvh().nodes.size()));
+  f.key("l");
+  EXPECT_EQ(f.viewer->GetBVHLevel(), 0);
+  EXPECT_EQ(f.viewer->GetShownBVH()->GetNumberOfCells(), 12);  // the root's box
+  f.key("l");
+  EXPECT_EQ(f.viewer->GetShownBVH()->GetNumberOfCells(), 24);
+  f.key("L");
+  f.key("L");
+  EXPECT_EQ(f.viewer->GetBVHLevel(), -1);
+  f.key("L");
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("every level"), std::string::npos);
+  f.key("b");
+  EXPECT_EQ(f.viewer->GetShownBVH()->GetNumberOfCells(), 0);
+
+  // Every image mode shows something other than the colors.
+  auto* shown =
+      vtkUnsignedCharArray::SafeDownCast(f.viewer->GetShownImage()->GetPointData()->GetScalars());
+  const std::vector<unsigned char> color(shown->GetPointer(0),
+                                         shown->GetPointer(0) + shown->GetNumberOfValues());
+  for (int mode = 1; mode <= 4; ++mode) {
+    f.key("m");
+    ASSERT_EQ(f.viewer->GetImageMode(), mode);
+    EXPECT_FALSE(std::equal(color.begin(), color.end(), shown->GetPointer(0))) << "mode " << mode;
+  }
+  f.key("m");
+  EXPECT_EQ(f.viewer->GetImageMode(), 0);
+  EXPECT_TRUE(std::equal(color.begin(), color.end(), shown->GetPointer(0)));
+
+  const std::string png = Fixture::out("viewer_1.png");
+  std::filesystem::remove(png);
+  f.key("s");
+  EXPECT_TRUE(png_varies(png)) << f.viewer->GetMessage();
+  const std::string prefix = Fixture::out("viewer_1");
+  f.key("x");
+  for (const char* suffix : {"_raytree.vtp", "_bvh.vtp"}) {
+    vtkNew<vtkXMLPolyDataReader> reader;
+    reader->SetFileName((prefix + suffix).c_str());
+    reader->Update();
+    EXPECT_GT(reader->GetOutput()->GetNumberOfCells(), 0) << suffix;
+  }
+}
+
+// +/- and ]/[ change the samples and the depth and re-render; at the ends of
+// their ranges they do nothing and say so.
+TEST(Viewer, SamplesAndDepthKeysRerender) {
+  Fixture f(1);
+  ASSERT_TRUE(f.start_on_glass());
+  f.key("minus");
+  EXPECT_EQ(f.alg->GetSamples(), 1);
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("minimum"), std::string::npos);
+  f.key("plus");
+  EXPECT_EQ(f.alg->GetSamples(), 2);
+  ASSERT_TRUE(f.viewer->WaitForRender());
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("2x2 samples"), std::string::npos);
+  EXPECT_EQ(lines_by_kind(f.viewer->GetShownRays()), recorded_by_kind(f.record(kGlassI, kGlassJ)));
+  f.key("bracketleft");
+  EXPECT_EQ(f.alg->GetMaxDepth(), 0);
+  ASSERT_TRUE(f.viewer->WaitForRender());
+  f.key("bracketleft");
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("already 0"), std::string::npos);
+  // Depth 0: the glass pixel's secondary rays are all skipped (depth limit).
+  const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
+  int cut = 0;
+  for (const rayscope::RayRecord& r : rec.rays)
+    cut += r.skipped && r.skip_reason == rayscope::SkipReason::Depth;
+  EXPECT_GT(cut, 0);
+  EXPECT_EQ(lines_by_kind(f.viewer->GetShownRays()), recorded_by_kind(rec));
+  f.key("bracketright");
+  ASSERT_TRUE(f.viewer->WaitForRender());
+  EXPECT_EQ(f.alg->GetMaxDepth(), 1);
+}
+
+// d labels every shown ray with its id, depth and weight; p switches to a
+// parallel projection (all primary rays parallel) and back, re-rendering.
+TEST(Viewer, LabelsAndProjectionKeys) {
+  Fixture f;
+  ASSERT_TRUE(f.start_on_glass());
+  f.key("d");
+  ASSERT_TRUE(f.viewer->GetShowLabels());
+  vtkPolyData* labels = f.viewer->GetRayLabels();
+  const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
+  ASSERT_EQ(labels->GetNumberOfPoints(), vtkIdType(rec.rays.size()));
+  auto* text = vtkStringArray::SafeDownCast(labels->GetPointData()->GetAbstractArray("Label"));
+  ASSERT_NE(text, nullptr);
+  EXPECT_EQ(text->GetValue(0), "#0 d0 w1");
+  f.key("Down");  // labels follow what is shown: one depth less
+  vtkIdType shown = 0;
+  for (const rayscope::RayRecord& r : rec.rays) shown += r.depth < f.viewer->GetShownDepth() + 1;
+  EXPECT_EQ(labels->GetNumberOfPoints(), shown);
+  EXPECT_LT(shown, vtkIdType(rec.rays.size()));
+  f.key("d");
+  EXPECT_FALSE(f.viewer->GetShowLabels());
+
+  f.key("p");
+  ASSERT_TRUE(f.viewer->WaitForRender());
+  ASSERT_TRUE(f.alg->GetParallelProjection());
+  const rayscope::Vec3 a = f.record(10, 10).rays[0].dir, b = f.record(100, 70).rays[0].dir;
+  EXPECT_NEAR(glm::length(glm::normalize(a) - glm::normalize(b)), 0.0f, 1e-6f);
+  EXPECT_EQ(lines_by_kind(f.viewer->GetShownRays()), recorded_by_kind(f.record(kGlassI, kGlassJ)));
+  f.key("p");
+  ASSERT_TRUE(f.viewer->WaitForRender());
+  EXPECT_FALSE(f.alg->GetParallelProjection());
+  const rayscope::Vec3 c = f.record(10, 10).rays[0].dir, d = f.record(100, 70).rays[0].dir;
+  EXPECT_GT(glm::length(glm::normalize(c) - glm::normalize(d)), 0.1f);
+}
+
+// r takes the 3D view's camera (after orbiting it) as the ray-tracing camera
+// and re-renders: the primary ray of the picked pixel starts at that camera.
+TEST(Viewer, CameraKeyRerendersFromThe3DView) {
+  Fixture f;
+  ASSERT_TRUE(f.start_on_glass());
+  vtkCamera* cam = f.viewer->GetSceneRenderer()->GetActiveCamera();
+  cam->Azimuth(30.0);
+  cam->Elevation(10.0);
+  cam->OrthogonalizeViewUp();
+  double eye[3];
+  cam->GetPosition(eye);
+  f.key("r");
+  ASSERT_TRUE(f.viewer->WaitForRender());
+  for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(f.alg->GetPosition()[k], eye[k]);
+  const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(rec.rays[0].origin[k], eye[k], 1e-4);
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("rendered"), std::string::npos);
+}
+
+// A scene source without a scene: Initialize fails with a message, no crash.
+TEST(Viewer, NoSceneFailsCleanly) {
+  vtkNew<vtkRayScopeImageAlgorithm> empty;
+  vtkNew<vtkRayScopeViewer> viewer;
+  viewer->SetSceneSource(empty);
+  EXPECT_EQ(viewer->Initialize(), 0);
+  EXPECT_NE(std::string(viewer->GetMessage()).find("no input"), std::string::npos)
+      << viewer->GetMessage();
+  EXPECT_EQ(viewer->PickPixel(0, 0), 0);
+  EXPECT_EQ(viewer->HandleKey("Up"), 0);
+}

@@ -1,0 +1,217 @@
+/**
+ * @class   vtkRayScopeViewer
+ * @brief   The interactive ray-tree and BVH debugger: a ray-traced image and
+ *          the scene in 3D with the ray tree of a picked pixel, side by side.
+ *
+ * @code{.py}
+ *   viewer = rayscope.vtkRayScopeViewer()
+ *   viewer.SetSceneSource(tracer)   # a vtkRayScopeImageAlgorithm: scene and settings
+ *   viewer.PickPixel(160, 120)      # optional; VTK image coordinates
+ *   viewer.Start()                  # opens the window, renders, runs the event loop
+ * @endcode
+ *
+ * One vtkRenderWindow with three viewports: the ray-traced image (left; its
+ * ImageMode shows colors, the BVH cost heat map, normals, depth or object
+ * ids), the scene drawn by VTK (right: the triangles, spheres and planes the
+ * tracer intersects, in their material colors, half transparent; the camera
+ * as a frustum with its image plane and the pixel grid around the picked
+ * pixel; lights as spheres) and a text panel below with the picked
+ * pixel's ray tree as `rayscope inspect` prints it (the selected ray marked
+ * ">>", and drawn white and thick in 3D). The overlay is the output of a
+ * vtkRayScopeRayTreeSource (a line per ray in its kind's color, gray for rays
+ * the integrator skipped, hit points, shading normals, a red dot where a
+ * shadow ray is blocked), and of a vtkRayScopeBVHSource (the BVH by level, or
+ * the selected ray's walk played node by node: entered boxes, missed boxes,
+ * culled boxes and the hit leaf in the colors of the legend).
+ *
+ * Interaction (an interactor style that extends trackball camera):
+ * - a click in the image picks that pixel; a click (press and release
+ *   without moving) on a surface in the 3D view picks the pixel that sees
+ *   that point; dragging in the 3D view orbits;
+ * - keys (the help line lists them): Up/Down grow and shrink the shown tree
+ *   by one recursion depth; Right/Left select the next/previous ray in trace
+ *   order (rays after it are hidden); t/T play the selected ray's BVH walk
+ *   one node forward/back; b shows/hides the BVH, l/L walk its levels; k
+ *   shows one ray kind only (cycles); d shows labels (ray id, depth,
+ *   weight); m cycles the image mode; +/- change the samples per pixel, ]/[
+ *   the maximum depth, p switches central and parallel projection, r takes
+ *   the 3D view's camera, each then re-renders; s saves a screenshot; x exports the ray tree and
+ *   the BVH as .vtp; q quits. At the end of a range a key does nothing and
+ *   says so in the message line.
+ *
+ * Renders run on a worker thread (the core's frame loop, tile by tile); a
+ * repeating timer on the interactor shows finished tiles and the progress
+ * while the window stays responsive. WaitForRender() finishes a render
+ * without an event loop (scripts, tests). Picking during a render waits for
+ * it (the tree is a replay of one pixel of the same scene).
+ *
+ * Pixels are VTK image coordinates: (0, 0) is the bottom-left pixel, unlike
+ * the rayscope command's --pixel, whose (0, 0) is the top-left pixel.
+ */
+#ifndef vtkRayScopeViewer_h
+#define vtkRayScopeViewer_h
+
+#include "RayScopeRenderingModule.h"  // export macro
+#include "vtkObject.h"
+
+#include <string>  // std::string
+
+class vtkImageData;
+class vtkPolyData;
+class vtkRayScopeBVHSource;
+class vtkRayScopeImageAlgorithm;
+class vtkRayScopeRayTreeSource;
+class vtkRenderWindow;
+class vtkRenderWindowInteractor;
+class vtkRenderer;
+
+class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
+ public:
+  static vtkRayScopeViewer* New();
+  vtkTypeMacro(vtkRayScopeViewer, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// The image algorithm holding the scene and the render settings (size,
+  /// samples, depth, cutoff, threads, accel). Never null: a new viewer has
+  /// its own, without a scene.
+  void SetSceneSource(vtkRayScopeImageAlgorithm* source);
+  vtkRayScopeImageAlgorithm* GetSceneSource();
+  ///@}
+
+  /// The window, its interactor and the three renderers (made on first use).
+  vtkRenderWindow* GetRenderWindow();
+  vtkRenderWindowInteractor* GetInteractor();
+  vtkRenderer* GetImageRenderer();
+  vtkRenderer* GetSceneRenderer();
+  vtkRenderer* GetTextRenderer();
+
+  /// Builds the window and starts the first render (returns 0, with the
+  /// error in GetMessage() and a vtkErrorMacro, when the scene cannot be
+  /// rendered). Start() calls it.
+  int Initialize();
+  /// Initialize(), then the interactor's event loop.
+  void Start();
+
+  /// Starts a render with the current settings on the worker thread
+  /// (finishing a running one first). Returns 0 when the settings or the
+  /// scene are invalid.
+  int Rerender();
+  /// Waits for the running render and shows it; returns 1 when an image is
+  /// shown.
+  int WaitForRender();
+  /// A render is running.
+  bool IsRendering();
+  /// Seconds from the start of the last render to its last tile.
+  vtkGetMacro(LastRenderSeconds, double);
+
+  ///@{
+  /// Picks pixel (i, j) (VTK image coordinates) and shows its ray tree;
+  /// returns 0 (and changes nothing) for a pixel outside the image.
+  int PickPixel(int i, int j);
+  /// Picks the pixel under display position (x, y): in the image viewport
+  /// that pixel, in the 3D view the pixel that sees the surface point there.
+  /// Returns 0 when there is nothing to pick.
+  int PickAtDisplay(int x, int y);
+  /// The picked pixel (-1, -1 before a pick).
+  vtkGetVector2Macro(PickedPixel, int);
+  ///@}
+
+  /// Handles a key as the window does (keysym as VTK names it: "Up", "plus",
+  /// "t", ...); returns 0 for a key the viewer does not use.
+  int HandleKey(const char* keysym);
+
+  ///@{
+  /// What is shown of the tree: rays up to recursion depth ShownDepth, up to
+  /// ray SelectedRay in trace order (-1: all, nothing selected), of kind
+  /// ShownKind only (-1: all kinds; else a rayscope::RayKind value).
+  vtkGetMacro(ShownDepth, int);
+  vtkGetMacro(SelectedRay, int);
+  vtkGetMacro(ShownKind, int);
+  /// Nodes of the selected ray's walk shown (-1: the walk is not played).
+  vtkGetMacro(TraversalSteps, int);
+  vtkGetMacro(ShowBVH, bool);
+  vtkGetMacro(BVHLevel, int);
+  /// Labels "#id dDEPTH wWEIGHT" on the shown rays (key d).
+  vtkGetMacro(ShowLabels, bool);
+  ///@}
+
+  /// Image modes (the values of the image viewport's ImageMode).
+  enum ImageModes { COLOR = 0, COST = 1, NORMALS = 2, DEPTH = 3, OBJECT_IDS = 4 };
+  void SetImageMode(int mode);
+  vtkGetMacro(ImageMode, int);
+
+  /// The image shown (RGB bytes of the ImageMode; while a render runs, its
+  /// finished tiles) and the last finished render with all its arrays (as
+  /// vtkRayScopeImageAlgorithm outputs them; empty before the first).
+  vtkImageData* GetShownImage();
+  vtkImageData* GetLastImage();
+
+  /// The rays shown in the 3D view (the filtered ray-tree polydata: line
+  /// cells for rays, vertex cells for hit points, the source's cell data
+  /// except the strings of "KindName", which "Kind" numbers).
+  vtkPolyData* GetShownRays();
+  /// The ray labels (a vertex per shown ray at its middle; point data
+  /// "Label"), drawn when ShowLabels is on.
+  vtkPolyData* GetRayLabels();
+  /// The markers of blocked shadow rays: a vertex where each shown shadow
+  /// ray meets its nearest occluder.
+  vtkPolyData* GetOccluderMarkers();
+  /// The BVH boxes shown (empty when hidden).
+  vtkPolyData* GetShownBVH();
+  /// The sources behind the overlay.
+  vtkRayScopeRayTreeSource* GetRayTreeSource();
+  vtkRayScopeBVHSource* GetBVHSource();
+
+  /// The picked pixel's tree as `rayscope inspect` prints it (empty before a
+  /// pick), and the text panel as shown.
+  const char* GetInspectText();
+  const char* GetPanelText();
+  /// The message line (errors, the end of a key's range, render progress).
+  const char* GetMessage();
+  /// The help line.
+  static const char* GetHelpText();
+
+  ///@{
+  /// Writes the window as PNG (returns 0 on failure, with a message).
+  int SaveScreenshot(const char* filename);
+  /// Writes the shown ray tree to PREFIX_raytree.vtp and the BVH (every
+  /// node, or the played walk) to PREFIX_bvh.vtp.
+  int ExportVTP(const char* prefix);
+  /// Where the s and x keys write: PREFIX_N.png, PREFIX_N_raytree.vtp, ...
+  /// (default "rayscope_view").
+  vtkSetStringMacro(OutputPrefix);
+  vtkGetStringMacro(OutputPrefix);
+  ///@}
+
+  /// Window size in pixels (default 1400 x 820; set before Initialize()).
+  vtkSetVector2Macro(WindowSize, int);
+  vtkGetVector2Macro(WindowSize, int);
+
+ protected:
+  vtkRayScopeViewer();
+  ~vtkRayScopeViewer() override;
+
+  int PickedPixel[2];
+  int ShownDepth;
+  int SelectedRay;
+  int ShownKind;
+  int TraversalSteps;
+  bool ShowBVH;
+  int BVHLevel;
+  int ImageMode;
+  bool ShowLabels;
+  double LastRenderSeconds;
+  char* OutputPrefix;
+  int WindowSize[2];
+
+ private:
+  vtkRayScopeViewer(const vtkRayScopeViewer&) = delete;
+  void operator=(const vtkRayScopeViewer&) = delete;
+
+  struct Internals;
+  Internals* Internal;
+  friend struct Internals;
+};
+
+#endif

@@ -1,0 +1,209 @@
+// The private state of vtkRayScopeViewer, shared by its source files
+// (vtkRayScopeViewer.cxx: the API, renders, picking and the overlay;
+// vtkRayScopeViewerWindow.cxx: the window, the scene drawn in 3D and the
+// interactor style; vtkRayScopeViewerKeys.cxx: keys, screenshots, export).
+// Private header.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "vtkActor.h"
+#include "vtkActor2D.h"
+#include "vtkCallbackCommand.h"
+#include "vtkCamera.h"
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkCellPicker.h"
+#include "vtkCommand.h"
+#include "vtkDataSetMapper.h"
+#include "vtkFieldData.h"
+#include "vtkGeometryFilter.h"
+#include "vtkHedgeHog.h"
+#include "vtkImageActor.h"
+#include "vtkImageData.h"
+#include "vtkImageMapper3D.h"
+#include "vtkIntArray.h"
+#include "vtkInteractorStyleTrackballCamera.h"
+#include "vtkLabeledDataMapper.h"
+#include "vtkLegendBoxActor.h"
+#include "vtkLookupTable.h"
+#include "vtkMath.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPNGWriter.h"
+#include "vtkPassArrays.h"
+#include "vtkPlaneSource.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkProperty.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderWindowInteractor.h"
+#include "vtkRenderer.h"
+#include "vtkScalarBarActor.h"
+#include "vtkSmartPointer.h"
+#include "vtkSphereSource.h"
+#include "vtkStringArray.h"
+#include "vtkTextActor.h"
+#include "vtkTextProperty.h"
+#include "vtkThreshold.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkWindowToImageFilter.h"
+#include "vtkXMLPolyDataWriter.h"
+
+#include "RayScopeDisplay.h"
+#include "rayscope/frame.h"
+#include "rayscope/image.h"
+#include "rayscope/raytree_format.h"
+#include "rayscope/replay.h"
+#include "vtkRayScopeBVHSource.h"
+#include "vtkRayScopeImageAlgorithm.h"
+#include "vtkRayScopeRayTreeSource.h"
+#include "vtkRayScopeViewer.h"
+
+namespace rayscope_vtk::viewer {
+
+// Layout of the window (fractions of its size): the header line on top, the
+// image and the 3D view side by side, the text panel below.
+inline constexpr double kHeaderBottom = 0.95;
+inline constexpr double kPanelTop = 0.30;
+inline constexpr int kProgressTimerMs = 40;  // how often finished tiles are shown
+inline constexpr int kPanelLines = 18;       // lines of the inspect text shown at once
+inline constexpr int kPanelLinesBefore = 4;  // of them, before the selected ray's line
+inline constexpr int kGridRadius = 4;        // pixel grid shown: the picked pixel +- this
+inline constexpr int kClickSlop = 3;  // a press and release this close is a click, not a drag
+inline constexpr double kImagePlaneFraction = 0.25;  // image plane at this fraction of eye..look_at
+inline constexpr double kNormalFraction = 0.04;  // normals drawn this fraction of the scene size
+inline constexpr double kLightFraction = 0.015;  // light markers' radius, same
+inline constexpr unsigned char kUnrenderedGray = 40;  // pixels not rendered yet
+inline constexpr double kSceneZoom =
+    1.6;  // the 3D view, closer than VTK's ResetCamera (a bounding sphere)
+
+// Colors of the overlay, one per ray kind (rayscope::RayKind order), then
+// skipped rays; and the played walk's states (vtkRayScopeBVHSource order).
+inline constexpr double kKindColors[4][3] = {
+    {1.0, 0.85, 0.1}, {0.55, 0.75, 1.0}, {0.2, 1.0, 0.45}, {1.0, 0.35, 0.9}};
+inline constexpr const char* kKindNames[4] = {"primary", "shadow", "reflection", "refraction"};
+inline constexpr double kSkippedColor[3] = {0.5, 0.5, 0.5};
+inline constexpr double kNormalColor[3] = {1.0, 0.55, 0.1};
+inline constexpr double kPickColor[3] = {1.0, 0.1, 0.1};
+inline constexpr double kSelectedColor[3] = {1.0, 1.0, 1.0};
+inline constexpr double kOccluderColor[3] = {0.95, 0.2, 0.15};
+inline constexpr int kEndOccluder =
+    3;  // vtkRayScopeRayTreeSource's EndKind of a blocked shadow ray
+inline constexpr double kWalkColors[6][3] = {{0, 0, 0},       {0.9, 0.9, 0.3}, {0.9, 0.2, 0.2},
+                                             {0.2, 0.9, 0.2}, {0.3, 0.5, 1.0}, {1.0, 1.0, 1.0}};
+inline constexpr const char* kWalkNames[6] = {"",        "box hit, not entered yet",   "box missed",
+                                              "entered", "culled (early termination)", "hit leaf"};
+
+inline constexpr const char* kHelp =
+    "click: pick | Up/Down: depth | Right/Left: ray | t/T: BVH walk | b: BVH, l/L: level | "
+    "k: kind | d: labels | m: image | +/-: spp, ]/[: depth, p: projection, r: 3D camera | "
+    "s: screenshot, x: .vtp | q: quit";
+
+}  // namespace rayscope_vtk::viewer
+
+class vtkRayScopeViewerStyle;
+
+struct vtkRayScopeViewer::Internals {
+  vtkRayScopeViewer* Self;
+  vtkSmartPointer<vtkRayScopeImageAlgorithm> Algorithm;
+  vtkNew<vtkRenderWindow> Window;
+  vtkNew<vtkRenderWindowInteractor> Interactor;
+  vtkNew<vtkRenderer> ImageRen, SceneRen, PanelRen, HeaderRen;
+  bool Initialized = false;
+  std::string LastError, Message, InspectText, PanelText;
+
+  // The image: the last finished render with every array, and what is shown.
+  vtkNew<vtkImageData> Image, Display;
+  vtkNew<vtkImageActor> ImageActor;
+  vtkNew<vtkLookupTable> ScaleTable;
+  vtkNew<vtkScalarBarActor> ScaleBar;
+  vtkNew<vtkPolyData> Marker;
+  vtkNew<vtkActor> MarkerActor;
+  bool HasImage = false;
+
+  // The render running on the worker thread.
+  std::thread Worker;
+  std::atomic<bool> Running{false};
+  rayscope::RenderSettings Settings;
+  rayscope::Framebuffer Frame;
+  rayscope::RayCounters Counters;
+  std::string RenderError;
+  std::vector<unsigned char> Staging;  // sRGB bytes, core row order, per finished tile
+  std::mutex TilesMutex;
+  std::vector<std::array<int, 4>> FinishedTiles;  // x0, y0, x1, y1 not yet shown
+  size_t TilesShown = 0, TilesTotal = 0;
+  std::chrono::steady_clock::time_point RenderStart;
+  unsigned long TimerObserver = 0;
+
+  // The picked pixel's tree.
+  rayscope::PixelRecord Record;
+  bool HasRecord = false;
+  int RecordDepth = 0;  // deepest ray of the record
+  vtkNew<vtkRayScopeRayTreeSource> Tree;
+  vtkNew<vtkPassArrays> NoStrings;
+  vtkSmartPointer<vtkThreshold> ByDepth, ByRay, ByKind, Traced, Skipped;
+  vtkNew<vtkGeometryFilter> Shown;
+  vtkNew<vtkActor> TracedActor, SkippedActor, NormalActor, SelectedActor;
+  vtkSmartPointer<vtkThreshold> Selected;
+  vtkNew<vtkPolyData> Labels;  // a point per shown ray, at its middle, with its label
+  vtkNew<vtkActor2D> LabelActor;
+  vtkNew<vtkPolyData> Occluders;  // where shown shadow rays are blocked
+  vtkNew<vtkActor> OccluderActor;
+  vtkNew<vtkHedgeHog> Normals;
+  vtkNew<vtkRayScopeBVHSource> BVH;
+  vtkNew<vtkPolyData> NoBoxes;
+  vtkNew<vtkPolyDataMapper> BVHMapper;
+  vtkNew<vtkActor> BVHActor;
+  vtkSmartPointer<vtkLookupTable> LevelTable, WalkTable;
+
+  // The scene in 3D.
+  std::vector<vtkSmartPointer<vtkActor>> GeometryActors;
+  vtkNew<vtkPolyData> CameraGeometry, PickedCell;
+  vtkNew<vtkActor> CameraActor, PickedCellActor;
+  vtkNew<vtkCellPicker> Picker;
+  vtkNew<vtkLegendBoxActor> Legend;
+  vtkNew<vtkTextActor> HelpActor, MessageActor, PanelActor;
+  vtkSmartPointer<vtkRayScopeViewerStyle> Style;
+  int ScreenshotCount = 0, ExportCount = 0;
+
+  explicit Internals(vtkRayScopeViewer* self) : Self(self) {}
+  struct Policy;
+
+  ~Internals() {
+    if (this->Worker.joinable()) this->Worker.join();
+  }
+
+  rayscope::Scene* scene() { return this->Algorithm->GetCoreScene(); }
+  void Build();
+  void BuildSceneGeometry();
+  void UpdateCameraGeometry();
+  void StartRender();
+  void Poll();
+  void ShowTiles();
+  void FinishRender();
+  void ShowImage();
+  void UpdateOverlay();
+  void UpdateBVH();
+  void UpdateLabels();
+  void UpdateOccluders();
+  void UpdatePanel();
+  void UpdateLegend();
+  void Say(const std::string& message) {
+    this->Message = message;
+    this->MessageActor->SetInput(message.c_str());
+  }
+  void Redraw() {
+    if (this->Initialized) this->Window->Render();
+  }
+};
