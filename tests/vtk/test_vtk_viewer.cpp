@@ -13,13 +13,16 @@
 #include <map>
 #include <set>
 #include <string>
+#include <vector>
 
+#include <vtkActor2DCollection.h>
 #include <vtkCamera.h>
 #include <vtkCellData.h>
 #include <vtkCommand.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
 #include <vtkImageData.h>
+#include <vtkLegendBoxActor.h>
 #include <vtkNew.h>
 #include <vtkPNGReader.h>
 #include <vtkPointData.h>
@@ -350,6 +353,22 @@ TEST(Viewer, PlaysTheSelectedRaysBvhWalk) {
 
 // b, l, L: the BVH and its levels; m: image modes; s: a screenshot that is
 // not blank; x: the ray tree and the BVH as .vtp files that read back.
+// The labels of the 3D view's legend.
+std::vector<std::string> legend_labels(vtkRayScopeViewer* viewer) {
+  std::vector<std::string> labels;
+  vtkActor2DCollection* actors = viewer->GetSceneRenderer()->GetActors2D();
+  actors->InitTraversal();
+  while (vtkActor2D* actor = actors->GetNextActor2D())
+    if (auto* legend = vtkLegendBoxActor::SafeDownCast(actor))
+      for (int e = 0; e < legend->GetNumberOfEntries(); ++e)
+        labels.push_back(legend->GetEntryString(e) ? legend->GetEntryString(e) : "");
+  return labels;
+}
+
+bool has_label(const std::vector<std::string>& labels, const std::string& text) {
+  return std::find(labels.begin(), labels.end(), text) != labels.end();
+}
+
 TEST(Viewer, BvhLevelsImageModesScreenshotAndExport) {
   Fixture f;
   ASSERT_TRUE(f.start_on_glass());
@@ -357,6 +376,12 @@ TEST(Viewer, BvhLevelsImageModesScreenshotAndExport) {
   ASSERT_TRUE(f.viewer->GetShowBVH());
   const vtkIdType all = f.viewer->GetShownBVH()->GetNumberOfCells();
   EXPECT_EQ(all, 12 * vtkIdType(f.alg->GetCoreScene()->bvh().nodes.size()));
+  // The level colors have a legend: the ramp's ends, root and deepest level.
+  const int depth =
+      int(f.viewer->GetShownBVH()->GetFieldData()->GetArray("TreeDepth")->GetTuple1(0));
+  EXPECT_TRUE(has_label(legend_labels(f.viewer), "BVH: level 0 (root)"));
+  EXPECT_TRUE(
+      has_label(legend_labels(f.viewer), "BVH: level " + std::to_string(depth - 1) + " (deepest)"));
   f.key("l");
   EXPECT_EQ(f.viewer->GetBVHLevel(), 0);
   EXPECT_EQ(f.viewer->GetShownBVH()->GetNumberOfCells(), 12);  // the root's box
@@ -369,6 +394,7 @@ TEST(Viewer, BvhLevelsImageModesScreenshotAndExport) {
   EXPECT_NE(std::string(f.viewer->GetMessage()).find("every level"), std::string::npos);
   f.key("b");
   EXPECT_EQ(f.viewer->GetShownBVH()->GetNumberOfCells(), 0);
+  EXPECT_FALSE(has_label(legend_labels(f.viewer), "BVH: level 0 (root)"));
 
   // Every image mode shows something other than the colors.
   auto* shown =

@@ -12,7 +12,9 @@
 #include <cmath>
 #include <mutex>
 #include <sstream>
+#include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "vtkActor.h"
@@ -173,6 +175,8 @@ struct vtkRayScopeViewer::Internals {
   vtkNew<vtkActor> CameraActor, PickedCellActor;
   vtkNew<vtkCellPicker> Picker;
   vtkNew<vtkLegendBoxActor> Legend;
+  /// What the legend shows now (label, color), to rebuild it only on a change.
+  std::vector<std::pair<std::string, std::array<double, 3>>> LegendEntries;
   vtkNew<vtkTextActor> HelpActor, MessageActor, PanelActor;
   vtkSmartPointer<vtkRayScopeViewerStyle> Style;
   int ScreenshotCount = 0, ExportCount = 0;

@@ -448,26 +448,33 @@ void vtkRayScopeViewer::Internals::UpdateCameraGeometry() {
 }
 
 void vtkRayScopeViewer::Internals::UpdateLegend() {
-  // Rebuilt only when its entries change: each entry is text to rasterize.
-  const bool walk = this->Self->TraversalSteps >= 0;
-  const int n = 7 + (walk ? 5 : 0);
-  if (this->Legend->GetNumberOfEntries() == n) return;
-  this->Legend->SetNumberOfEntries(n);
-  vtkSmartPointer<vtkPolyData> symbol = legend_symbol();
-  int e = 0;
-  for (int k = 0; k < 4; ++k) {
-    double c[3] = {kKindColors[k][0], kKindColors[k][1], kKindColors[k][2]};
-    this->Legend->SetEntry(e++, symbol, (std::string(kKindNames[k]) + " ray").c_str(), c);
+  // The entries for what is shown: the ray kinds and markers, then the
+  // played walk's states or the BVH's level ramp (root to deepest level).
+  std::vector<std::pair<std::string, std::array<double, 3>>> entries;
+  auto add = [&](std::string label, const double(&c)[3]) {
+    entries.push_back({std::move(label), {c[0], c[1], c[2]}});
+  };
+  for (int k = 0; k < 4; ++k) add(std::string(kKindNames[k]) + " ray", kKindColors[k]);
+  add("skipped (not traced)", kSkippedColor);
+  add("shading normal", kNormalColor);
+  add("shadow ray blocked here", kOccluderColor);
+  if (this->Self->TraversalSteps >= 0) {
+    for (int k = 1; k < 6; ++k) add(std::string("BVH: ") + kWalkNames[k], kWalkColors[k]);
+  } else if (this->Self->ShowBVH) {
+    vtkDataArray* depth = this->BVH->GetOutput()->GetFieldData()->GetArray("TreeDepth");
+    const int deepest = depth ? std::max(0, int(depth->GetTuple1(0)) - 1) : 0;
+    const vtkIdType n = this->LevelTable->GetNumberOfTableValues();
+    double root[4], leaves[4];
+    this->LevelTable->GetTableValue(0, root);
+    this->LevelTable->GetTableValue(n - 1, leaves);
+    add("BVH: level 0 (root)", {root[0], root[1], root[2]});
+    add("BVH: level " + std::to_string(deepest) + " (deepest)", {leaves[0], leaves[1], leaves[2]});
   }
-  double gray[3] = {kSkippedColor[0], kSkippedColor[1], kSkippedColor[2]};
-  this->Legend->SetEntry(e++, symbol, "skipped (not traced)", gray);
-  double orange[3] = {kNormalColor[0], kNormalColor[1], kNormalColor[2]};
-  this->Legend->SetEntry(e++, symbol, "shading normal", orange);
-  double dark[3] = {kOccluderColor[0], kOccluderColor[1], kOccluderColor[2]};
-  this->Legend->SetEntry(e++, symbol, "shadow ray blocked here", dark);
-  if (walk)
-    for (int k = 1; k < 6; ++k) {
-      double c[3] = {kWalkColors[k][0], kWalkColors[k][1], kWalkColors[k][2]};
-      this->Legend->SetEntry(e++, symbol, (std::string("BVH: ") + kWalkNames[k]).c_str(), c);
-    }
+  // Rebuilt only when its entries change: each entry is text to rasterize.
+  if (entries == this->LegendEntries) return;
+  this->LegendEntries = entries;
+  this->Legend->SetNumberOfEntries(int(entries.size()));
+  vtkSmartPointer<vtkPolyData> symbol = legend_symbol();
+  for (size_t e = 0; e < entries.size(); ++e)
+    this->Legend->SetEntry(int(e), symbol, entries[e].first.c_str(), entries[e].second.data());
 }
