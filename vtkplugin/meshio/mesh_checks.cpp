@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -18,12 +19,16 @@
 #include <string_view>
 #include <vector>
 
+#include <vtkCell.h>
 #include <vtkCellArray.h>
+#include <vtkCellType.h>
 #include <vtkDataArray.h>
+#include <vtkGenericCell.h>
 #include <vtkIdList.h>
 #include <vtkIdTypeArray.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtksys/SystemTools.hxx>
 
@@ -493,6 +498,27 @@ std::string check_cell_point_ids(vtkDataSet* data) {
   }
   if (auto* ug = vtkUnstructuredGrid::SafeDownCast(data)) {
     if (std::string e = check(ug->GetCells(), 0); !e.empty()) return e;
+    // Each cell's type must be one VTK knows, and a type of fixed size (a
+    // pyramid has 5 points) must have that many points: VTK's filters read a
+    // cell's points by its type (a 4-point "pyramid" crashed the surface filter).
+    std::map<int, vtkIdType> fixed_size;  // per type seen: its points, 0 if variable
+    vtkCellArray* cells = ug->GetCells();
+    for (vtkIdType c = 0; cells && c < ug->GetNumberOfCells(); ++c) {
+      const int type = ug->GetCellType(c);
+      auto it = fixed_size.find(type);
+      if (it == fixed_size.end()) {
+        vtkSmartPointer<vtkCell> cell =
+            vtkSmartPointer<vtkCell>::Take(vtkGenericCell::InstantiateCell(type));
+        if (!cell || type == VTK_EMPTY_CELL)
+          return "cell " + std::to_string(c) + " has an unknown cell type " + std::to_string(type);
+        it = fixed_size.emplace(type, cell->GetPointIds()->GetNumberOfIds()).first;
+      }
+      const vtkIdType size = cells->GetCellSize(c);
+      if (it->second > 0 ? size != it->second : size < 1)
+        return "cell " + std::to_string(c) + " of type " + std::to_string(type) + " has " +
+               std::to_string(size) + " points" +
+               (it->second > 0 ? " instead of " + std::to_string(it->second) : "");
+    }
     // Polyhedra list their faces in a separate stream: per cell, the number
     // of faces, then per face the number of points and the point ids.
     vtkIdTypeArray* faces = ug->GetFaces();
