@@ -250,3 +250,31 @@ TEST(VtkBVH, VisitCounts) {
   EXPECT_EQ(visits(), binary_cost);
   EXPECT_GT(binary_cost, cost);
 }
+
+// The datasets through input port 0, without a scene source: the same boxes
+// as the scene source with those inputs; a changed input rebuilds them.
+TEST(VtkBVH, InputPortWithoutSceneSource) {
+  Scene3 s;
+  vtkNew<vtkRayScopeBVHSource> from_source, from_port;
+  from_source->SetSceneSource(s.alg);
+  from_port->AddInputConnection(s.quad->GetOutputPort());
+  from_port->AddInputConnection(s.sphere->GetOutputPort());
+  from_port->AddInputConnection(s.floor->GetOutputPort());
+  ASSERT_EQ(update(from_source), 1);
+  ASSERT_EQ(update(from_port), 1);
+  vtkPolyData* a = from_source->GetOutput();
+  vtkPolyData* b = from_port->GetOutput();
+  ASSERT_GT(a->GetNumberOfCells(), 12);
+  ASSERT_EQ(a->GetNumberOfPoints(), b->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < a->GetNumberOfPoints(); ++p)
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(a->GetPoint(p)[k], b->GetPoint(p)[k]) << p;
+  double before[6];
+  b->GetBounds(before);
+  s.floor->SetResolution(2, 2);
+  configure_floor(s.floor, -0.6, 5.0);  // twice as wide: the root box grows
+  ASSERT_EQ(update(from_port), 1);
+  double after[6];
+  from_port->GetOutput()->GetBounds(after);
+  EXPECT_LT(after[0], before[0] - 2.0);
+  EXPECT_GT(after[1], before[1] + 2.0);
+}

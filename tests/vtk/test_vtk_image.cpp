@@ -16,8 +16,10 @@
 #include <vtkFloatArray.h>
 #include <vtkImageData.h>
 #include <vtkIntArray.h>
+#include <vtkLookupTable.h>
 #include <vtkMath.h>
 #include <vtkNew.h>
+#include <vtkPlaneSource.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -391,4 +393,125 @@ TEST(VtkImage, InPlaceUpdatesMatchFreshRender) {
     EXPECT_EQ(reused->GetNumberOfGeometryConversions(), 1);
     EXPECT_EQ(reused->GetNumberOfSceneCommits(), 1);
   }
+}
+
+// AutoCamera: the image equals ResetCamera()'s, while the camera settings stay
+// as they were (only their direction counts), and it follows the data.
+TEST(VtkImage, AutoCameraFitsLikeResetCamera) {
+  vtkNew<vtkSphereSource> s;
+  configure_sphere(s, 2, 1, -3, 0.7);
+  vtkNew<vtkRayScopeImageAlgorithm> reset, autocam;
+  for (vtkRayScopeImageAlgorithm* a : {reset.Get(), autocam.Get()}) {
+    a->AddInputConnection(s->GetOutputPort());
+    a->SetSize(40, 30);
+    a->SetPosition(1, 2, 5);  // view direction (1, 2, 5) - focal point (0, 0, 0)
+  }
+  ASSERT_EQ(reset->ResetCamera(), 1);
+  autocam->AutoCameraOn();
+  ASSERT_EQ(update(reset), 1);
+  ASSERT_EQ(update(autocam), 1);
+  auto* a = reset->GetOutput()->GetPointData()->GetArray("LinearColor");
+  auto* b = autocam->GetOutput()->GetPointData()->GetArray("LinearColor");
+  ASSERT_EQ(a->GetNumberOfTuples(), b->GetNumberOfTuples());
+  for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k)
+    for (int j = 0; j < 3; ++j) ASSERT_EQ(a->GetComponent(k, j), b->GetComponent(k, j)) << k;
+  EXPECT_EQ(autocam->GetPosition()[0], 1.0);  // the settings are not rewritten
+  EXPECT_EQ(autocam->GetFocalPoint()[2], 0.0);
+  EXPECT_EQ(object_at(autocam->GetOutput(), 20, 15), 0);
+
+  s->SetCenter(-40, 3, 7);  // moved far away: still centered in the picture
+  ASSERT_EQ(update(autocam), 1);
+  EXPECT_EQ(object_at(autocam->GetOutput(), 20, 15), 0);
+  EXPECT_EQ(object_at(autocam->GetOutput(), 0, 0), -1);
+}
+
+// SetMaterial replaces the default material; AddLight adds either kind and
+// rejects other types.
+TEST(VtkImage, SetMaterialAndAddLight) {
+  vtkNew<vtkSphereSource> s;
+  configure_sphere(s, 0, 0, 0, 0.5);
+  vtkNew<vtkRayScopeImageAlgorithm> alg;
+  alg->AddInputConnection(s->GetOutputPort());
+  alg->SetSize(20, 20);
+  alg->AutoCameraOn();
+  vtkNew<vtkRayScopeMaterial> red;
+  red->SetColor(1, 0, 0);
+  alg->SetMaterial(red);
+  EXPECT_EQ(alg->GetMaterial(), red.Get());
+  ASSERT_EQ(update(alg), 1);
+  const double* c =
+      alg->GetOutput()->GetPointData()->GetArray("LinearColor")->GetTuple3(10 * 20 + 10);
+  EXPECT_GT(c[0], 0.1);
+  EXPECT_EQ(c[1], 0.0);
+  EXPECT_EQ(c[2], 0.0);
+  alg->SetMaterial(nullptr);  // back to a default (white) material
+  EXPECT_NE(alg->GetMaterial(), red.Get());
+  EXPECT_EQ(alg->GetMaterial()->GetColor()[1], 1.0);
+
+  EXPECT_EQ(alg->AddLight(vtkRayScopeImageAlgorithm::LIGHT_POINT, 1, 2, 3, 1, 1, 1, 1), 0);
+  EXPECT_EQ(alg->AddLight(vtkRayScopeImageAlgorithm::LIGHT_DIRECTIONAL, 0, -1, 0, 1, 1, 1, 1), 1);
+  vtkNew<ErrorCatcher> errors;
+  alg->AddObserver(vtkCommand::ErrorEvent, errors);
+  EXPECT_EQ(alg->AddLight(2, 0, 0, 0, 1, 1, 1, 1), -1);
+  EXPECT_EQ(errors->count, 1);
+  EXPECT_NE(errors->last.find("AddLight: type 2"), std::string::npos) << errors->last;
+  EXPECT_EQ(alg->GetNumberOfLights(), 2);
+}
+
+// ScalarColoring: solid ignores scalars; by array maps the chosen point array
+// through the given table (over the table's range) or over the array's range.
+TEST(VtkImage, ScalarColoringModes) {
+  vtkNew<vtkPlaneSource> plane;  // in z = 0, facing +z, x and y in [-0.5, 0.5]
+  plane->SetResolution(8, 8);
+  plane->Update();
+  vtkNew<vtkPolyData> pd;
+  pd->DeepCopy(plane->GetOutput());
+  vtkNew<vtkFloatArray> x;
+  x->SetName("X");
+  for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i)
+    x->InsertNextValue(float(pd->GetPoint(i)[0] + 0.5));
+  pd->GetPointData()->AddArray(x);
+  vtkNew<vtkRayScopeImageAlgorithm> alg;
+  alg->AddInputData(pd);
+  alg->SetSize(32, 32);
+  alg->AutoCameraOn();
+  alg->HeadlightOff();
+  alg->GetMaterial()->SetAmbient(1.0);  // color = the surface color exactly
+  alg->GetMaterial()->SetDiffuse(0.0);
+  auto color_at = [&](int i) {
+    const double* c =
+        alg->GetOutput()->GetPointData()->GetArray("LinearColor")->GetTuple3(16 * 32 + i);
+    return std::vector<double>(c, c + 3);
+  };
+  alg->SetScalarColoring(vtkRayScopeImageAlgorithm::COLOR_SOLID);
+  ASSERT_EQ(update(alg), 1);
+  EXPECT_EQ(color_at(7), (std::vector<double>{1.0, 1.0, 1.0}));
+
+  vtkNew<ErrorCatcher> errors;
+  alg->AddObserver(vtkCommand::ErrorEvent, errors);
+  alg->SetScalarColoring(vtkRayScopeImageAlgorithm::COLOR_BY_ARRAY);
+  EXPECT_EQ(update(alg), 0);  // no array chosen
+  EXPECT_NE(errors->last.find("no array is chosen"), std::string::npos) << errors->last;
+
+  alg->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "X");
+  ASSERT_EQ(update(alg), 1);
+  // VTK's default table (red at 0 to blue at 1) over X's range [0, 1]: red on
+  // the left, blue on the right.
+  std::vector<double> left = color_at(7), right = color_at(24);  // X ~ 0.12, 0.88
+  EXPECT_GT(left[0], left[2]);
+  EXPECT_GT(right[2], right[0]);
+
+  vtkNew<vtkLookupTable> grey;  // black to white over [0, 2]: the left half is dark
+  grey->SetHueRange(0, 0);
+  grey->SetSaturationRange(0, 0);
+  grey->SetValueRange(0, 1);
+  grey->SetTableRange(0, 2);
+  grey->Build();
+  alg->SetLookupTable(grey);
+  ASSERT_EQ(update(alg), 1);
+  std::vector<double> g = color_at(24);
+  EXPECT_EQ(g[0], g[1]);
+  EXPECT_EQ(g[1], g[2]);
+  EXPECT_LT(g[0], 0.35);  // X ~ 0.88 of a [0, 2] table: a value of ~0.44, ~0.16 linear
+  EXPECT_GT(g[0], 0.1);
 }

@@ -285,3 +285,54 @@ TEST(VtkRayTree, RejectsBadParameters) {
     EXPECT_NE(errors->last.find(c.expect), std::string::npos) << errors->last;
   }
 }
+
+// The scene's datasets through input port 0: the same tree as the scene
+// source's own inputs give. Without a scene source, a default scene with the
+// camera fitted to the data is used (the tree of an image algorithm with
+// AutoCamera on and the same inputs).
+TEST(VtkRayTree, InputPortGivesTheSceneSourceItsInputs) {
+  TestScene t;
+  vtkNew<vtkRayScopeRayTreeSource> own;
+  own->SetSceneSource(t.alg);
+  own->SetPixel(30, 20);
+  ASSERT_EQ(update(own), 1);
+
+  TestScene settings;  // the same settings, its inputs replaced by the tree's
+  settings.alg->RemoveAllInputConnections(0);
+  vtkNew<vtkRayScopeRayTreeSource> ported;
+  ported->SetSceneSource(settings.alg);
+  ported->AddInputConnection(t.floor->GetOutputPort());
+  ported->AddInputConnection(t.glass->GetOutputPort());
+  ported->AddInputConnection(t.mirror->GetOutputPort());
+  ported->SetPixel(30, 20);
+  ASSERT_EQ(update(ported), 1);
+  vtkPolyData* a = own->GetOutput();
+  vtkPolyData* b = ported->GetOutput();
+  ASSERT_GT(a->GetNumberOfLines(), 3);
+  ASSERT_EQ(a->GetNumberOfCells(), b->GetNumberOfCells());
+  ASSERT_EQ(a->GetNumberOfPoints(), b->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < a->GetNumberOfPoints(); ++p)
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(a->GetPoint(p)[k], b->GetPoint(p)[k]) << p;
+  // An unchanged input builds no new scene.
+  const vtkIdType commits = settings.alg->GetNumberOfSceneCommits();
+  ported->SetPixel(10, 10);
+  ASSERT_EQ(update(ported), 1);
+  EXPECT_EQ(settings.alg->GetNumberOfSceneCommits(), commits);
+
+  vtkNew<vtkRayScopeRayTreeSource> bare;  // no scene source
+  bare->AddInputConnection(t.glass->GetOutputPort());
+  bare->SetPixel(150, 150);  // the middle of the default 300 x 300 image
+  ASSERT_EQ(update(bare), 1);
+  vtkNew<vtkRayScopeImageAlgorithm> fitted;
+  fitted->AddInputConnection(t.glass->GetOutputPort());
+  fitted->AutoCameraOn();
+  vtkNew<vtkRayScopeRayTreeSource> reference;
+  reference->SetSceneSource(fitted);
+  reference->SetPixel(150, 150);
+  ASSERT_EQ(update(reference), 1);
+  EXPECT_GE(bare->GetOutput()->GetNumberOfVerts(), 1);  // the primary ray hits the sphere
+  ASSERT_EQ(bare->GetOutput()->GetNumberOfPoints(), reference->GetOutput()->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < bare->GetOutput()->GetNumberOfPoints(); ++p)
+    for (int k = 0; k < 3; ++k)
+      ASSERT_EQ(bare->GetOutput()->GetPoint(p)[k], reference->GetOutput()->GetPoint(p)[k]);
+}

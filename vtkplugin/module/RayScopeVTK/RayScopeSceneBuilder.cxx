@@ -1,6 +1,7 @@
 #include "RayScopeSceneBuilder.h"
 
 #include <algorithm>
+#include <cmath>
 #include <exception>
 #include <string>
 
@@ -95,6 +96,51 @@ std::vector<rayscope::Light> core_lights(vtkRayScopeImageAlgorithm* alg,
 
 }  // namespace
 
+bool datasets_bounds(const std::vector<vtkDataSet*>& datasets, double bounds[6]) {
+  bool any = false;
+  for (vtkDataSet* ds : datasets) {
+    if (!ds || ds->GetNumberOfPoints() == 0) continue;
+    double db[6];
+    ds->GetBounds(db);
+    for (int k = 0; k < 3; ++k) {
+      bounds[2 * k] = any ? std::min(bounds[2 * k], db[2 * k]) : db[2 * k];
+      bounds[2 * k + 1] = any ? std::max(bounds[2 * k + 1], db[2 * k + 1]) : db[2 * k + 1];
+    }
+    any = true;
+  }
+  return any;
+}
+
+FittedCamera fit_camera(const double bounds[6], const double position[3],
+                        const double focal_point[3], const double view_up[3], double view_angle) {
+  FittedCamera c{};
+  double w[3];
+  for (int k = 0; k < 3; ++k) {
+    c.focal_point[k] = 0.5 * (bounds[2 * k] + bounds[2 * k + 1]);
+    w[k] = bounds[2 * k + 1] - bounds[2 * k];
+  }
+  double radius = 0.5 * std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+  if (radius == 0.0) radius = 0.5;
+  double vn[3] = {position[0] - focal_point[0], position[1] - focal_point[1],
+                  position[2] - focal_point[2]};
+  if (!(vtkMath::Normalize(vn) > 0.0)) {
+    vn[0] = vn[1] = 0.0;
+    vn[2] = 1.0;
+  }
+  const double distance = radius / std::sin(0.5 * vtkMath::RadiansFromDegrees(view_angle));
+  std::copy_n(view_up, 3, c.view_up);
+  double cross[3];
+  vtkMath::Cross(vn, c.view_up, cross);
+  if (!(vtkMath::Norm(cross) > 1e-6)) {
+    c.view_up[0] = 0.0;
+    c.view_up[1] = std::abs(vn[1]) > 0.999 ? 0.0 : 1.0;
+    c.view_up[2] = std::abs(vn[1]) > 0.999 ? -1.0 : 0.0;
+  }
+  for (int k = 0; k < 3; ++k) c.position[k] = c.focal_point[k] + distance * vn[k];
+  c.parallel_scale = radius;
+  return c;
+}
+
 int SceneBuilder::CheckTriangles(vtkRayScopeImageAlgorithm* alg,
                                  const std::vector<vtkDataSet*>& inputs,
                                  const std::vector<rayscope::TriangleMesh>& meshes) {
@@ -165,10 +211,7 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
   }
 
   // Geometry is converted again only when an input or its converter changed.
-  auto converter_of = [&](int i) {
-    vtkRayScopeMeshConverter* c = alg->GetInputConverter(i);
-    return c ? c : alg->GetConverter();
-  };
+  auto converter_of = [&](int i) { return alg->GetConverterOf(i); };
   bool regeometry = !this->HasScene || inputs != this->GeometryInputs;
   for (int i = 0; i < n; ++i)
     regeometry |= inputs[size_t(i)]->GetMTime() > this->GeometryTime.GetMTime() ||
@@ -241,17 +284,26 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
   }
   s.background = linear_color(alg->GetBackground());
   s.ambient_light = linear_color(alg->GetAmbientLight());
-  return this->PrepareCamera(alg);
+  return this->PrepareCamera(alg, inputs);
 }
 
-int SceneBuilder::PrepareCamera(vtkRayScopeImageAlgorithm* alg) {
+int SceneBuilder::PrepareCamera(vtkRayScopeImageAlgorithm* alg,
+                                const std::vector<vtkDataSet*>& inputs) {
   rayscope::Scene& s = this->Scene;
-  s.camera.eye = local(s, alg->GetPosition());
-  s.camera.look_at = local(s, alg->GetFocalPoint());
-  s.camera.up = vec3(alg->GetViewUp());
+  FittedCamera c{};
+  std::copy_n(alg->GetPosition(), 3, c.position);
+  std::copy_n(alg->GetFocalPoint(), 3, c.focal_point);
+  std::copy_n(alg->GetViewUp(), 3, c.view_up);
+  c.parallel_scale = alg->GetParallelScale();
+  double b[6];
+  if (alg->GetAutoCamera() && datasets_bounds(inputs, b))
+    c = fit_camera(b, c.position, c.focal_point, c.view_up, alg->GetViewAngle());
+  s.camera.eye = local(s, c.position);
+  s.camera.look_at = local(s, c.focal_point);
+  s.camera.up = vec3(c.view_up);
   s.camera.vfov_degrees = float(alg->GetViewAngle());
   s.camera.parallel = alg->GetParallelProjection() != 0;
-  s.camera.parallel_scale = float(alg->GetParallelScale());
+  s.camera.parallel_scale = float(c.parallel_scale);
   try {
     rayscope::prepare_frame(s, alg->GetRenderSettings());
   } catch (const std::exception& e) {

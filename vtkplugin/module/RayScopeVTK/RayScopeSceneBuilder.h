@@ -25,6 +25,21 @@ struct SceneLight {
   bool operator==(const SceneLight& o) const;
 };
 
+/// The union of the bounds of the datasets that have points (null entries are
+/// skipped); false if none has any.
+bool datasets_bounds(const std::vector<vtkDataSet*>& datasets, double bounds[6]);
+
+/// A camera that sees `bounds` whole, as vtkRenderer::ResetCamera() places
+/// it: the bounds' sphere fills the vertical view angle; the view direction
+/// (position toward focal point, -z if they coincide) is kept, and so is the
+/// view up unless it is parallel to that direction.
+struct FittedCamera {
+  double position[3], focal_point[3], view_up[3];
+  double parallel_scale;
+};
+FittedCamera fit_camera(const double bounds[6], const double position[3],
+                        const double focal_point[3], const double view_up[3], double view_angle);
+
 class SceneBuilder {
  public:
   /// Builds the scene of `alg` from its updated inputs, or updates the
@@ -59,8 +74,9 @@ class SceneBuilder {
   int UpdateFixed(vtkRayScopeImageAlgorithm* alg);
   // Scene.commit(accel), its error reported on `alg`; 1 on success.
   int Commit(vtkRayScopeImageAlgorithm* alg, const rayscope::AccelConfig& accel);
-  // The camera of `alg` into the scene, prepared for the image size.
-  int PrepareCamera(vtkRayScopeImageAlgorithm* alg);
+  // The camera of `alg` into the scene, prepared for the image size; with
+  // AutoCamera, fitted to `inputs`.
+  int PrepareCamera(vtkRayScopeImageAlgorithm* alg, const std::vector<vtkDataSet*>& inputs = {});
 
   rayscope::Scene Scene;
   bool HasScene = false;

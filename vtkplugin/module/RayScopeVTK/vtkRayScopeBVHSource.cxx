@@ -22,6 +22,7 @@
 #include "vtkUnsignedCharArray.h"
 
 #include "RayScopeArrays.h"
+#include "RayScopeSceneInput.h"
 #include "rayscope/frame.h"
 #include "rayscope/replay.h"
 #include "rayscope/scene.h"
@@ -40,7 +41,7 @@ vtkRayScopeBVHSource::vtkRayScopeBVHSource()
       VisitRay(-1),
       TraversalSteps(-1),
       NumberOfTraversalEntries(0) {
-  this->SetNumberOfInputPorts(0);
+  this->SetNumberOfInputPorts(1);
 }
 
 vtkRayScopeBVHSource::~vtkRayScopeBVHSource() {
@@ -107,25 +108,26 @@ using rayscope_vtk::set_world_point;
 
 }  // namespace
 
-int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector**,
+int vtkRayScopeBVHSource::FillInputPortInformation(int port, vtkInformation* info) {
+  if (port != 0) return 0;
+  rayscope_vtk::fill_scene_input_port(info);
+  return 1;
+}
+
+int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** inputVector,
                                       vtkInformationVector* outputVector) {
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  if (!this->SceneSource) {
-    vtkErrorMacro(<< "no scene: call SetSceneSource(vtkRayScopeImageAlgorithm)");
-    return 0;
-  }
   if (this->LevelRange[0] < 0 || this->LevelRange[1] < this->LevelRange[0]) {
     vtkErrorMacro(<< "LevelRange (" << this->LevelRange[0] << ", " << this->LevelRange[1]
                   << ") must satisfy 0 <= min <= max");
     return 0;
   }
   this->UpdateProgress(0.0);
-  if (!this->SceneSource->UpdateScene()) {
-    vtkErrorMacro(<< "the scene source could not build its scene (see its error)");
-    return 0;
-  }
-  const rayscope::Scene& scene = *this->SceneSource->GetCoreScene();
-  const rayscope::RenderSettings settings = this->SceneSource->GetRenderSettings();
+  vtkRayScopeImageAlgorithm* source =
+      rayscope_vtk::update_scene(this, inputVector[0], this->SceneSource, this->DefaultScene);
+  if (!source) return 0;
+  const rayscope::Scene& scene = *source->GetCoreScene();
+  const rayscope::RenderSettings settings = source->GetRenderSettings();
   const rayscope::Bvh& bvh = scene.bvh();
   const std::vector<rayscope::BvhNode>& nodes = bvh.nodes;
   const size_t nn = nodes.size();

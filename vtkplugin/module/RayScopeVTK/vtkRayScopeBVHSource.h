@@ -2,6 +2,12 @@
  * @class   vtkRayScopeBVHSource
  * @brief   The bounding volume hierarchy of a scene as vtkPolyData boxes.
  *
+ * The scene's datasets come through input port 0 (one or more vtkDataSets),
+ * as for vtkRayScopeRayTreeSource; SetSceneSource gives the camera and the
+ * sampling of the visit counts (without one, a default scene with its camera
+ * fitted to the data). With no input connected, the scene source's own inputs
+ * are used.
+ *
  * Takes the scene of a vtkRayScopeImageAlgorithm (SetSceneSource) and outputs
  * one box per BVH node whose level (root = 0) lies in LevelRange (and, with
  * OnlyLeaves, that is a leaf): 12 line cells per box, or 6 outward-facing quads
@@ -40,6 +46,7 @@
 
 #include "RayScopeVTKModule.h"  // export macro
 #include "vtkPolyDataAlgorithm.h"
+#include "vtkSmartPointer.h"  // DefaultScene
 
 class vtkRayScopeImageAlgorithm;
 
@@ -50,7 +57,8 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeBVHSource : public vtkPolyDataAlgorithm {
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /// The image algorithm whose scene is shown.
+  /// The image algorithm whose scene is shown (its inputs are replaced by
+  /// this filter's, when it has any).
   virtual void SetSceneSource(vtkRayScopeImageAlgorithm*);
   vtkGetObjectMacro(SceneSource, vtkRayScopeImageAlgorithm);
   ///@}
@@ -122,6 +130,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeBVHSource : public vtkPolyDataAlgorithm {
   vtkMTimeType GetMTime() override;
 
  protected:
+  int FillInputPortInformation(int port, vtkInformation* info) override;
   vtkRayScopeBVHSource();
   ~vtkRayScopeBVHSource() override;
 
@@ -139,6 +148,8 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeBVHSource : public vtkPolyDataAlgorithm {
   int NumberOfTraversalEntries;
 
  private:
+  // The scene without a scene source: inputs only, camera fitted to them.
+  vtkSmartPointer<vtkRayScopeImageAlgorithm> DefaultScene;
   vtkRayScopeBVHSource(const vtkRayScopeBVHSource&) = delete;
   void operator=(const vtkRayScopeBVHSource&) = delete;
 };

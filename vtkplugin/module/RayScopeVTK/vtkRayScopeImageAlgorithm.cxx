@@ -7,13 +7,18 @@
 
 #include "vtkAlgorithmOutput.h"
 #include "vtkCamera.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkDataSet.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkMapper.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkScalarsToColors.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 
 #include "RayScopeImageArrays.h"
@@ -24,6 +29,7 @@
 #include "vtkRayScopeImageAlgorithmInternals.h"
 
 vtkStandardNewMacro(vtkRayScopeImageAlgorithm);
+vtkCxxSetObjectMacro(vtkRayScopeImageAlgorithm, LookupTable, vtkScalarsToColors);
 
 // The Seed setter clamps to 0..VTK_INT_MAX, which is the core's seed range.
 static_assert(rayscope::RenderSettings::kMaxSeed == unsigned(VTK_INT_MAX));
@@ -57,12 +63,16 @@ vtkRayScopeImageAlgorithm::vtkRayScopeImageAlgorithm()
       Headlight(1),
       HeadlightIntensity(1.0),
       Shadows(1),
+      AutoCamera(0),
+      ScalarColoring(COLOR_BY_MAPPER),
+      LookupTable(nullptr),
       Internal(new Internals) {
   this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(1);
 }
 
 vtkRayScopeImageAlgorithm::~vtkRayScopeImageAlgorithm() {
+  this->SetLookupTable(nullptr);
   delete this->Internal;
 }
 
@@ -87,59 +97,23 @@ int vtkRayScopeImageAlgorithm::ResetCamera() {
     vtkErrorMacro(<< "ResetCamera: no input datasets");
     return 0;
   }
-  double b[6];
-  vtkMath::UninitializeBounds(b);
-  bool any = false;
+  std::vector<vtkDataSet*> inputs;
   for (int i = 0; i < n; ++i) {
     vtkAlgorithmOutput* c = this->GetInputConnection(0, i);
     c->GetProducer()->Update(c->GetIndex());
-    auto* ds = vtkDataSet::SafeDownCast(this->GetInputDataObject(0, i));
-    if (!ds || ds->GetNumberOfPoints() == 0) continue;
-    double db[6];
-    ds->GetBounds(db);
-    if (!any) {
-      std::copy(db, db + 6, b);
-      any = true;
-    } else {
-      for (int k = 0; k < 3; ++k) {
-        b[2 * k] = std::min(b[2 * k], db[2 * k]);
-        b[2 * k + 1] = std::max(b[2 * k + 1], db[2 * k + 1]);
-      }
-    }
+    inputs.push_back(vtkDataSet::SafeDownCast(this->GetInputDataObject(0, i)));
   }
-  if (!any) {
+  double b[6];
+  if (!rayscope_vtk::datasets_bounds(inputs, b)) {
     vtkErrorMacro(<< "ResetCamera: the inputs have no points");
     return 0;
   }
-  // vtkRenderer::ResetCamera: a sphere around the bounds fills the view angle.
-  double center[3], w[3];
-  for (int k = 0; k < 3; ++k) {
-    center[k] = 0.5 * (b[2 * k] + b[2 * k + 1]);
-    w[k] = b[2 * k + 1] - b[2 * k];
-  }
-  double radius = 0.5 * std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-  if (radius == 0.0) radius = 0.5;
-  double vn[3] = {this->Position[0] - this->FocalPoint[0], this->Position[1] - this->FocalPoint[1],
-                  this->Position[2] - this->FocalPoint[2]};
-  if (!(vtkMath::Normalize(vn) > 0.0)) {
-    vn[0] = vn[1] = 0.0;
-    vn[2] = 1.0;
-  }
-  const double angle = vtkMath::RadiansFromDegrees(this->ViewAngle);
-  const double distance = radius / std::sin(0.5 * angle);
-  double up[3] = {this->ViewUp[0], this->ViewUp[1], this->ViewUp[2]};
-  double cross[3];
-  vtkMath::Cross(vn, up, cross);
-  if (!(vtkMath::Norm(cross) > 1e-6)) {
-    up[0] = 0.0;
-    up[1] = std::abs(vn[1]) > 0.999 ? 0.0 : 1.0;
-    up[2] = std::abs(vn[1]) > 0.999 ? -1.0 : 0.0;
-  }
-  this->SetFocalPoint(center);
-  this->SetPosition(center[0] + distance * vn[0], center[1] + distance * vn[1],
-                    center[2] + distance * vn[2]);
-  this->SetViewUp(up);
-  this->SetParallelScale(radius);
+  const rayscope_vtk::FittedCamera c =
+      rayscope_vtk::fit_camera(b, this->Position, this->FocalPoint, this->ViewUp, this->ViewAngle);
+  this->SetFocalPoint(c.focal_point);
+  this->SetPosition(c.position);
+  this->SetViewUp(c.view_up);
+  this->SetParallelScale(c.parallel_scale);
   return 1;
 }
 
@@ -186,12 +160,29 @@ void vtkRayScopeImageAlgorithm::RemoveAllLights() {
   this->Modified();
 }
 
+int vtkRayScopeImageAlgorithm::AddLight(double type, double x, double y, double z, double r,
+                                        double g, double b, double intensity) {
+  if (type == double(LIGHT_POINT)) return this->AddPointLight(x, y, z, r, g, b, intensity);
+  if (type == double(LIGHT_DIRECTIONAL))
+    return this->AddDirectionalLight(x, y, z, r, g, b, intensity);
+  vtkErrorMacro(<< "AddLight: type " << type
+                << " is neither LIGHT_POINT (0) nor LIGHT_DIRECTIONAL (1)");
+  return -1;
+}
+
 int vtkRayScopeImageAlgorithm::GetNumberOfLights() {
   return int(this->Internal->lights.size());
 }
 
 vtkRayScopeMaterial* vtkRayScopeImageAlgorithm::GetMaterial() {
   return this->Internal->material;
+}
+
+void vtkRayScopeImageAlgorithm::SetMaterial(vtkRayScopeMaterial* material) {
+  if (material && material == this->Internal->material) return;
+  this->Internal->material =
+      material ? material : vtkSmartPointer<vtkRayScopeMaterial>::New().GetPointer();
+  this->Modified();
 }
 
 void vtkRayScopeImageAlgorithm::SetInputMaterial(int index, vtkRayScopeMaterial* material) {
@@ -244,6 +235,7 @@ vtkRayScopeMeshConverter* vtkRayScopeImageAlgorithm::GetInputConverter(int index
 
 vtkMTimeType vtkRayScopeImageAlgorithm::GetMTime() {
   vtkMTimeType t = this->Superclass::GetMTime();
+  if (this->LookupTable) t = std::max(t, this->LookupTable->GetMTime());
   t = std::max(t, this->Internal->material->GetMTime());
   t = std::max(t, this->Internal->converter->GetMTime());
   for (auto& [index, m] : this->Internal->input_materials) t = std::max(t, m->GetMTime());
@@ -372,7 +364,66 @@ int vtkRayScopeImageAlgorithm::BuildScene() {
     return 0;
   }
   this->WarnAboutUnconnectedInputs();
+  if (!this->ConfigureColoring()) return 0;
   return this->Internal->builder.Update(this, this->Internal->lights);
+}
+
+vtkRayScopeMeshConverter* vtkRayScopeImageAlgorithm::GetConverterOf(int index) {
+  if (vtkRayScopeMeshConverter* own = this->GetInputConverter(index)) return own;
+  return this->ScalarColoring == COLOR_BY_MAPPER ? this->Internal->converter.Get()
+                                                 : this->Internal->coloring_converter.Get();
+}
+
+int vtkRayScopeImageAlgorithm::ConfigureColoring() {
+  if (this->ScalarColoring == COLOR_BY_MAPPER) return 1;
+  vtkRayScopeMeshConverter* from = this->Internal->converter;
+  vtkRayScopeMeshConverter* to = this->Internal->coloring_converter;
+  to->SetComputeNormals(from->GetComputeNormals());
+  to->SetSplitting(from->GetSplitting());
+  to->SetFeatureAngle(from->GetFeatureAngle());
+  to->SetNonlinearSubdivisionLevel(from->GetNonlinearSubdivisionLevel());
+  vtkMapper* mapper = to->GetMapper();  // the converter's own vtkDataSetMapper
+  if (this->ScalarColoring == COLOR_SOLID) {
+    mapper->ScalarVisibilityOff();
+    return 1;
+  }
+  vtkInformation* array = this->GetInputArrayInformation(0);
+  const char* name = array ? array->Get(vtkDataObject::FIELD_NAME()) : nullptr;
+  if (!name || !*name) {
+    vtkErrorMacro(<< "ScalarColoring is COLOR_BY_ARRAY but no array is chosen: call "
+                     "SetInputArrayToProcess(0, 0, 0, association, name)");
+    return 0;
+  }
+  const bool cells =
+      array->Has(vtkDataObject::FIELD_ASSOCIATION()) &&
+      array->Get(vtkDataObject::FIELD_ASSOCIATION()) == vtkDataObject::FIELD_ASSOCIATION_CELLS;
+  mapper->ScalarVisibilityOn();
+  mapper->SetColorModeToMapScalars();
+  mapper->SetScalarMode(cells ? VTK_SCALAR_MODE_USE_CELL_FIELD_DATA
+                              : VTK_SCALAR_MODE_USE_POINT_FIELD_DATA);
+  mapper->SelectColorArray(name);
+  if (this->LookupTable) {
+    mapper->SetLookupTable(this->LookupTable);
+    mapper->UseLookupTableScalarRangeOn();
+    return 1;
+  }
+  // VTK's default table over the array's range on every input.
+  mapper->SetLookupTable(this->Internal->default_table);
+  mapper->UseLookupTableScalarRangeOff();
+  double range[2] = {VTK_DOUBLE_MAX, VTK_DOUBLE_MIN};
+  for (int i = 0; i < this->GetNumberOfInputConnections(0); ++i) {
+    auto* ds = vtkDataSet::SafeDownCast(this->GetInputDataObject(0, i));
+    vtkDataArray* a = !ds     ? nullptr
+                      : cells ? ds->GetCellData()->GetArray(name)
+                              : ds->GetPointData()->GetArray(name);
+    if (!a || a->GetNumberOfTuples() == 0) continue;
+    double r[2];
+    a->GetRange(r, a->GetNumberOfComponents() > 1 ? -1 : 0);
+    range[0] = std::min(range[0], r[0]);
+    range[1] = std::max(range[1], r[1]);
+  }
+  if (range[0] <= range[1]) mapper->SetScalarRange(range);
+  return 1;
 }
 
 int vtkRayScopeImageAlgorithm::UpdateScene() {
@@ -475,6 +526,9 @@ void vtkRayScopeImageAlgorithm::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "Headlight: " << this->Headlight << "\n";
   os << indent << "HeadlightIntensity: " << this->HeadlightIntensity << "\n";
   os << indent << "Shadows: " << this->Shadows << "\n";
+  os << indent << "AutoCamera: " << this->AutoCamera << "\n";
+  os << indent << "ScalarColoring: " << this->ScalarColoring << "\n";
+  os << indent << "LookupTable: " << this->LookupTable << "\n";
   os << indent << "Lights: " << this->Internal->lights.size() << "\n";
   os << indent << "Material:\n";
   this->Internal->material->PrintSelf(os, indent.GetNextIndent());

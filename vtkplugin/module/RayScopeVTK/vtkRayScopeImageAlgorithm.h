@@ -70,6 +70,7 @@ class vtkDataSet;
 class vtkRayScopeMaterial;
 class vtkRayScopeMeshConverter;
 class vtkRenderer;
+class vtkScalarsToColors;
 
 #ifndef __VTK_WRAP__
 namespace rayscope {
@@ -175,6 +176,17 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   int ResetCamera();
 
   ///@{
+  /// AutoCamera: every update points the camera at the bounds of the inputs
+  /// as ResetCamera() does, without changing the settings above: the view
+  /// direction (Position toward FocalPoint), ViewUp, ViewAngle and the
+  /// projection are kept; the distance (and the parallel scale) are fitted.
+  /// Default off; ParaView's filters turn it on.
+  vtkSetMacro(AutoCamera, vtkTypeBool);
+  vtkGetMacro(AutoCamera, vtkTypeBool);
+  vtkBooleanMacro(AutoCamera, vtkTypeBool);
+  ///@}
+
+  ///@{
   /// Background color (sRGB, default black).
   vtkSetVector3Macro(Background, double);
   vtkGetVector3Macro(Background, double);
@@ -204,6 +216,13 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   int AddPointLight(double x, double y, double z, double r, double g, double b, double intensity);
   int AddDirectionalLight(double dx, double dy, double dz, double r, double g, double b,
                           double intensity);
+  /// AddPointLight() (type LIGHT_POINT; x, y, z a position) or
+  /// AddDirectionalLight() (LIGHT_DIRECTIONAL; the direction of travel) by
+  /// type: one command for a list of lights of both kinds, whose values are
+  /// all doubles (ParaView's "Lights" property); any other type is an error.
+  enum LightTypes { LIGHT_POINT = 0, LIGHT_DIRECTIONAL = 1 };
+  int AddLight(double type, double x, double y, double z, double r, double g, double b,
+               double intensity);
   void RemoveAllLights();
   int GetNumberOfLights();
   /// Attenuation 1 / (constant + linear d + quadratic d^2) of point light
@@ -220,6 +239,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
 
   /// The material of inputs without their own (never null).
   vtkRayScopeMaterial* GetMaterial();
+  /// Makes `material` the material of inputs without their own (null: a new
+  /// default material).
+  void SetMaterial(vtkRayScopeMaterial* material);
   /// Gives input `index` (>= 0; negative is an error) its own material (null:
   /// back to the default). An index with no input connected at RequestData is
   /// a warning there.
@@ -233,6 +255,25 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// SetInputMaterial().
   void SetInputConverter(int index, vtkRayScopeMeshConverter* converter);
   vtkRayScopeMeshConverter* GetInputConverter(int index);
+
+  ///@{
+  /// How inputs without a converter of their own are colored:
+  /// - COLOR_BY_MAPPER (default): as GetConverter()'s mapper colors them, i.e.
+  ///   as a VTK mapper would (by default the active scalars through VTK's
+  ///   default lookup table over [0, 1]);
+  /// - COLOR_SOLID: the material color only, scalars ignored;
+  /// - COLOR_BY_ARRAY: the array chosen with SetInputArrayToProcess(0, 0, 0,
+  ///   association, name) (point or cell data) mapped through LookupTable
+  ///   over the table's own range; without a table, through VTK's default
+  ///   table over the array's range on all inputs (the magnitude's for
+  ///   vectors). An input without that array gets its material color.
+  /// GetConverter()'s normals settings apply in every mode.
+  enum ScalarColorings { COLOR_BY_MAPPER = 0, COLOR_SOLID = 1, COLOR_BY_ARRAY = 2 };
+  vtkSetClampMacro(ScalarColoring, int, COLOR_BY_MAPPER, COLOR_BY_ARRAY);
+  vtkGetMacro(ScalarColoring, int);
+  virtual void SetLookupTable(vtkScalarsToColors*);
+  vtkGetObjectMacro(LookupTable, vtkScalarsToColors);
+  ///@}
 
   /**
    * Makes this algorithm's scene the scene of a vtkRenderer, as VTK would draw
@@ -304,6 +345,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// The core settings of a render with the current parameters (not
   /// validated: RenderSettings::validate() does that).
   rayscope::RenderSettings GetRenderSettings();
+  /// The converter of input `index`: its own (SetInputConverter()), else the
+  /// one ScalarColoring asks for (configured by the last update).
+  vtkRayScopeMeshConverter* GetConverterOf(int index);
 
   /// Renders this committed core scene (a scene file's, as `rayscope view`
   /// loads it) instead of the inputs: its geometry, materials, lights,
@@ -352,6 +396,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   vtkTypeBool Headlight;
   double HeadlightIntensity;
   vtkTypeBool Shadows;
+  vtkTypeBool AutoCamera;
+  int ScalarColoring;
+  vtkScalarsToColors* LookupTable;
 
  private:
   vtkRayScopeImageAlgorithm(const vtkRayScopeImageAlgorithm&) = delete;
@@ -361,6 +408,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   Internals* Internal;
 
   int BuildScene();
+  // The converter of inputs without their own, for ScalarColoring (after an
+  // update of the inputs); 0 after an error.
+  int ConfigureColoring();
   // A warning for each material or converter set for an input index that has
   // no input connection.
   void WarnAboutUnconnectedInputs();

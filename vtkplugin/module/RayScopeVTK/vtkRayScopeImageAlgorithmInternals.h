@@ -5,6 +5,7 @@
 #include <map>
 #include <vector>
 
+#include "vtkLookupTable.h"
 #include "vtkNew.h"
 #include "vtkSmartPointer.h"
 
@@ -15,9 +16,13 @@
 #include "vtkRayScopeRendererCopy.h"
 
 struct vtkRayScopeImageAlgorithm::Internals {
-  vtkNew<vtkRayScopeMaterial> material;
+  vtkSmartPointer<vtkRayScopeMaterial> material = vtkSmartPointer<vtkRayScopeMaterial>::New();
   std::map<int, vtkSmartPointer<vtkRayScopeMaterial>> input_materials;
   vtkNew<vtkRayScopeMeshConverter> converter;
+  // Inputs without a converter of their own, when ScalarColoring is not
+  // COLOR_BY_MAPPER: `converter`'s settings, a mapper of its own.
+  vtkNew<vtkRayScopeMeshConverter> coloring_converter;
+  vtkNew<vtkLookupTable> default_table;  // COLOR_BY_ARRAY without LookupTable
   std::map<int, vtkSmartPointer<vtkRayScopeMeshConverter>> input_converters;
   std::vector<rayscope_vtk::SceneLight> lights;
   rayscope_vtk::CopiedActors actors;  // CopyRenderer()'s cache

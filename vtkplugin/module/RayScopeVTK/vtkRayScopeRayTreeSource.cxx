@@ -22,6 +22,7 @@
 #include "vtkUnsignedCharArray.h"
 
 #include "RayScopeArrays.h"
+#include "RayScopeSceneInput.h"
 #include "rayscope/render.h"
 #include "rayscope/replay.h"
 #include "rayscope/scene.h"
@@ -36,7 +37,7 @@ struct vtkRayScopeRayTreeSource::Internals {
 
 vtkRayScopeRayTreeSource::vtkRayScopeRayTreeSource()
     : SceneSource(nullptr), Sample(-1), MissLength(0.0), Internal(new Internals) {
-  this->SetNumberOfInputPorts(0);
+  this->SetNumberOfInputPorts(1);
 }
 
 vtkRayScopeRayTreeSource::~vtkRayScopeRayTreeSource() {
@@ -95,25 +96,26 @@ using rayscope_vtk::set_world_point;
 
 }  // namespace
 
-int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector**,
+int vtkRayScopeRayTreeSource::FillInputPortInformation(int port, vtkInformation* info) {
+  if (port != 0) return 0;
+  rayscope_vtk::fill_scene_input_port(info);
+  return 1;
+}
+
+int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector** inputVector,
                                           vtkInformationVector* outputVector) {
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  if (!this->SceneSource) {
-    vtkErrorMacro(<< "no scene: call SetSceneSource(vtkRayScopeImageAlgorithm)");
-    return 0;
-  }
   const auto& pixels = this->Internal->pixels;
   if (pixels.empty()) {
     vtkErrorMacro(<< "no pixel to record: call SetPixel(i, j) or AddPixel(i, j)");
     return 0;
   }
   this->UpdateProgress(0.0);
-  if (!this->SceneSource->UpdateScene()) {
-    vtkErrorMacro(<< "the scene source could not build its scene (see its error)");
-    return 0;
-  }
-  const rayscope::Scene& scene = *this->SceneSource->GetCoreScene();
-  const rayscope::RenderSettings settings = this->SceneSource->GetRenderSettings();
+  vtkRayScopeImageAlgorithm* source =
+      rayscope_vtk::update_scene(this, inputVector[0], this->SceneSource, this->DefaultScene);
+  if (!source) return 0;
+  const rayscope::Scene& scene = *source->GetCoreScene();
+  const rayscope::RenderSettings settings = source->GetRenderSettings();
   const int n2 = settings.samples * settings.samples;
   if (this->Sample < -1 || this->Sample >= n2) {
     vtkErrorMacro(<< "Sample " << this->Sample << " is outside -1.." << n2 - 1 << " ("

@@ -7,6 +7,13 @@
  * core's ray-tree recorder (rayscope::record_pixel), which is exact: the
  * replayed pixel has the very color of the full render.
  *
+ * The scene's datasets come through input port 0 (AddInputConnection, one or
+ * more vtkDataSets), like any filter's: they become the scene source's inputs
+ * (replacing its own). Without a scene source, a default
+ * vtkRayScopeImageAlgorithm with AutoCamera on is used (the camera fitted to
+ * the data, looking down -z, the headlight, the default material). With no
+ * input connected, the scene source's own inputs are used.
+ *
  * Pixels are given in VTK image coordinates: pixel (0, 0) is the bottom-left
  * pixel (the VTK image convention, as in the image algorithm's output and in
  * display coordinates), unlike the rayscope command (--pixel, --rect), whose
@@ -50,6 +57,7 @@
 
 #include "RayScopeVTKModule.h"  // export macro
 #include "vtkPolyDataAlgorithm.h"
+#include "vtkSmartPointer.h"  // DefaultScene
 
 class vtkRayScopeImageAlgorithm;
 
@@ -60,7 +68,8 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeRayTreeSource : public vtkPolyDataAlgorithm 
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /// The image algorithm whose scene and render settings are replayed.
+  /// The image algorithm whose scene and render settings are replayed (its
+  /// inputs are replaced by this filter's, when it has any).
   virtual void SetSceneSource(vtkRayScopeImageAlgorithm*);
   vtkGetObjectMacro(SceneSource, vtkRayScopeImageAlgorithm);
   ///@}
@@ -91,6 +100,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeRayTreeSource : public vtkPolyDataAlgorithm 
   vtkMTimeType GetMTime() override;
 
  protected:
+  int FillInputPortInformation(int port, vtkInformation* info) override;
   vtkRayScopeRayTreeSource();
   ~vtkRayScopeRayTreeSource() override;
 
@@ -102,6 +112,8 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeRayTreeSource : public vtkPolyDataAlgorithm 
   double MissLength;
 
  private:
+  // The scene without a scene source: inputs only, camera fitted to them.
+  vtkSmartPointer<vtkRayScopeImageAlgorithm> DefaultScene;
   vtkRayScopeRayTreeSource(const vtkRayScopeRayTreeSource&) = delete;
   void operator=(const vtkRayScopeRayTreeSource&) = delete;
 

@@ -1,0 +1,172 @@
+"""The plugin's three filters in pvpython, on ParaView's own sources.
+
+The plugin is not loaded by this script: ParaView finds it through
+PV_PLUGIN_PATH, the folder it is installed in (ctest sets it), so the filters
+must already be in paraview.simple. Then:
+
+- "Ray Trace" of a Sphere: the image's size and AOV arrays; ObjectId 0 on the
+  sphere and -1 around it; Depth = the camera's distance to the sphere at the
+  image's center; the auto camera sees the whole sphere (background on every
+  border pixel).
+- "Ray Trace" of the Wavelet contoured by value, colored by an array through a
+  ParaView lookup table: the colors are the table's colors, and they differ
+  from the solid-color render.
+- "Ray Tree" of a pixel: line cells per ray with the documented arrays, one
+  primary ray, a reflection ray when the material reflects.
+- "BVH": boxes with Level, NodeId, PrimitiveCount, SAHCost, VisitCount; the
+  leaves hold every triangle once; the level range limits the levels.
+- bad parameters (a pixel outside the image, samples 0): an empty output and
+  an error in ParaView's output.
+"""
+import math
+import sys
+
+from paraview.simple import *
+from paraview import servermanager as sm
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.util.vtkConstants import VTK_STRING
+from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
+
+for name in ("RayTrace", "RayTree", "BVH"):
+    assert name in globals(), f"{name} is missing: the plugin was not loaded from PV_PLUGIN_PATH"
+
+W, H = 120, 90
+
+
+def fetch(proxy):
+    return sm.Fetch(proxy)
+
+
+# ---- Ray Trace of a sphere -----------------------------------------------
+sphere = Sphere(Radius=0.5, ThetaResolution=48, PhiResolution=24)
+rt = RayTrace(Input=[sphere], ImageSize=[W, H])
+image = fetch(rt)
+assert image.GetDimensions() == (W, H, 1), image.GetDimensions()
+pd = image.GetPointData()
+names = sorted(pd.GetArrayName(i) for i in range(pd.GetNumberOfArrays()))
+assert names == ["Color", "Cost", "CostBoxes", "CostPrimitives", "CostRays", "Depth",
+                 "LinearColor", "Normal", "ObjectId"], names
+ids = pd.GetArray("ObjectId")
+assert ids.GetRange() == (-1.0, 0.0), ids.GetRange()
+center = (H // 2) * W + W // 2
+assert ids.GetValue(center) == 0
+# The auto camera fits the sphere's bounds as a render view's Reset Camera
+# does: along +z at distance r / sin(15 deg) from their center, where r is the
+# bounds' half diagonal; the center ray meets the sphere near its pole (the
+# pixel's center is half a pixel off the axis, where the polygons are flat).
+b = fetch(sphere).GetBounds()
+r = 0.5 * math.sqrt(sum((b[2 * k + 1] - b[2 * k]) ** 2 for k in range(3)))
+expect_depth = r / math.sin(math.radians(15.0)) + 0.5 * (b[4] + b[5]) - b[5]
+depth = pd.GetArray("Depth").GetValue(center)
+assert abs(depth - expect_depth) < 1e-3, (depth, expect_depth)
+border = [j * W + i for j in (0, H - 1) for i in range(W)] + \
+         [j * W + i for j in range(H) for i in (0, W - 1)]
+assert all(ids.GetValue(k) == -1 for k in border), "the fitted camera cuts the sphere off"
+solid = pd.GetArray("Color").GetTuple3(center)
+print(f"ray trace: {W}x{H}, center depth {depth:.4f} (expected {expect_depth:.4f}), color {solid}")
+
+# ---- colored by an array through a lookup table ---------------------------
+wavelet = Wavelet()
+contour = Contour(Input=wavelet, ContourBy=["POINTS", "RTData"], Isosurfaces=[157.0],
+                  ComputeScalars=0)
+elevation = Elevation(Input=contour, LowPoint=[-10, -10, -10], HighPoint=[10, 10, 10])
+lut = GetColorTransferFunction("Elevation")
+lut.ApplyPreset("Cool to Warm", True)
+lut.RescaleTransferFunction(0.0, 1.0)
+colored = RayTrace(Input=[elevation], ImageSize=[W, H], Coloring="Color Array",
+                   ColorArray=["POINTS", "Elevation"], LookupTable=lut, Headlight=1,
+                   AmbientLight=[1, 1, 1], Ambient=1.0, Diffuse=0.0, Shadows=0)
+img = fetch(colored)
+cpd = img.GetPointData()
+cids = cpd.GetArray("ObjectId")
+hits = [k for k in range(W * H) if cids.GetValue(k) == 0]
+assert len(hits) > W * H // 10, len(hits)
+# Ambient 1, diffuse 0: each pixel is the surface color, which is the lookup
+# table's color of an elevation in [0, 1]: blue-ish to red-ish, not grey.
+lin = cpd.GetArray("LinearColor")
+table = lut.GetClientSideObject()
+lo, hi = [0.0] * 3, [0.0] * 3
+table.GetColor(0.0, lo)
+table.GetColor(1.0, hi)
+spread = max(abs(lin.GetTuple3(k)[0] - lin.GetTuple3(k)[2]) for k in hits)
+assert spread > 0.2, f"the surface is not colored by the table (max |r-b| {spread})"
+solid_img = fetch(RayTrace(Input=[elevation], ImageSize=[W, H], AmbientLight=[1, 1, 1],
+                           Ambient=1.0, Diffuse=0.0, Shadows=0))
+slin = solid_img.GetPointData().GetArray("LinearColor")
+assert all(slin.GetTuple3(k) == (1.0, 1.0, 1.0) for k in hits), "solid color is not white"
+print(f"colored by Elevation through the table: {len(hits)} pixels, max |r-b| {spread:.3f} "
+      f"(table ends {[round(v, 3) for v in lo]} .. {[round(v, 3) for v in hi]})")
+
+# ---- Ray Tree --------------------------------------------------------------
+tree = RayTree(Input=[sphere], ImageSize=[W, H], Pixel=[W // 2, H // 2], Reflectivity=0.5)
+pdt = fetch(tree)
+cd = pdt.GetCellData()
+for a in ("RayId", "ParentId", "Kind", "KindName", "Depth", "Hit", "Occluded", "Weight",
+          "Color", "NodesVisited", "BoxesTested", "PrimitivesTested", "Skipped"):
+    assert cd.GetAbstractArray(a) is not None, a
+kinds = [int(cd.GetArray("Kind").GetValue(c)) for c in range(pdt.GetNumberOfVerts(),
+                                                               pdt.GetNumberOfCells())]
+assert kinds.count(0) == 1, kinds            # one primary ray (1 sample)
+assert 1 in kinds and 2 in kinds, kinds      # a shadow ray, a reflection ray
+assert pdt.GetNumberOfVerts() >= 1           # the primary ray's hit point
+print(f"ray tree of pixel ({W // 2}, {H // 2}): {len(kinds)} rays, kinds {sorted(set(kinds))}")
+
+# ---- BVH ---------------------------------------------------------------------
+bvh = BVH(Input=[sphere])
+boxes = fetch(bvh)
+bcd = boxes.GetCellData()
+for a in ("Level", "NodeId", "ParentId", "IsLeaf", "PrimitiveCount", "SAHCost", "VisitCount"):
+    assert bcd.GetArray(a) is not None, a
+triangles = fetch(sphere).GetNumberOfPolys()
+leaf_prims = 0
+seen = set()
+for c in range(boxes.GetNumberOfCells()):
+    node = int(bcd.GetArray("NodeId").GetValue(c))
+    if node in seen:
+        continue
+    seen.add(node)
+    if bcd.GetArray("IsLeaf").GetValue(c):
+        leaf_prims += int(bcd.GetArray("PrimitiveCount").GetValue(c))
+assert leaf_prims == triangles, (leaf_prims, triangles)
+assert boxes.GetNumberOfCells() == 12 * len(seen), "12 edges per box"
+levels = bcd.GetArray("Level").GetRange()
+bvh.LevelRange = [1, 2]
+part = fetch(bvh).GetCellData().GetArray("Level").GetRange()
+assert part == (1.0, 2.0), part
+bvh.VisitMode = "Every ray of the image"
+visits = fetch(bvh).GetCellData().GetArray("VisitCount").GetRange()
+assert visits[1] > 0, visits
+print(f"BVH: {len(seen)} nodes, levels {levels}, leaves hold {leaf_prims} triangles; "
+      f"visit counts {visits}")
+
+# ---- bad parameters ------------------------------------------------------------
+messages = []
+
+
+@calldata_type(VTK_STRING)
+def on_error(obj, event, text):
+    messages.append(text)
+
+
+vtkOutputWindow.GetInstance().AddObserver(vtkCommand.ErrorEvent, on_error)
+
+
+def expect_error(proxy, words, what):
+    del messages[:]
+    out = fetch(proxy)
+    size = out.GetNumberOfPoints() + out.GetNumberOfCells()
+    assert size == 0, f"{what}: the output is not empty"
+    assert any(all(w in m for w in words) for m in messages), (what, messages)
+    text = [m for m in messages if all(w in m for w in words)][0]
+    print(f"{what}: empty output, error: {text.strip().splitlines()[-1]}")
+
+
+tree.Pixel = [W + 5, 0]
+expect_error(tree, ["pixel (", "outside the"], "a pixel outside the image")
+tree.Pixel = [W // 2, H // 2]
+rt.Samples = 0
+expect_error(rt, ["samples"], "0 samples per pixel")
+rt.Samples = 1
+rt.ViewAngle = 200.0
+expect_error(rt, ["ViewAngle"], "a view angle of 200 degrees")
+print("OK")
