@@ -1,0 +1,268 @@
+// kD-tree (lecture: "Spatial data structures"): space cut by axis-aligned
+// planes into cells, each primitive stored in every leaf cell its bounds
+// overlap (the lecture's "store it multiple times"), and the front-to-back
+// walk with early termination and mailboxing.
+//
+// Like the BVH builder (bvh.h), the builder knows nothing about geometry: it
+// takes one bounding box per primitive and a KdTreeBuildConfig. Primitives are
+// named by their index in that span; the leaves hold lists of those indices
+// (references), so a primitive that straddles a split plane appears in several
+// leaves. The walk tests it once per ray all the same (mailboxing, see
+// traverse()).
+#pragma once
+
+#include <bit>
+#include <cassert>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "rayscope/intersect.h"
+#include "rayscope/math.h"
+#include "rayscope/ray.h"
+#include "rayscope/traversal.h"
+
+namespace rayscope {
+
+/// One node of the flattened tree, 8 bytes. An inner node holds its split
+/// plane (axis and position); the child below the plane is the next node, the
+/// child above it is at above(). A leaf holds the offset of its first
+/// reference in KdTree::refs and how many there are.
+struct KdNode {
+  /// The axis value that marks a leaf.
+  static constexpr uint32_t kLeafAxis = 3;
+  /// Most children (node index) or references per leaf that fit in `bits`.
+  static constexpr uint32_t kMaxIndex = (1u << 30) - 1;
+
+  uint32_t payload;  ///< Inner: the split position's bits. Leaf: first reference.
+  uint32_t bits;     ///< Low 2 bits: axis 0..2, or kLeafAxis. High 30: above() or count().
+
+  bool is_leaf() const { return (bits & 3u) == kLeafAxis; }
+  int axis() const { return int(bits & 3u); }
+  float split() const { return std::bit_cast<float>(payload); }
+  uint32_t above() const { return bits >> 2; }
+  uint32_t first() const { return payload; }
+  uint32_t count() const { return bits >> 2; }
+};
+static_assert(sizeof(KdNode) == 8);
+
+/// How the builder chooses a node's split plane.
+enum class KdSplitRule : uint8_t {
+  /// Surface area heuristic over every candidate plane at a primitive bound's
+  /// edge inside the cell (the default).
+  Sah,
+  /// The middle of the cell's longest axis (spatial median): the plain
+  /// subdivision the SAH is measured against.
+  Median,
+};
+
+/// Settings of the kD-tree builder, with the defaults used by RayScope.
+struct KdTreeBuildConfig {
+  KdSplitRule rule = KdSplitRule::Sah;
+  float traversal_cost = 1.0f;     ///< SAH cost of stepping through an inner node...
+  float intersection_cost = 1.5f;  ///< ...relative to one primitive test.
+  /// The SAH cost of a split that leaves one side empty is multiplied by
+  /// (1 - empty_bonus): cutting off empty space pays, because rays cross it
+  /// without testing anything.
+  float empty_bonus = 0.5f;
+  /// Deepest leaf level (root = 0). 0: automatic, round(8 + 1.3 log2 n) for n
+  /// primitives (pbrt's rule of thumb). Always capped at KdTree::kMaxDepth.
+  int max_depth = 0;
+  /// Cells with at most this many primitives become leaves when the SAH says a
+  /// split would not pay (a median split stops there); bigger ones are split
+  /// anyway, up to KdTree::kMaxBadRefines times on one path.
+  uint32_t max_leaf_size = 4;
+};
+
+/// Quality figures of a built tree (see KdTree::quality()).
+struct KdTreeQuality {
+  uint32_t nodes = 0, leaves = 0, empty_leaves = 0, depth = 0;
+  uint32_t max_leaf_refs = 0;
+  double mean_leaf_refs = 0.0;  ///< Over the non-empty leaves.
+  size_t references = 0;        ///< Primitive references in all leaves.
+  double refs_per_prim = 0.0;   ///< references / primitives: how often one is stored.
+  /// Expected cost of a random ray hitting the root cell, with the build's
+  /// cost constants (cell areas relative to the root's).
+  double sah_cost = 0.0;
+  size_t memory_bytes = 0;  ///< Nodes and reference lists.
+  double build_seconds = 0.0;
+};
+
+class KdTree {
+ public:
+  /// The deepest tree the walk's fixed stack can hold (one entry per level).
+  static constexpr int kMaxDepth = 64;
+  /// SAH splits that do not pay, allowed on one root-to-leaf path for cells
+  /// bigger than max_leaf_size (a bad split is often followed by good ones).
+  static constexpr int kMaxBadRefines = 3;
+  /// The builder stops splitting (makes leaves) once the tree holds this many
+  /// references per primitive: a guard against explosive duplication by
+  /// primitives that straddle every plane (mostly for median splits).
+  static constexpr size_t kMaxReferencesPerPrim = 32;
+
+  /// Builds the tree over bounds.size() primitives (finite bounds; zero-size
+  /// boxes are fine). An empty input gives an empty tree that every ray misses.
+  /// Throws std::length_error if the tree would not fit KdNode's indices.
+  void build(std::span<const Bounds3> bounds, const KdTreeBuildConfig& config = {});
+
+  bool empty() const { return nodes.empty(); }
+  /// The root cell: the bounds of all primitives.
+  Bounds3 bounds() const { return bounds_; }
+  /// The depth limit the build used (config.max_depth resolved).
+  int max_depth() const { return max_depth_; }
+  KdTreeQuality quality() const;
+  size_t memory_bytes() const {
+    return nodes.size() * sizeof(KdNode) + refs.size() * sizeof(uint32_t);
+  }
+
+  /// Walks the cells the ray [origin, origin + tmax * dir] crosses, nearest
+  /// first. `prim(index, tmax)` tests primitive `index` and returns true on a
+  /// hit, lowering tmax to the hit distance (closest hit) or ending the walk
+  /// (AnyHit). Returns whether anything was hit.
+  ///
+  /// - Order: in an inner node the child on the ray origin's side of the plane
+  ///   (by the direction's sign when the origin lies on it) is visited first;
+  ///   the other is pushed when the ray's interval in the cell reaches the
+  ///   plane (with the margin kBoxFarScale), and for a ray lying in the plane.
+  ///   The stack has kMaxDepth entries: one per level at most.
+  /// - Early termination: a pushed cell is popped only if it starts before the
+  ///   closest hit so far, that is, the walk stops once the hit lies within
+  ///   the cells visited. A primitive stored in several cells can be hit
+  ///   beyond the cell it was tested in; that hit is kept (it may still be the
+  ///   closest) and the walk goes on until a cell holding it is reached.
+  ///   Distances are compared with the margin kBoxFarScale, as the BVH's box
+  ///   test does, so that rounding never skips a cell the ray touches.
+  /// - Mailboxing: each primitive is tested at most once per ray, however many
+  ///   of the leaves visited hold it. Exact, not a cache: every thread keeps a
+  ///   stamp per primitive (thread_local, grown to the largest tree it walked,
+  ///   never shrunk: 4 bytes per primitive per thread) and every query a new
+  ///   stamp value; a primitive is tested when its stamp differs and then
+  ///   takes the query's. No allocation per ray, no locks.
+  ///
+  /// Observer hooks (traversal.h), with the kD-tree's node ids (index in
+  /// nodes): on_box_test(0, hit) for the root cell's box; on_node(id) for every
+  /// node entered (inner or leaf); for every inner node entered, the split
+  /// plane decides which child cells the ray reaches, reported as
+  /// on_box_test(child, reached) for both children (like the binary BVH's two
+  /// child boxes); on_cull(id) for a pushed cell skipped by early
+  /// termination. Primitive tests are the caller's (`prim`), after the
+  /// mailbox: a primitive is reported at most once per ray.
+  template <bool AnyHit, class Observer, class PrimFn>
+  bool traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const;
+
+  std::vector<KdNode> nodes;   ///< nodes[0] is the root.
+  std::vector<uint32_t> refs;  ///< Leaf reference lists: primitive indices.
+  KdTreeBuildConfig config;
+
+ private:
+  /// The calling thread's mailbox, ready for a new query over this tree's
+  /// primitives: returns the stamps and sets `stamp` to the query's value.
+  uint32_t* begin_query(uint32_t& stamp) const;
+
+  Bounds3 bounds_;
+  uint32_t num_prims_ = 0;
+  int max_depth_ = 0;
+  double build_seconds_ = 0.0;
+};
+
+// ---------------------------------------------------------------------------
+
+template <bool AnyHit, class Observer, class PrimFn>
+bool KdTree::traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const {
+  if (nodes.empty()) return false;
+  const Vec3 inv_dir = 1.0f / ray.dir;
+  // The root cell's interval [t0, t1]: intersect_box()'s slab test, keeping
+  // the exit distance too.
+  float t0 = 0.0f, t1 = tmax;
+  for (int i = 0; i < 3; ++i) {
+    const bool neg = std::signbit(inv_dir[i]);
+    const float tn = ((neg ? bounds_.hi[i] : bounds_.lo[i]) - ray.origin[i]) * inv_dir[i];
+    const float tf = ((neg ? bounds_.lo[i] : bounds_.hi[i]) - ray.origin[i]) * inv_dir[i];
+    if (tn > t0) t0 = tn;
+    if (tf < t1) t1 = tf;
+  }
+  t1 *= kBoxFarScale;
+  const bool root_hit = t0 <= t1;
+  if constexpr (Observer::kActive) obs.on_box_test(0, root_hit);
+  if (!root_hit) return false;
+
+  uint32_t stamp;
+  uint32_t* const stamps = begin_query(stamp);
+  struct Entry {
+    uint32_t node;
+    float t0, t1;
+  };
+  Entry stack[kMaxDepth];
+  int sp = 0;
+  uint32_t node = 0;
+  bool hit = false;
+  for (;;) {
+    if constexpr (Observer::kActive) obs.on_node(node);
+    const KdNode& n = nodes[node];
+    if (!n.is_leaf()) {
+      const int axis = n.axis();
+      const float split = n.split();
+      const float o = ray.origin[axis];
+      // The origin's side first; on the plane, the side the ray heads to
+      // (below first for a ray lying in the plane).
+      const bool below_first = o < split || (o == split && !(ray.dir[axis] > 0.0f));
+      const uint32_t near = below_first ? node + 1 : n.above();
+      const uint32_t far = below_first ? n.above() : node + 1;
+      // Where the ray crosses the plane; negative: it stays on the near side.
+      // A ray starting on the plane leaves it into the near side (it never
+      // reaches the far one), unless it lies in the plane: then what touches
+      // the plane from either side may be hit, and both children are walked
+      // over the whole interval.
+      const float ts = (split - o) * inv_dir[axis];
+      bool go_near = true, go_far = false;
+      float t_far = t0, t_near = t1;  // the far child's entry, the near child's exit
+      if (o == split) {
+        go_far = ray.dir[axis] == 0.0f;
+      } else if (ts >= 0.0f) {
+        go_near = ts * kBoxFarScale >= t0;
+        go_far = ts <= std::min(t1, tmax) * kBoxFarScale;
+        t_far = std::max(ts, t0);
+        t_near = std::min(ts, t1);
+      }
+      if constexpr (Observer::kActive) {
+        obs.on_box_test(near, go_near);
+        obs.on_box_test(far, go_far);
+      }
+      if (go_near) {
+        if (go_far) {
+          assert(sp < kMaxDepth);
+          stack[sp++] = {far, t_far, t1};
+          t1 = t_near;
+        }
+        node = near;
+      } else {
+        t0 = t_far;
+        node = far;
+      }
+      continue;
+    }
+    const uint32_t* r = refs.data() + n.first();
+    for (const uint32_t* end = r + n.count(); r != end; ++r) {
+      if (stamps[*r] == stamp) continue;
+      stamps[*r] = stamp;
+      if (prim(*r, tmax)) {
+        hit = true;
+        if constexpr (AnyHit) return true;
+      }
+    }
+    // Pop the next cell that can still hold a closer hit.
+    for (;;) {
+      if (sp == 0) return hit;
+      const Entry& e = stack[--sp];
+      if (e.t0 <= tmax * kBoxFarScale) {
+        node = e.node;
+        t0 = e.t0;
+        t1 = e.t1;
+        break;
+      }
+      if constexpr (Observer::kActive) obs.on_cull(e.node);
+    }
+  }
+}
+
+}  // namespace rayscope

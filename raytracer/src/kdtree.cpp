@@ -1,0 +1,241 @@
+// kD-tree builder: top-down, one split plane per cell, chosen by the surface
+// area heuristic over the primitives' bound edges (sorted once per cell and
+// axis: O(n log n) per level) or at the cell's spatial median. A primitive goes
+// to every child cell its bounds overlap; one that only touches the plane goes
+// to its own side, and one lying in the plane goes below (see goes_below). The
+// walk reaches both sides wherever the ray meets the plane (kdtree.h), so a
+// ray reaching any point of a primitive's bounds reaches a leaf that holds it.
+#include "rayscope/kdtree.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace rayscope {
+namespace {
+
+/// Half the surface area of `cell` with its extent along `axis` replaced by
+/// `length` (the area of a child cell).
+float child_half_area(const Bounds3& cell, int axis, float length) {
+  const Vec3 e = cell.extent();
+  const float a = e[(axis + 1) % 3], b = e[(axis + 2) % 3];
+  return length * (a + b) + a * b;
+}
+
+/// Which children of a cell split at `s` on `axis` a primitive goes to: below
+/// if it reaches below the plane or lies in it, above if it reaches above it.
+bool goes_below(const Bounds3& b, int axis, float s) {
+  return b.lo[axis] < s || b.hi[axis] == s;
+}
+bool goes_above(const Bounds3& b, int axis, float s) {
+  return b.hi[axis] > s;
+}
+
+struct Split {
+  int axis = -1;
+  float position = 0.0f;
+  float cost = kInfinity;
+};
+
+struct Builder {
+  std::span<const Bounds3> bounds;
+  const KdTreeBuildConfig& cfg;
+  int max_depth;
+  size_t max_refs;
+  std::vector<KdNode>& nodes;
+  std::vector<uint32_t>& refs;
+  std::vector<float> lo_edges = {}, hi_edges = {}, flat_edges = {};  // reused per cell
+
+  void make_leaf(uint32_t node, const std::vector<uint32_t>& prims) {
+    if (refs.size() > KdNode::kMaxIndex || prims.size() > KdNode::kMaxIndex)
+      throw std::length_error("KdTree::build: too many references for KdNode");
+    nodes[node].payload = uint32_t(refs.size());
+    nodes[node].bits = uint32_t(prims.size()) << 2 | KdNode::kLeafAxis;
+    refs.insert(refs.end(), prims.begin(), prims.end());
+  }
+
+  /// The SAH's best plane over the edges of the cell's primitives on every
+  /// axis, each candidate s counted as goes_below() and goes_above() send
+  /// them. Planes on the cell's faces are skipped: they would cut off nothing.
+  Split best_sah_split(const Bounds3& cell, const std::vector<uint32_t>& prims) {
+    Split best;
+    const float cell_area = cell.half_area();
+    if (!(cell_area > 0.0f)) return best;
+    const size_t n = prims.size();
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!(cell.hi[axis] > cell.lo[axis])) continue;
+      lo_edges.clear();
+      hi_edges.clear();
+      flat_edges.clear();
+      for (uint32_t p : prims) {
+        lo_edges.push_back(bounds[p].lo[axis]);
+        hi_edges.push_back(bounds[p].hi[axis]);
+        if (bounds[p].lo[axis] == bounds[p].hi[axis]) flat_edges.push_back(bounds[p].lo[axis]);
+      }
+      std::sort(lo_edges.begin(), lo_edges.end());
+      std::sort(hi_edges.begin(), hi_edges.end());
+      std::sort(flat_edges.begin(), flat_edges.end());
+      // Sweep the distinct edge positions in order, counting lo < s (a),
+      // hi <= s (b) and lo == hi == s (f: flat in the plane, sent below).
+      const size_t nf = flat_edges.size();
+      size_t a = 0, b = 0, c = 0;
+      while (a < n || b < n) {
+        const float s = std::min(a < n ? lo_edges[a] : kInfinity, b < n ? hi_edges[b] : kInfinity);
+        const size_t below_lo = a;
+        while (a < n && lo_edges[a] == s) ++a;
+        while (b < n && hi_edges[b] == s) ++b;
+        size_t f = 0;
+        while (c < nf && flat_edges[c] < s) ++c;
+        while (c < nf && flat_edges[c] == s) ++c, ++f;
+        const size_t below = below_lo + f, above = n - b;
+        if (!(s > cell.lo[axis] && s < cell.hi[axis])) continue;
+        const float p_below = child_half_area(cell, axis, s - cell.lo[axis]) / cell_area;
+        const float p_above = child_half_area(cell, axis, cell.hi[axis] - s) / cell_area;
+        const float bonus = below == 0 || above == 0 ? 1.0f - cfg.empty_bonus : 1.0f;
+        const float cost =
+            cfg.traversal_cost +
+            cfg.intersection_cost * bonus * (p_below * float(below) + p_above * float(above));
+        if (cost < best.cost) best = Split{axis, s, cost};
+      }
+    }
+    return best;
+  }
+
+  /// The middle of the cell's longest axis (no split for a point-like cell).
+  static Split median_split(const Bounds3& cell) {
+    Split s;
+    const Vec3 e = cell.extent();
+    const int axis = max_dimension(e);
+    const float mid = cell.lo[axis] + 0.5f * e[axis];
+    if (mid > cell.lo[axis] && mid < cell.hi[axis]) s = Split{axis, mid, 0.0f};
+    return s;
+  }
+
+  void build(uint32_t node, const Bounds3& cell, std::vector<uint32_t> prims, int depth,
+             int bad_refines) {
+    const size_t n = prims.size();
+    if (n == 0 || depth >= max_depth || refs.size() + n > max_refs ||
+        (cfg.rule == KdSplitRule::Median && n <= cfg.max_leaf_size))
+      return make_leaf(node, prims);
+    Split split;
+    if (cfg.rule == KdSplitRule::Sah) {
+      split = best_sah_split(cell, prims);
+      const float leaf_cost = cfg.intersection_cost * float(n);
+      if (split.axis >= 0 && !(split.cost < leaf_cost)) {
+        if (n <= cfg.max_leaf_size || bad_refines >= KdTree::kMaxBadRefines) split.axis = -1;
+        ++bad_refines;
+      }
+    } else {
+      split = median_split(cell);
+    }
+    if (split.axis < 0) return make_leaf(node, prims);
+
+    std::vector<uint32_t> below, above;
+    for (uint32_t p : prims) {
+      if (goes_below(bounds[p], split.axis, split.position)) below.push_back(p);
+      if (goes_above(bounds[p], split.axis, split.position)) above.push_back(p);
+    }
+    // A plane that separates nothing would only repeat this cell's list twice.
+    if (below.size() == n && above.size() == n) return make_leaf(node, prims);
+    prims = {};
+
+    Bounds3 below_cell = cell, above_cell = cell;
+    below_cell.hi[split.axis] = split.position;
+    above_cell.lo[split.axis] = split.position;
+    nodes.emplace_back();  // node + 1: the child below
+    build(node + 1, below_cell, std::move(below), depth + 1, bad_refines);
+    const size_t above_index = nodes.size();
+    if (above_index > KdNode::kMaxIndex)
+      throw std::length_error("KdTree::build: too many nodes for KdNode");
+    nodes.emplace_back();
+    nodes[node].payload = std::bit_cast<uint32_t>(split.position);
+    nodes[node].bits = uint32_t(above_index) << 2 | uint32_t(split.axis);
+    build(uint32_t(above_index), above_cell, std::move(above), depth + 1, bad_refines);
+  }
+};
+
+/// The calling thread's stamps (see KdTree::traverse, "Mailboxing").
+struct Mailbox {
+  uint32_t query = 0;
+  std::vector<uint32_t> stamps;
+};
+
+}  // namespace
+
+void KdTree::build(std::span<const Bounds3> bounds, const KdTreeBuildConfig& cfg) {
+  const auto start = std::chrono::steady_clock::now();
+  config = cfg;
+  nodes.clear();
+  refs.clear();
+  bounds_ = Bounds3();
+  num_prims_ = uint32_t(bounds.size());
+  const size_t n = bounds.size();
+  max_depth_ = cfg.max_depth > 0
+                   ? cfg.max_depth
+                   : int(std::lround(8.0 + 1.3 * std::log2(double(std::max<size_t>(n, 1)))));
+  max_depth_ = std::clamp(max_depth_, 0, kMaxDepth);
+  if (n > 0) {
+    if (n > KdNode::kMaxIndex) throw std::length_error("KdTree::build: too many primitives");
+    for (const Bounds3& b : bounds) bounds_.extend(b);
+    std::vector<uint32_t> all(n);
+    for (uint32_t i = 0; i < n; ++i) all[i] = i;
+    nodes.emplace_back();
+    Builder b{bounds, cfg, max_depth_, kMaxReferencesPerPrim * n, nodes, refs};
+    b.build(0, bounds_, std::move(all), 0, 0);
+    nodes.shrink_to_fit();
+    refs.shrink_to_fit();
+  }
+  build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+KdTreeQuality KdTree::quality() const {
+  KdTreeQuality q;
+  q.build_seconds = build_seconds_;
+  if (nodes.empty()) return q;
+  q.nodes = uint32_t(nodes.size());
+  q.references = refs.size();
+  q.refs_per_prim = num_prims_ ? double(refs.size()) / num_prims_ : 0.0;
+  q.memory_bytes = memory_bytes();
+  const double root_area = std::max(1e-30, double(bounds_.half_area()));
+  struct Item {
+    uint32_t node, depth;
+    Bounds3 cell;
+  };
+  std::vector<Item> stack{{0u, 0u, bounds_}};
+  while (!stack.empty()) {
+    const Item it = stack.back();
+    stack.pop_back();
+    const KdNode& n = nodes[it.node];
+    q.depth = std::max(q.depth, it.depth);
+    const double rel = double(it.cell.half_area()) / root_area;
+    if (n.is_leaf()) {
+      q.leaves++;
+      q.empty_leaves += n.count() == 0;
+      q.max_leaf_refs = std::max(q.max_leaf_refs, n.count());
+      q.sah_cost += rel * config.intersection_cost * n.count();
+      continue;
+    }
+    q.sah_cost += rel * config.traversal_cost;
+    Bounds3 below = it.cell, above = it.cell;
+    below.hi[n.axis()] = above.lo[n.axis()] = n.split();
+    stack.push_back({it.node + 1, it.depth + 1, below});
+    stack.push_back({n.above(), it.depth + 1, above});
+  }
+  const uint32_t full = q.leaves - q.empty_leaves;
+  q.mean_leaf_refs = full ? double(refs.size()) / full : 0.0;
+  return q;
+}
+
+uint32_t* KdTree::begin_query(uint32_t& stamp) const {
+  thread_local Mailbox mailbox;
+  if (mailbox.stamps.size() < num_prims_) mailbox.stamps.resize(num_prims_, 0u);
+  if (++mailbox.query == 0) {  // wrapped around: old stamps could match again
+    std::fill(mailbox.stamps.begin(), mailbox.stamps.end(), 0u);
+    mailbox.query = 1;
+  }
+  stamp = mailbox.query;
+  return mailbox.stamps.data();
+}
+
+}  // namespace rayscope
