@@ -48,13 +48,21 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
       "BVH:       %u nodes, %u leaves, depth %u, %.1f prims/leaf, SAH cost %.2f, built in %.3f "
       "s\n",
       q.nodes, q.leaves, q.depth, q.mean_leaf_prims, q.sah_cost, build_s);
-  if (accel.walks_structure())
+  if (accel.walks_structure() && accel.kind() == AccelKind::KdTree) {
+    const KdTreeQuality k = accel.kdtree().quality();
+    std::printf(
+        "Walk:      kdtree: %u nodes, %u leaves (%u empty), depth %u (limit %d), %.2f references "
+        "per primitive, %.1f per non-empty leaf, SAH cost %.2f, %.2f MiB, built in %.3f s\n",
+        k.nodes, k.leaves, k.empty_leaves, k.depth, accel.kdtree().max_depth(), k.refs_per_prim,
+        k.mean_leaf_refs, k.sah_cost, double(k.memory_bytes) / (1024.0 * 1024.0), k.build_seconds);
+  } else if (accel.walks_structure()) {
     std::printf("Walk:      %s: %zu %d-wide nodes, depth %u%s\n", to_string(accel.kind()),
                 accel.walk().nodes.size(), accel.walk().arity(), accel.walk().depth(),
                 accel.kind() == AccelKind::Bvh ? " (what renders walk)" : "");
-  else
+  } else {
     std::printf("Walk:      none: every primitive is tested against every ray\n");
-  std::printf("Memory:    %.2f MiB for the BVH, its walk and the primitive records\n",
+  }
+  std::printf("Memory:    %.2f MiB for the BVH, its walk or kD-tree and the primitive records\n",
               double(accel.memory_bytes()) / (1024.0 * 1024.0));
   std::printf("%-22s %14s\n", "Rays", "count");
   for (int k = 0; k < kRayKindCount; ++k)

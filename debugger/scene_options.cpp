@@ -103,14 +103,17 @@ void SceneOptions::add_to(CLI::App* cmd) {
   cmd->add_option("--accel", accel,
                   "Structure the rays walk: bvh (the BVH in 4-wide nodes, what renders use; "
                   "default), bvh2 (the same BVH node by node, two boxes per node: the "
-                  "lecture's walk, for teaching; same image), none (every primitive tested)")
+                  "lecture's walk, for teaching; same image), kdtree (the SAH kD-tree, every "
+                  "primitive stored in each cell it overlaps; same image), none (every "
+                  "primitive tested)")
       ->check(CLI::Validator(
           [](std::string& name) {
             AccelKind k;
-            return parse_accel_kind(name, k) ? std::string()
-                                             : "expected bvh, bvh2 or none, got '" + name + "'";
+            return parse_accel_kind(name, k)
+                       ? std::string()
+                       : "expected bvh, bvh2, kdtree or none, got '" + name + "'";
           },
-          "bvh|bvh2|none"));
+          "bvh|bvh2|kdtree|none"));
 }
 
 void parse_pixel_option(const std::string& text, int xy[2]) {

@@ -13,12 +13,14 @@ const char* to_string(AccelKind kind) {
       return "bvh2";
     case AccelKind::None:
       return "none";
+    case AccelKind::KdTree:
+      return "kdtree";
   }
   return "?";
 }
 
 bool parse_accel_kind(std::string_view name, AccelKind& kind) {
-  for (AccelKind k : {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::None})
+  for (AccelKind k : {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::None, AccelKind::KdTree})
     if (name == to_string(k)) {
       kind = k;
       return true;
@@ -40,13 +42,22 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
   use_walk_ = config.kind != AccelKind::None &&
               (!config.allow_brute_force || records_.size() > kBruteForceMax);
   walk_ = WideBvh{};
-  if (config.kind != AccelKind::None)
+  kdtree_ = KdTree{};
+  if (config.kind == AccelKind::KdTree) {
+    // Over the records (leaf order), so that its references are record
+    // indices.
+    std::vector<Bounds3> leaf_order_bounds(records_.size());
+    for (size_t i = 0; i < leaf_order_bounds.size(); ++i)
+      leaf_order_bounds[i] = bounds[bvh_.prim_indices[i]];
+    kdtree_.build(leaf_order_bounds, config.kdtree);
+  } else if (config.kind != AccelKind::None) {
     walk_.build(bvh_, config.kind == AccelKind::BinaryBvh ? 2 : WideBvh::kMaxArity);
+  }
 }
 
 size_t Aggregate::memory_bytes() const {
   return bvh_.nodes.size() * sizeof(BvhNode) + bvh_.prim_indices.size() * sizeof(uint32_t) +
-         walk_.memory_bytes() + records_.size() * sizeof(PrimRecord) +
+         walk_.memory_bytes() + kdtree_.memory_bytes() + records_.size() * sizeof(PrimRecord) +
          planes_.size() * sizeof(PlaneRecord);
 }
 

@@ -119,10 +119,14 @@ std::string walk_legend(const Scene& s) {
                "walk: no structure; every primitive is tested (primitives tested = all of "
                "them)\n") +
            kLocalLegend;
-  const char* walk = a.kind() == AccelKind::BinaryBvh
-                         ? "the binary BVH, node by node (--accel bvh2)"
-                         : "the 4-wide BVH, as renders walk it (--accel bvh); nodes are named by "
-                           "their binary BVH ids";
+  const char* walk =
+      a.kind() == AccelKind::BinaryBvh ? "the binary BVH, node by node (--accel bvh2)"
+      : a.kind() == AccelKind::KdTree
+          ? "the kD-tree (--accel kdtree); nodes are named by their kD-tree ids, a node's two "
+            "child boxes are the cells its split plane lets the ray reach, and a primitive "
+            "stored in several cells is tested once"
+          : "the 4-wide BVH, as renders walk it (--accel bvh); nodes are named by their binary "
+            "BVH ids";
   return std::string("walk: ") + walk +
          "\n  nodes visited = nodes entered, in order; boxes tested = boxes tested against the "
          "ray,\n  hit or missed (the root's, then every child box of each node entered, so more "

@@ -18,6 +18,7 @@
 
 #include "rayscope/bvh.h"
 #include "rayscope/intersect.h"
+#include "rayscope/kdtree.h"
 #include "rayscope/traversal.h"
 #include "rayscope/wide_bvh.h"
 
@@ -33,8 +34,12 @@ enum class AccelKind : uint8_t {
   BinaryBvh,
   /// No structure: every primitive is tested against every ray (O(n) per ray).
   None,
+  /// The kD-tree (kdtree.h): space cut by axis-aligned planes, every primitive
+  /// stored in each leaf cell it overlaps, walked front to back with
+  /// mailboxing. Same hits as the BVH.
+  KdTree,
 };
-/// "bvh", "bvh2", "none".
+/// "bvh", "bvh2", "none", "kdtree".
 const char* to_string(AccelKind kind);
 /// Parses the names to_string() gives; false for anything else.
 bool parse_accel_kind(std::string_view name, AccelKind& kind);
@@ -42,7 +47,8 @@ bool parse_accel_kind(std::string_view name, AccelKind& kind);
 /// How commit() builds the aggregate; every field has a documented default.
 struct AccelConfig {
   AccelKind kind = AccelKind::Bvh;
-  BvhBuildConfig bvh;  ///< Settings of the SAH builder (bvh.h).
+  BvhBuildConfig bvh;        ///< Settings of the SAH builder (bvh.h).
+  KdTreeBuildConfig kdtree;  ///< Settings of the kD-tree builder (kdtree.h), for AccelKind::KdTree.
   /// Let scenes with at most Aggregate::kBruteForceMax bounded primitives skip
   /// the structure and test them all. Off only to measure what the skip saves.
   bool allow_brute_force = true;
@@ -110,11 +116,14 @@ class Aggregate {
   /// The binary hierarchy: built for every kind (the tools show it).
   const Bvh& bvh() const { return bvh_; }
   /// The walked collapse of bvh() (arity 4 for AccelKind::Bvh, 2 for BinaryBvh;
-  /// empty for None).
+  /// empty for None and KdTree).
   const WideBvh& walk() const { return walk_; }
+  /// The kD-tree, over records() (its references are record indices); empty
+  /// unless the kind is AccelKind::KdTree.
+  const KdTree& kdtree() const { return kdtree_; }
   const std::vector<PrimRecord>& records() const { return records_; }
   /// Every byte the aggregate holds: binary nodes, leaf order, wide nodes,
-  /// primitive records and planes.
+  /// kD-tree nodes and references, primitive records and planes.
   size_t memory_bytes() const;
 
  private:
@@ -141,17 +150,30 @@ class Aggregate {
     return true;
   }
 
-  /// Visits the primitives' leaves with `leaf(first, count, tmax)`: through
-  /// the structure's walk, or all at once without one.
-  template <bool AnyHit, class Observer, class LeafFn>
-  bool walk_leaves(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs) const {
-    if (use_walk_) return walk_.traverse<AnyHit>(ray, tmax, leaf, obs);
-    return !records_.empty() && leaf(0u, uint32_t(records_.size()), tmax);
+  /// Tests the primitives the ray can hit with `prim(record, tmax)`, which
+  /// returns true on a hit (lowering tmax, or ending an any-hit query): the
+  /// BVH's leaves (contiguous record ranges), the kD-tree's leaves (reference
+  /// lists, each record once per ray), or all records without a structure.
+  template <bool AnyHit, class Observer, class PrimFn>
+  bool walk_prims(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const {
+    auto range = [&prim](uint32_t first, uint32_t count, float& t) {
+      bool found = false;
+      for (uint32_t i = first; i < first + count; ++i)
+        if (prim(i, t)) {
+          found = true;
+          if constexpr (AnyHit) return true;
+        }
+      return found;
+    };
+    if (!use_walk_) return range(0u, uint32_t(records_.size()), tmax);
+    if (config_.kind == AccelKind::KdTree) return kdtree_.traverse<AnyHit>(ray, tmax, prim, obs);
+    return walk_.traverse<AnyHit>(ray, tmax, range, obs);
   }
 
   AccelConfig config_;
   Bvh bvh_;
   WideBvh walk_;
+  KdTree kdtree_;
   std::vector<PrimRecord> records_;  ///< Leaf order.
   std::vector<PlaneRecord> planes_;
   uint32_t num_triangles_ = 0;
@@ -168,25 +190,22 @@ bool Aggregate::intersect(const Ray& ray, PrimHit& hit, Observer& obs) const {
   const TrianglePrecomp pre(ray);
   // A hit at exactly the closest t so far replaces it only if it wins the tie
   // (spheres are tested with the closed bound once something was hit).
-  auto leaf = [&](uint32_t first, uint32_t count, float& t) {
-    bool found = false;
-    for (uint32_t i = first; i < first + count; ++i) {
-      const PrimRecord& r = records_[i];
-      if constexpr (Observer::kActive) obs.on_prim_test(r.id);
-      TriangleHit th;
-      if (test_prim(r, ray, pre, t, best != ~0u, th) &&
-          (th.t < t || best == ~0u || wins_tie(r.id, best_id))) {
-        if constexpr (Observer::kActive) obs.on_prim_hit(r.id);
-        t = th.t;
-        best = i;
-        best_id = r.id;
-        best_tri = th;
-        found = true;
-      }
+  auto prim = [&](uint32_t i, float& t) {
+    const PrimRecord& r = records_[i];
+    if constexpr (Observer::kActive) obs.on_prim_test(r.id);
+    TriangleHit th;
+    if (test_prim(r, ray, pre, t, best != ~0u, th) &&
+        (th.t < t || best == ~0u || wins_tie(r.id, best_id))) {
+      if constexpr (Observer::kActive) obs.on_prim_hit(r.id);
+      t = th.t;
+      best = i;
+      best_id = r.id;
+      best_tri = th;
+      return true;
     }
-    return found;
+    return false;
   };
-  walk_leaves<false>(ray, tmax, leaf, obs);
+  walk_prims<false>(ray, tmax, prim, obs);
   int best_plane = -1;
   for (size_t k = 0; k < planes_.size(); ++k) {
     float tp;
@@ -230,20 +249,16 @@ bool Aggregate::occluded(const Ray& ray, Observer& obs, PrimHit* which) const {
   float tmax = ray.tmax;
   const TrianglePrecomp pre(ray);
   uint32_t hit_record = ~0u;
-  auto leaf = [&](uint32_t first, uint32_t count, float& t) {
-    for (uint32_t i = first; i < first + count; ++i) {
-      const PrimRecord& r = records_[i];
-      if constexpr (Observer::kActive) obs.on_prim_test(r.id);
-      TriangleHit th;
-      if (test_prim(r, ray, pre, t, false, th)) {
-        if constexpr (Observer::kActive) obs.on_prim_hit(r.id);
-        hit_record = i;
-        return true;
-      }
-    }
-    return false;
+  auto prim = [&](uint32_t i, float& t) {
+    const PrimRecord& r = records_[i];
+    if constexpr (Observer::kActive) obs.on_prim_test(r.id);
+    TriangleHit th;
+    if (!test_prim(r, ray, pre, t, false, th)) return false;
+    if constexpr (Observer::kActive) obs.on_prim_hit(r.id);
+    hit_record = i;
+    return true;
   };
-  if (!walk_leaves<true>(ray, tmax, leaf, obs)) return false;
+  if (!walk_prims<true>(ray, tmax, prim, obs)) return false;
   if (which) {
     *which = PrimHit{};
     which->record = hit_record;

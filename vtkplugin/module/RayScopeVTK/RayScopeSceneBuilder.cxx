@@ -254,7 +254,8 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
   static_assert(int(rayscope::AccelKind::Bvh) == vtkRayScopeImageAlgorithm::ACCEL_BVH &&
                 int(rayscope::AccelKind::BinaryBvh) ==
                     vtkRayScopeImageAlgorithm::ACCEL_BINARY_BVH &&
-                int(rayscope::AccelKind::None) == vtkRayScopeImageAlgorithm::ACCEL_NONE);
+                int(rayscope::AccelKind::None) == vtkRayScopeImageAlgorithm::ACCEL_NONE &&
+                int(rayscope::AccelKind::KdTree) == vtkRayScopeImageAlgorithm::ACCEL_KDTREE);
   rayscope::AccelConfig accel;
   accel.kind = rayscope::AccelKind(alg->GetAccel());
   bool recommit = regeometry || materials.size() != s.materials.size() ||

@@ -128,6 +128,11 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
   if (!source) return 0;
   const rayscope::Scene& scene = *source->GetCoreScene();
   const rayscope::RenderSettings settings = source->GetRenderSettings();
+  if (this->VisitMode != VISIT_NONE && scene.accel().kind() == rayscope::AccelKind::KdTree) {
+    vtkErrorMacro(<< "visit counts name BVH nodes, but the scene's rays walk the kD-tree "
+                     "(Accel ACCEL_KDTREE): use VisitModeToNone or a BVH walk");
+    return 0;
+  }
   const rayscope::Bvh& bvh = scene.bvh();
   const std::vector<rayscope::BvhNode>& nodes = bvh.nodes;
   const size_t nn = nodes.size();

@@ -132,13 +132,16 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// ACCEL_BINARY_BVH, the same BVH node by node, the lecture's binary walk,
   /// so that ray trees, the "Cost" arrays and vtkRayScopeBVHSource's visit
   /// counts show every binary node a ray enters; ACCEL_NONE, every primitive
-  /// tested against every ray. The image is the same for all three.
-  enum AccelKinds { ACCEL_BVH = 0, ACCEL_BINARY_BVH = 1, ACCEL_NONE = 2 };
-  vtkSetClampMacro(Accel, int, ACCEL_BVH, ACCEL_NONE);
+  /// tested against every ray; ACCEL_KDTREE, the SAH kD-tree (its walk names
+  /// kD-tree nodes, so vtkRayScopeBVHSource cannot count its visits). The
+  /// image is the same for all four.
+  enum AccelKinds { ACCEL_BVH = 0, ACCEL_BINARY_BVH = 1, ACCEL_NONE = 2, ACCEL_KDTREE = 3 };
+  vtkSetClampMacro(Accel, int, ACCEL_BVH, ACCEL_KDTREE);
   vtkGetMacro(Accel, int);
   void SetAccelToBvh() { this->SetAccel(ACCEL_BVH); }
   void SetAccelToBinaryBvh() { this->SetAccel(ACCEL_BINARY_BVH); }
   void SetAccelToNone() { this->SetAccel(ACCEL_NONE); }
+  void SetAccelToKdTree() { this->SetAccel(ACCEL_KDTREE); }
   ///@}
 
   ///@{
