@@ -1,11 +1,17 @@
 // Shared fixtures of the acceleration-structure tests (test_bvh, test_wide_bvh,
-// test_aggregate): random primitive boxes, leaf functions whose primitives are
-// the boxes themselves, and brute force over a committed scene.
+// test_aggregate, test_kdtree): random primitive boxes, leaf functions whose
+// primitives are the boxes themselves, brute force over a committed scene, and
+// the check of a scene's queries against it.
 #pragma once
 
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
 #include <vector>
 
 #include "rayscope/scene.h"
+#include "rayscope/shapes.h"
 #include "test_util.h"
 
 namespace rstest {
@@ -176,6 +182,100 @@ inline std::vector<rayscope::Bounds3> triangle_boxes(const rayscope::Scene& scen
       boxes.push_back(b);
     }
   return boxes;
+}
+
+// An observer that is active and does nothing: the query must not change.
+struct AlwaysActive : rayscope::TraversalHooks {
+  static constexpr bool kActive = true;
+};
+
+inline bool same_bits(const rayscope::PrimHit& a, const rayscope::PrimHit& b) {
+  return std::memcmp(&a.t, &b.t, sizeof(float)) == 0 &&
+         std::memcmp(&a.b0, &b.b0, sizeof(float)) == 0 &&
+         std::memcmp(&a.b1, &b.b1, sizeof(float)) == 0 &&
+         std::memcmp(&a.b2, &b.b2, sizeof(float)) == 0 && a.record == b.record &&
+         a.prim == b.prim && a.plane == b.plane;
+}
+
+// Every ray: closest hit equal to brute force (t bit for bit, the same
+// primitive, ties resolved by the loop order), observed == plain bit for bit,
+// any hit == closest hit found, the SurfaceHit query == lean query plus
+// surface_hit(). Returns the hits, for comparisons across structures.
+inline std::vector<rayscope::PrimHit> check_queries(const rayscope::Scene& scene,
+                                                    const std::vector<rayscope::Ray>& rays,
+                                                    const char* what, int min_ties) {
+  int hits = 0, ties = 0;
+  std::vector<rayscope::PrimHit> out;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const rayscope::Ray& ray = rays[i];
+    const BruteHit bf = brute_force(scene, ray);
+    rayscope::PrimHit plain, observed;
+    const bool got = scene.intersect(ray, plain);
+    EXPECT_EQ(scene.intersect(ray, observed, AlwaysActive{}), got) << what << ", ray " << i;
+    EXPECT_EQ(got, bf.t != rayscope::kInfinity)
+        << what << ", ray " << i << " from " << ::testing::PrintToString(ray.origin) << " along "
+        << ::testing::PrintToString(ray.dir) << ", tmax " << ray.tmax << ": brute force hits prim "
+        << bf.prim << " at t " << bf.t;
+    EXPECT_TRUE(same_bits(plain, observed))
+        << what << ", ray " << i << ": plain prim " << plain.prim << " t " << plain.t
+        << ", observed prim " << observed.prim << " t " << observed.t;
+    const bool occluded = scene.occluded(ray);
+    uint32_t occluder = ~0u;
+    EXPECT_EQ(scene.occluded(ray, AlwaysActive{}, &occluder), occluded) << what << ", ray " << i;
+    EXPECT_EQ(occluded, got) << what << ", any-hit ray " << i;
+    if (occluded) {
+      EXPECT_LT(occluder, scene.object_count()) << what << ", ray " << i;
+    }
+    out.push_back(plain);
+    if (::testing::Test::HasFailure()) return out;
+    if (!got) continue;
+    ++hits;
+    ties += bf.tie;
+    EXPECT_EQ(plain.t, bf.t) << what << ", ray " << i;
+    EXPECT_EQ(plain.plane, bf.plane) << what << ", ray " << i;
+    EXPECT_EQ(plain.prim, bf.prim) << what << ", ray " << i << (bf.tie ? " (tie)" : "");
+    if (plain.plane < 0) {
+      EXPECT_LT(plain.record, scene.accel().records().size());
+      if (plain.record < scene.accel().records().size()) {
+        EXPECT_EQ(scene.accel().records()[plain.record].id, plain.prim);
+      }
+    }
+    rayscope::SurfaceHit sh;
+    EXPECT_TRUE(scene.intersect(ray, sh));
+    const rayscope::SurfaceHit ref = scene.surface_hit(ray, plain);
+    EXPECT_EQ(std::memcmp(&sh.p, &ref.p, sizeof(rayscope::Vec3)), 0);
+    EXPECT_EQ(std::memcmp(&sh.ns, &ref.ns, sizeof(rayscope::Vec3)), 0);
+    EXPECT_EQ(sh.object, ref.object);
+    EXPECT_EQ(sh.prim, ref.prim);
+    if (::testing::Test::HasFailure()) return out;
+  }
+  std::printf("%s: %zu rays, %d hits, %d with exact ties\n", what, rays.size(), hits, ties);
+  EXPECT_GT(hits, int(rays.size()) / 4) << what;
+  EXPECT_GE(ties, min_ties) << what;
+  return out;
+}
+
+/// Two closed meshes, a soup of 1000 random triangles, 10 spheres and a floor.
+inline rayscope::Scene soup_scene(Rng& rng) {
+  rayscope::Scene scene;
+  scene.meshes.push_back(rayscope::make_icosphere(rayscope::Vec3(0.0f), 2.0f, 3));
+  scene.meshes.push_back(
+      rayscope::make_torus(rayscope::Vec3(3.0f, 0.0f, 0.0f), 1.5f, 0.4f, 32, 16));
+  rayscope::TriangleMesh soup;
+  for (uint32_t i = 0; i < 1000; ++i) {
+    DVec3 c(rng.uniform(-6, 6), rng.uniform(-6, 6), rng.uniform(-6, 6));
+    double s = rng.log_uniform(0.01, 1);
+    for (int k = 0; k < 3; ++k) soup.positions.push_back(to_f(c + s * rng.in_unit_ball()));
+    soup.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+  }
+  scene.meshes.push_back(soup);
+  for (int k = 0; k < 10; ++k)
+    scene.spheres.push_back(rayscope::Sphere{
+        "s", to_f(DVec3(rng.uniform(-6, 6), rng.uniform(-6, 6), rng.uniform(-6, 6))),
+        rstest::round_f(rng.log_uniform(0.05, 1)), 0});
+  scene.planes.push_back(
+      rayscope::Plane{"floor", rayscope::Vec3(0, -5, 0), rayscope::Vec3(0, 1, 0), 0});
+  return scene;
 }
 
 }  // namespace rstest

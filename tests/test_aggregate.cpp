@@ -17,11 +17,15 @@
 namespace {
 
 using namespace rayscope;
+using rstest::AlwaysActive;
 using rstest::brute_force;
 using rstest::BruteHit;
+using rstest::check_queries;
 using rstest::DVec3;
 using rstest::random_ray;
 using rstest::Rng;
+using rstest::same_bits;
+using rstest::soup_scene;
 using rstest::to_d;
 using rstest::to_f;
 
@@ -41,93 +45,6 @@ INSTANTIATE_TEST_SUITE_P(Accel, AggregateKind,
                            return std::string(
                                info.param == AccelKind::BinaryBvh ? "bvh2" : to_string(info.param));
                          });
-
-// An observer that is active and does nothing: the query must not change.
-struct AlwaysActive : TraversalHooks {
-  static constexpr bool kActive = true;
-};
-
-bool same_bits(const PrimHit& a, const PrimHit& b) {
-  return std::memcmp(&a.t, &b.t, sizeof(float)) == 0 &&
-         std::memcmp(&a.b0, &b.b0, sizeof(float)) == 0 &&
-         std::memcmp(&a.b1, &b.b1, sizeof(float)) == 0 &&
-         std::memcmp(&a.b2, &b.b2, sizeof(float)) == 0 && a.record == b.record &&
-         a.prim == b.prim && a.plane == b.plane;
-}
-
-// Every ray: closest hit equal to brute force (t bit for bit, the same
-// primitive, ties resolved by the loop order), observed == plain bit for bit,
-// any hit == closest hit found, the SurfaceHit query == lean query plus
-// surface_hit(). Returns the hits, for comparisons across structures.
-std::vector<PrimHit> check_queries(const Scene& scene, const std::vector<Ray>& rays,
-                                   const char* what, int min_ties) {
-  int hits = 0, ties = 0;
-  std::vector<PrimHit> out;
-  for (size_t i = 0; i < rays.size(); ++i) {
-    const Ray& ray = rays[i];
-    const BruteHit bf = brute_force(scene, ray);
-    PrimHit plain, observed;
-    const bool got = scene.intersect(ray, plain);
-    EXPECT_EQ(scene.intersect(ray, observed, AlwaysActive{}), got) << what << ", ray " << i;
-    EXPECT_EQ(got, bf.t != kInfinity) << what << ", ray " << i;
-    EXPECT_TRUE(same_bits(plain, observed))
-        << what << ", ray " << i << ": plain prim " << plain.prim << " t " << plain.t
-        << ", observed prim " << observed.prim << " t " << observed.t;
-    const bool occluded = scene.occluded(ray);
-    uint32_t occluder = ~0u;
-    EXPECT_EQ(scene.occluded(ray, AlwaysActive{}, &occluder), occluded) << what << ", ray " << i;
-    EXPECT_EQ(occluded, got) << what << ", any-hit ray " << i;
-    if (occluded) {
-      EXPECT_LT(occluder, scene.object_count()) << what << ", ray " << i;
-    }
-    out.push_back(plain);
-    if (::testing::Test::HasFailure()) return out;
-    if (!got) continue;
-    ++hits;
-    ties += bf.tie;
-    EXPECT_EQ(plain.t, bf.t) << what << ", ray " << i;
-    EXPECT_EQ(plain.plane, bf.plane) << what << ", ray " << i;
-    EXPECT_EQ(plain.prim, bf.prim) << what << ", ray " << i << (bf.tie ? " (tie)" : "");
-    if (plain.plane < 0) {
-      EXPECT_LT(plain.record, scene.accel().records().size());
-      if (plain.record < scene.accel().records().size()) {
-        EXPECT_EQ(scene.accel().records()[plain.record].id, plain.prim);
-      }
-    }
-    SurfaceHit sh;
-    EXPECT_TRUE(scene.intersect(ray, sh));
-    const SurfaceHit ref = scene.surface_hit(ray, plain);
-    EXPECT_EQ(std::memcmp(&sh.p, &ref.p, sizeof(Vec3)), 0);
-    EXPECT_EQ(std::memcmp(&sh.ns, &ref.ns, sizeof(Vec3)), 0);
-    EXPECT_EQ(sh.object, ref.object);
-    EXPECT_EQ(sh.prim, ref.prim);
-    if (::testing::Test::HasFailure()) return out;
-  }
-  std::printf("%s: %zu rays, %d hits, %d with exact ties\n", what, rays.size(), hits, ties);
-  EXPECT_GT(hits, int(rays.size()) / 4) << what;
-  EXPECT_GE(ties, min_ties) << what;
-  return out;
-}
-
-Scene soup_scene(Rng& rng) {
-  Scene scene;
-  scene.meshes.push_back(make_icosphere(Vec3(0.0f), 2.0f, 3));
-  scene.meshes.push_back(make_torus(Vec3(3.0f, 0.0f, 0.0f), 1.5f, 0.4f, 32, 16));
-  TriangleMesh soup;
-  for (uint32_t i = 0; i < 1000; ++i) {
-    DVec3 c(rng.uniform(-6, 6), rng.uniform(-6, 6), rng.uniform(-6, 6));
-    double s = rng.log_uniform(0.01, 1);
-    for (int k = 0; k < 3; ++k) soup.positions.push_back(to_f(c + s * rng.in_unit_ball()));
-    soup.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
-  }
-  scene.meshes.push_back(soup);
-  for (int k = 0; k < 10; ++k)
-    scene.spheres.push_back(rayscope::Sphere{
-        "s", to_f(DVec3(rng.uniform(-6, 6), rng.uniform(-6, 6), rng.uniform(-6, 6))),
-        rstest::round_f(rng.log_uniform(0.05, 1)), 0});
-  scene.planes.push_back(Plane{"floor", Vec3(0, -5, 0), Vec3(0, 1, 0), 0});
-  return scene;
-}
 
 TEST_P(AggregateKind, RandomRaysMatchBruteForce) {
   Rng rng(15);
@@ -192,7 +109,8 @@ TEST(Aggregate, EveryStructureGivesTheSameHitsBitForBit) {
   std::vector<Ray> rays;
   for (int i = 0; i < 5000; ++i) rays.push_back(random_ray(rng, scene.bvh().bounds(), boxes));
   std::vector<std::vector<PrimHit>> per_kind;
-  for (AccelKind kind : {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::None}) {
+  for (AccelKind kind :
+       {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::None, AccelKind::KdTree}) {
     AccelConfig cfg;
     cfg.kind = kind;
     scene.commit(cfg);
@@ -271,13 +189,13 @@ TEST_P(AggregateKind, ObserverSeesTheChosenWalk) {
 }
 
 TEST(Aggregate, KindNamesRoundTrip) {
-  for (AccelKind k : {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::None}) {
+  for (AccelKind k : {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::None, AccelKind::KdTree}) {
     AccelKind parsed = AccelKind::None;
     ASSERT_TRUE(parse_accel_kind(to_string(k), parsed));
     EXPECT_EQ(parsed, k);
   }
   AccelKind k = AccelKind::Bvh;
-  EXPECT_FALSE(parse_accel_kind("kdtree", k));
+  EXPECT_FALSE(parse_accel_kind("octree", k));
   EXPECT_FALSE(parse_accel_kind("", k));
   EXPECT_EQ(k, AccelKind::Bvh);
 }

@@ -1,0 +1,374 @@
+// The kD-tree (kdtree.h) behind the aggregate: its builder's invariants and
+// degenerate input, and scene queries through it against brute force (closest
+// hit bit for bit, ties resolved alike, any hit), with the SAH and the median
+// rule, on random and adversarial rays; mailboxing tests every primitive at
+// most once per ray; full renders are bit-identical to the BVH's.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+
+#include "accel_test_util.h"
+#include "rayscope/render.h"
+#include "rayscope/scene_io.h"
+#include "rayscope_vtk/mesh_files.h"
+
+namespace {
+
+using namespace rayscope;
+using rstest::DVec3;
+using rstest::Prims;
+using rstest::Rng;
+using rstest::to_d;
+using rstest::to_f;
+
+const KdTreeBuildConfig kSah{};
+const KdTreeBuildConfig kMedian = [] {
+  KdTreeBuildConfig c;
+  c.rule = KdSplitRule::Median;
+  return c;
+}();
+
+// Every primitive reachable: each primitive is referenced by every leaf whose
+// cell its bounds overlap (closed on the side goes_below/goes_above choose),
+// and at least once; leaves lie within the depth limit; references are valid.
+void check_invariants(const KdTree& kd, const Prims& p) {
+  const size_t n = p.bounds.size();
+  ASSERT_EQ(kd.empty(), n == 0);
+  if (n == 0) return;
+  std::vector<int> seen(n, 0);
+  struct Item {
+    uint32_t node;
+    int depth;
+    Bounds3 cell;
+  };
+  std::vector<Item> stack{{0u, 0, kd.bounds()}};
+  while (!stack.empty()) {
+    const Item it = stack.back();
+    stack.pop_back();
+    ASSERT_LT(it.node, kd.nodes.size());
+    ASSERT_LE(it.depth, kd.max_depth());
+    const KdNode& nd = kd.nodes[it.node];
+    if (nd.is_leaf()) {
+      ASSERT_LE(size_t(nd.first()) + nd.count(), kd.refs.size());
+      for (uint32_t k = 0; k < nd.count(); ++k) {
+        const uint32_t r = kd.refs[nd.first() + k];
+        ASSERT_LT(r, n);
+        seen[r]++;
+      }
+      continue;
+    }
+    const int a = nd.axis();
+    ASSERT_GT(nd.split(), it.cell.lo[a]);
+    ASSERT_LT(nd.split(), it.cell.hi[a]);
+    Bounds3 below = it.cell, above = it.cell;
+    below.hi[a] = above.lo[a] = nd.split();
+    stack.push_back({it.node + 1, it.depth + 1, below});
+    stack.push_back({nd.above(), it.depth + 1, above});
+  }
+  for (size_t i = 0; i < n; ++i) ASSERT_GE(seen[i], 1) << "primitive " << i << " in no leaf";
+  const KdTreeQuality q = kd.quality();
+  EXPECT_EQ(q.nodes, kd.nodes.size());
+  EXPECT_EQ(q.leaves, (q.nodes + 1) / 2);
+  EXPECT_EQ(q.references, kd.refs.size());
+  EXPECT_EQ(q.memory_bytes, kd.nodes.size() * 8 + kd.refs.size() * 4);
+  EXPECT_LE(q.references, KdTree::kMaxReferencesPerPrim * n + n);
+}
+
+TEST(KdTree, BuildInvariantsOnRandomBoxes) {
+  Rng rng(41);
+  for (auto layout : {rstest::BoxLayout::Uniform, rstest::BoxLayout::Clustered,
+                      rstest::BoxLayout::Coincident, rstest::BoxLayout::LogUniform})
+    for (int n : {1, 2, 7, 100, 3000})
+      for (const KdTreeBuildConfig& cfg : {kSah, kMedian}) {
+        const Prims p = rstest::random_boxes(rng, n, layout);
+        KdTree kd;
+        kd.build(p.bounds, cfg);
+        SCOPED_TRACE(::testing::Message() << "layout " << int(layout) << " n " << n);
+        check_invariants(kd, p);
+        if (layout == rstest::BoxLayout::Uniform && n == 3000) {
+          const KdTreeQuality q = kd.quality();
+          std::printf("%s, 3000 uniform boxes: %u nodes, depth %u, %.2f refs/prim, SAH %.1f\n",
+                      cfg.rule == KdSplitRule::Sah ? "SAH" : "median", q.nodes, q.depth,
+                      q.refs_per_prim, q.sah_cost);
+          EXPECT_GT(q.depth, 5u);
+        }
+      }
+}
+
+TEST(KdTree, DegenerateInput) {
+  for (const KdTreeBuildConfig& cfg : {kSah, kMedian}) {
+    KdTree kd;
+    kd.build({}, cfg);  // none
+    EXPECT_TRUE(kd.empty());
+    float tmax = kInfinity;
+    NullTraversalObserver obs;
+    EXPECT_FALSE(kd.traverse<false>(
+        Ray{Vec3(0), Vec3(1, 0, 0), kInfinity}, tmax, [](uint32_t, float&) { return true; }, obs));
+    Prims one;  // one
+    one.add(Bounds3(Vec3(-1), Vec3(1)));
+    kd.build(one.bounds, cfg);
+    check_invariants(kd, one);
+    EXPECT_EQ(kd.nodes.size(), 1u);
+    Prims point;  // everything at one point, zero-size boxes
+    for (int i = 0; i < 500; ++i) point.add(Bounds3(Vec3(1, 2, 3)));
+    kd.build(point.bounds, cfg);
+    check_invariants(kd, point);
+    EXPECT_EQ(kd.nodes.size(), 1u);
+    Prims flat;  // zero-size boxes on a line, and a stack of flat boxes in one plane
+    for (int i = 0; i < 300; ++i) flat.add(Bounds3(Vec3(float(i), 0, 0)));
+    for (int i = 0; i < 300; ++i) flat.add(Bounds3(Vec3(0, 0, 5), Vec3(1, float(i % 7), 5)));
+    kd.build(flat.bounds, cfg);
+    check_invariants(kd, flat);
+  }
+}
+
+// A scene committed with the kD-tree built by `cfg`.
+void commit_kd(Scene& scene, const KdTreeBuildConfig& cfg) {
+  AccelConfig ac;
+  ac.kind = AccelKind::KdTree;
+  ac.kdtree = cfg;
+  scene.commit(ac);
+  ASSERT_EQ(scene.accel().kind(), AccelKind::KdTree);
+  ASSERT_TRUE(scene.accel().walks_structure());
+  ASSERT_FALSE(scene.accel().kdtree().empty());
+}
+
+class KdTreeRule : public ::testing::TestWithParam<KdSplitRule> {
+ protected:
+  KdTreeBuildConfig config() const { return GetParam() == KdSplitRule::Sah ? kSah : kMedian; }
+};
+INSTANTIATE_TEST_SUITE_P(Rule, KdTreeRule, ::testing::Values(KdSplitRule::Sah, KdSplitRule::Median),
+                         [](const auto& info) {
+                           return std::string(info.param == KdSplitRule::Sah ? "sah" : "median");
+                         });
+
+TEST_P(KdTreeRule, RandomRaysMatchBruteForce) {
+  Rng rng(42);
+  Scene scene = rstest::soup_scene(rng);
+  commit_kd(scene, config());
+  const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 20000; ++i)
+    rays.push_back(rstest::random_ray(rng, scene.accel().kdtree().bounds(), boxes));
+  rstest::check_queries(scene, rays, "kD-tree: meshes + soup + spheres + plane", 0);
+}
+
+// Rays that stress the walk: through vertices and edge midpoints (exact ties
+// between triangles), lying along mesh edges (inside shared edges), lying in
+// the tree's split planes and starting on them, axis-parallel through cells,
+// starting inside cells, and grazing spheres.
+std::vector<Ray> adversarial_rays(Rng& rng, const Scene& scene) {
+  std::vector<Ray> rays;
+  auto aim = [&](const Vec3& target) {
+    const Vec3 o = to_f(to_d(target) + 8.0 * rng.unit_vector());
+    rays.push_back(Ray{o, target - o, kInfinity});
+  };
+  for (const TriangleMesh& m : scene.meshes) {
+    for (size_t v = 0; v < m.positions.size(); v += 3) aim(m.positions[v]);
+    for (size_t k = 0; k < m.triangles.size(); k += 2) {
+      const glm::uvec3& t = m.triangles[k];
+      const Vec3 a = m.positions[t.x], b = m.positions[t.y];
+      aim(0.5f * (a + b));
+      // Along the edge, from outside it: through both triangles sharing it.
+      rays.push_back(Ray{to_f(to_d(a) - 0.5 * (to_d(b) - to_d(a))), b - a, kInfinity});
+    }
+  }
+  const KdTree& kd = scene.accel().kdtree();
+  const Bounds3 world = kd.bounds();
+  for (size_t i = 0; i < kd.nodes.size() && rays.size() < 40000; i += 7) {
+    const KdNode& n = kd.nodes[i];
+    if (n.is_leaf()) continue;
+    const int a = n.axis();
+    for (int k = 0; k < 3; ++k) {
+      // In the plane: origin on it, no component along the axis.
+      Vec3 o = to_f(to_d(world.lo) +
+                    to_d(world.extent()) * DVec3(rng.uniform(), rng.uniform(), rng.uniform()));
+      o[a] = n.split();
+      Vec3 d = to_f(rng.unit_vector());
+      d[a] = rng.coin() ? 0.0f : -0.0f;
+      if (d == Vec3(0.0f)) d[(a + 1) % 3] = 1.0f;
+      rays.push_back(Ray{o, d, kInfinity});
+      // From the plane, leaving it, and axis-parallel across it.
+      rays.push_back(Ray{o, to_f(rng.unit_vector()), kInfinity});
+      Vec3 dp(0.0f);
+      dp[a] = rng.coin() ? 1.0f : -1.0f;
+      o[a] = world.lo[a] - 1.0f;
+      if (dp[a] < 0.0f) o[a] = world.hi[a] + 1.0f;
+      rays.push_back(Ray{o, dp, kInfinity});
+    }
+  }
+  for (int i = 0; i < 3000; ++i) {  // starting inside cells, short and long
+    const Vec3 o = to_f(to_d(world.lo) +
+                        to_d(world.extent()) * DVec3(rng.uniform(), rng.uniform(), rng.uniform()));
+    rays.push_back(Ray{o, to_f(rng.unit_vector()), i % 2 ? kInfinity : float(rng.uniform(0, 2))});
+  }
+  for (const rayscope::Sphere& s : scene.spheres)  // grazing: tangent to the sphere
+    for (int k = 0; k < 20; ++k) {
+      const DVec3 n = rng.unit_vector();
+      DVec3 t = glm::normalize(glm::cross(n, rng.unit_vector()));
+      const DVec3 p = to_d(s.center) + double(s.radius) * n;
+      rays.push_back(Ray{to_f(p - 5.0 * t), to_f(t), kInfinity});
+    }
+  return rays;
+}
+
+TEST_P(KdTreeRule, AdversarialRaysMatchBruteForce) {
+  Rng rng(43);
+  Scene scene = rstest::soup_scene(rng);
+  TriangleMesh cube;  // an axis-aligned unit cube: its faces lie in candidate planes
+  for (int i = 0; i < 8; ++i)
+    cube.positions.push_back(Vec3(7.0f + float(i & 1), float((i >> 1) & 1), float((i >> 2) & 1)));
+  cube.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  scene.meshes.push_back(cube);
+  commit_kd(scene, config());
+  const std::vector<Ray> rays = adversarial_rays(rng, scene);
+  rstest::check_queries(scene, rays, "kD-tree: adversarial rays", 20);
+}
+
+TEST(KdTree, SameHitsAsTheBvhBitForBit) {
+  Rng rng(44);
+  Scene scene = rstest::soup_scene(rng);
+  scene.commit();
+  const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
+  std::vector<Ray> rays = adversarial_rays(rng, scene);
+  for (int i = 0; i < 5000; ++i)
+    rays.push_back(rstest::random_ray(rng, scene.bvh().bounds(), boxes));
+  std::vector<PrimHit> bvh(rays.size());
+  std::vector<uint8_t> bvh_occluded(rays.size());
+  for (size_t i = 0; i < rays.size(); ++i) {
+    scene.intersect(rays[i], bvh[i]);
+    bvh_occluded[i] = scene.occluded(rays[i]);
+  }
+  for (const KdTreeBuildConfig& cfg : {kSah, kMedian}) {
+    commit_kd(scene, cfg);
+    for (size_t i = 0; i < rays.size(); ++i) {
+      PrimHit h;
+      scene.intersect(rays[i], h);
+      ASSERT_TRUE(rstest::same_bits(h, bvh[i])) << "ray " << i;
+      ASSERT_EQ(scene.occluded(rays[i]), bool(bvh_occluded[i])) << "ray " << i;
+    }
+  }
+}
+
+// Counts what the walk reports, per kD-tree node and per primitive.
+struct CountingObserver : TraversalHooks {
+  static constexpr bool kActive = true;
+  std::vector<int> nodes, prim_tests;
+  int boxes = 0, culled = 0;
+  void on_node(uint32_t n) { nodes.at(n)++; }
+  void on_box_test(uint32_t n, bool) {
+    ASSERT_LT(n, nodes.size());
+    ++boxes;
+  }
+  void on_cull(uint32_t n) {
+    ASSERT_LT(n, nodes.size());
+    ++culled;
+  }
+  void on_prim_test(uint32_t p) { prim_tests.at(p)++; }
+};
+
+TEST_P(KdTreeRule, MailboxTestsEachPrimitiveOncePerRay) {
+  // Long thin triangles that straddle many cells, so that most are stored
+  // several times; every ray still tests each at most once (closest and any
+  // hit), and the structure prunes far below brute force.
+  Rng rng(45);
+  Scene scene;
+  scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
+  TriangleMesh slivers;
+  for (uint32_t i = 0; i < 300; ++i) {
+    const DVec3 c(rng.uniform(-4, 4), rng.uniform(-4, 4), rng.uniform(-4, 4));
+    const DVec3 along = 3.0 * rng.unit_vector(), across = 0.01 * rng.unit_vector();
+    slivers.positions.push_back(to_f(c - along));
+    slivers.positions.push_back(to_f(c + along));
+    slivers.positions.push_back(to_f(c + across));
+    slivers.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+  }
+  scene.meshes.push_back(slivers);
+  commit_kd(scene, config());
+  const KdTreeQuality q = scene.accel().kdtree().quality();
+  EXPECT_GT(q.refs_per_prim, 1.5) << "the test needs primitives stored several times";
+  const size_t prims = scene.accel().records().size();
+  uint64_t tests = 0, multi_cell_rays = 0, culls = 0;
+  const int n_rays = 3000;
+  for (int i = 0; i < n_rays; ++i) {
+    const Ray ray{to_f(6.0 * rng.unit_vector()), to_f(rng.unit_vector()), kInfinity};
+    for (int any = 0; any < 2; ++any) {
+      CountingObserver obs;
+      obs.nodes.assign(scene.accel().kdtree().nodes.size(), 0);
+      obs.prim_tests.assign(prims, 0);
+      PrimHit hit;
+      if (any)
+        scene.occluded(ray, obs);
+      else
+        scene.intersect(ray, hit, obs);
+      for (int v : obs.prim_tests) ASSERT_LE(v, 1) << "ray " << i << (any ? " (any hit)" : "");
+      for (int v : obs.nodes) ASSERT_LE(v, 1) << "a node entered twice, ray " << i;
+      if (!any) {
+        for (int v : obs.prim_tests) tests += uint64_t(v);
+        multi_cell_rays +=
+            std::count_if(obs.nodes.begin(), obs.nodes.end(), [](int v) { return v > 0; }) > 2;
+        culls += uint64_t(obs.culled);
+        int inner = 0;
+        for (size_t n = 0; n < obs.nodes.size(); ++n)
+          inner += obs.nodes[n] && !scene.accel().kdtree().nodes[n].is_leaf();
+        EXPECT_EQ(obs.boxes, 1 + 2 * inner) << "root box + two child cells per inner node";
+      }
+    }
+  }
+  // The spatial median cuts the slivers' space blindly, duplicating them until
+  // KdTree::kMaxReferencesPerPrim stops it: it prunes far less (about half of
+  // them tested per ray, against a few percent with the SAH).
+  const uint64_t all = uint64_t(n_rays) * prims;
+  EXPECT_LT(tests, GetParam() == KdSplitRule::Sah ? all / 10 : all * 2 / 3);
+  EXPECT_GT(multi_cell_rays, uint64_t(n_rays) / 2);
+  EXPECT_GT(culls, 0u);
+}
+
+TEST(KdTree, KindNameAndMemory) {
+  AccelKind k = AccelKind::Bvh;
+  ASSERT_TRUE(parse_accel_kind("kdtree", k));
+  EXPECT_EQ(k, AccelKind::KdTree);
+  EXPECT_STREQ(to_string(AccelKind::KdTree), "kdtree");
+  Scene scene;
+  scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
+  commit_kd(scene, kSah);
+  const Aggregate& a = scene.accel();
+  EXPECT_TRUE(a.walk().empty());
+  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.kdtree().memory_bytes() +
+                                  a.records().size() * sizeof(PrimRecord));
+  EXPECT_GT(a.kdtree().memory_bytes(), 0u);
+}
+
+// Renders of the default scene and the bunny scene: the kD-tree's image is
+// the BVH's, bit for bit (color, depth, normals, object ids).
+void expect_same_render(Scene scene, const RenderSettings& rs) {
+  scene.commit();
+  const Framebuffer bvh = render(scene, rs);
+  for (const KdTreeBuildConfig& cfg : {kSah, kMedian}) {
+    commit_kd(scene, cfg);
+    const Framebuffer kd = render(scene, rs);
+    auto same = [](const auto& a, const auto& b) {
+      return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
+    };
+    EXPECT_TRUE(same(kd.color, bvh.color));
+    EXPECT_TRUE(same(kd.depth, bvh.depth));
+    EXPECT_TRUE(same(kd.normal, bvh.normal));
+    EXPECT_TRUE(same(kd.object_id, bvh.object_id));
+  }
+}
+
+TEST(KdTree, DefaultSceneRendersLikeTheBvh) {
+  expect_same_render(make_default_scene(), rstest::small_render(160, 120, 2));
+}
+
+TEST(KdTree, BunnySceneRendersLikeTheBvh) {
+  const std::filesystem::path file =
+      std::filesystem::path(RAYSCOPE_SOURCE_DIR) / "data/scenes/bunny.json";
+  LoadedScene ls = load_scene(file.string(), rayscope_vtk::load_mesh);
+  expect_same_render(std::move(ls.scene), rstest::small_render(160, 120, 2));
+}
+
+}  // namespace
