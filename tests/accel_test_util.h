@@ -255,6 +255,18 @@ inline std::vector<rayscope::PrimHit> check_queries(const rayscope::Scene& scene
   return out;
 }
 
+/// The axis-aligned unit cube with its lowest corner at `corner`: 12
+/// triangles whose faces lie in split planes, edges and corners shared.
+inline rayscope::TriangleMesh unit_cube(const rayscope::Vec3& corner) {
+  rayscope::TriangleMesh cube;
+  for (int i = 0; i < 8; ++i)
+    cube.positions.push_back(
+        corner + rayscope::Vec3(float(i & 1), float((i >> 1) & 1), float((i >> 2) & 1)));
+  cube.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return cube;
+}
+
 /// Two closed meshes, a soup of 1000 random triangles, 10 spheres and a floor.
 inline rayscope::Scene soup_scene(Rng& rng) {
   rayscope::Scene scene;

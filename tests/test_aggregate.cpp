@@ -66,12 +66,7 @@ TEST_P(AggregateKind, TiesAtVerticesAndEdgesResolveLikeBruteForce) {
   Rng rng(16);
   Scene scene;
   scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 2));
-  TriangleMesh cube;  // unit cube at (3, 0, 0)
-  for (int i = 0; i < 8; ++i)
-    cube.positions.push_back(Vec3(3.0f + float(i & 1), float((i >> 1) & 1), float((i >> 2) & 1)));
-  cube.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  scene.meshes.push_back(cube);
+  scene.meshes.push_back(rstest::unit_cube(Vec3(3, 0, 0)));
   scene.meshes.push_back(make_torus(Vec3(-3.0f, 0.0f, 0.0f), 1.0f, 0.3f, 24, 12));
   scene.spheres.push_back(rayscope::Sphere{"s", Vec3(0, 3, 0), 0.5f, 0});
   commit(scene);

@@ -217,12 +217,7 @@ std::vector<Ray> adversarial_rays(Rng& rng, const Scene& scene) {
 TEST_P(KdTreeRule, AdversarialRaysMatchBruteForce) {
   Rng rng(43);
   Scene scene = rstest::soup_scene(rng);
-  TriangleMesh cube;  // an axis-aligned unit cube: its faces lie in candidate planes
-  for (int i = 0; i < 8; ++i)
-    cube.positions.push_back(Vec3(7.0f + float(i & 1), float((i >> 1) & 1), float((i >> 2) & 1)));
-  cube.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  scene.meshes.push_back(cube);
+  scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
   commit_kd(scene, config());
   const std::vector<Ray> rays = adversarial_rays(rng, scene);
   rstest::check_queries(scene, rays, "kD-tree: adversarial rays", 20);

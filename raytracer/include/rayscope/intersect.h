@@ -283,17 +283,19 @@ inline Vec3 plane_point(const Ray& ray, float t, const Vec3& point, const Vec3& 
 /// repeated with that closest hit as tmax, would reject the node.
 inline constexpr float kBoxFarScale = 1.0f + 2.0f * gamma(3);
 
-/// Slab test of a ray against a box, with precomputed reciprocal direction.
-/// Returns the entry distance or +inf when the box is missed within [0, tmax].
-/// The exit distance is rounded up by 2 gamma(3) so that rays touching a box
-/// face never miss the primitives inside (robust traversal).
-inline float intersect_box(const Vec3& lo, const Vec3& hi, const Vec3& origin, const Vec3& inv_dir,
-                           float tmax) {
+/// Slab test of a ray against a box, with precomputed reciprocal direction:
+/// the ray's interval [tnear, tfar] in the box within [0, tmax]; the box is
+/// hit when tnear <= tfar. The exit distance is rounded up by 2 gamma(3) so
+/// that rays touching a box face never miss the primitives inside (robust
+/// traversal).
+inline void box_interval(const Vec3& lo, const Vec3& hi, const Vec3& origin, const Vec3& inv_dir,
+                         float tmax, float& tnear, float& tfar) {
   // Near and far planes chosen by the sign of the direction. A ray lying in a
   // slab plane (zero direction component, origin on the plane) gets 0 * inf =
   // NaN for that plane only; the comparisons below ignore NaN, so such a ray,
   // which touches the box, is not culled.
-  float tnear = 0.0f, tfar = tmax;
+  tnear = 0.0f;
+  tfar = tmax;
   for (int i = 0; i < 3; ++i) {
     const bool neg = std::signbit(inv_dir[i]);
     const float tn = ((neg ? hi[i] : lo[i]) - origin[i]) * inv_dir[i];
@@ -302,6 +304,14 @@ inline float intersect_box(const Vec3& lo, const Vec3& hi, const Vec3& origin, c
     if (tf < tfar) tfar = tf;
   }
   tfar *= kBoxFarScale;
+}
+
+/// box_interval() as a hit test: the entry distance, or +inf when the box is
+/// missed within [0, tmax].
+inline float intersect_box(const Vec3& lo, const Vec3& hi, const Vec3& origin, const Vec3& inv_dir,
+                           float tmax) {
+  float tnear, tfar;
+  box_interval(lo, hi, origin, inv_dir, tmax, tnear, tfar);
   return tnear <= tfar ? tnear : kInfinity;
 }
 

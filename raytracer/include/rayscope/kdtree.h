@@ -171,17 +171,9 @@ template <bool AnyHit, class Observer, class PrimFn>
 bool KdTree::traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const {
   if (nodes.empty()) return false;
   const Vec3 inv_dir = 1.0f / ray.dir;
-  // The root cell's interval [t0, t1]: intersect_box()'s slab test, keeping
-  // the exit distance too.
-  float t0 = 0.0f, t1 = tmax;
-  for (int i = 0; i < 3; ++i) {
-    const bool neg = std::signbit(inv_dir[i]);
-    const float tn = ((neg ? bounds_.hi[i] : bounds_.lo[i]) - ray.origin[i]) * inv_dir[i];
-    const float tf = ((neg ? bounds_.lo[i] : bounds_.hi[i]) - ray.origin[i]) * inv_dir[i];
-    if (tn > t0) t0 = tn;
-    if (tf < t1) t1 = tf;
-  }
-  t1 *= kBoxFarScale;
+  // The ray's interval [t0, t1] in the current cell, first the root's.
+  float t0, t1;
+  box_interval(bounds_.lo, bounds_.hi, ray.origin, inv_dir, tmax, t0, t1);
   const bool root_hit = t0 <= t1;
   if constexpr (Observer::kActive) obs.on_box_test(0, root_hit);
   if (!root_hit) return false;
