@@ -2,7 +2,8 @@
 // statistics (per-pixel cost AOVs) and a render that records ray trees are one
 // walk. The images are bit-identical, the cost AOV of every pixel equals the
 // walk its recorded ray tree logs, and that walk is the one renders do (the
-// 4-wide BVH by default; the binary teaching walk only when chosen).
+// 4-wide BVH by default; the binary teaching walk or the kD-tree only when
+// chosen).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -50,10 +51,9 @@ PixelCost walk_of(const PixelRecord& rec) {
 }
 
 class FrameWalk : public ::testing::TestWithParam<AccelKind> {};
-INSTANTIATE_TEST_SUITE_P(Accel, FrameWalk, ::testing::Values(AccelKind::Bvh, AccelKind::BinaryBvh),
-                         [](const auto& info) {
-                           return std::string(info.param == AccelKind::Bvh ? "bvh" : "bvh2");
-                         });
+INSTANTIATE_TEST_SUITE_P(Accel, FrameWalk,
+                         ::testing::Values(AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::KdTree),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
 
 TEST_P(FrameWalk, StatisticsAndRecordingObserveThePlainWalk) {
   // The default scene (glass, mirror, shadows, a mesh, spheres, a plane) with

@@ -249,6 +249,25 @@ TEST(VtkBVH, VisitCounts) {
   bvh->Update();
   EXPECT_EQ(visits(), binary_cost);
   EXPECT_GT(binary_cost, cost);
+
+  // The kD-tree (Accel): the same image; its walk names kD-tree nodes, which
+  // this source does not draw, so visit counts are refused with an error
+  // (and without them the BVH's boxes are drawn as before).
+  s.alg->SetAccelToKdTree();
+  s.alg->Update();
+  vtkDataArray* kd_rgb = s.alg->GetOutput()->GetPointData()->GetScalars();
+  ASSERT_EQ(wide_rgb->GetNumberOfTuples(), kd_rgb->GetNumberOfTuples());
+  for (vtkIdType k = 0; k < wide_rgb->GetNumberOfTuples(); ++k)
+    for (int j = 0; j < wide_rgb->GetNumberOfComponents(); ++j)
+      ASSERT_EQ(wide_rgb->GetComponent(k, j), kd_rgb->GetComponent(k, j)) << "pixel " << k;
+  vtkNew<ErrorCatcher> errors, pipeline_errors;
+  bvh->AddObserver(vtkCommand::ErrorEvent, errors);
+  bvh->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, pipeline_errors);
+  EXPECT_EQ(update(bvh), 0);
+  EXPECT_NE(errors->last.find("kD-tree"), std::string::npos) << errors->last;
+  bvh->SetVisitModeToNone();
+  EXPECT_EQ(update(bvh), 1);
+  EXPECT_GT(bvh->GetOutput()->GetNumberOfCells(), 0);
 }
 
 // The datasets through input port 0, without a scene source: the same boxes
