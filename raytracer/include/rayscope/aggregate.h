@@ -154,9 +154,11 @@ class Aggregate {
   /// returns true on a hit (lowering tmax, or ending an any-hit query): the
   /// BVH's leaves (contiguous record ranges), the kD-tree's leaves (reference
   /// lists, each record once per ray), or all records without a structure.
+  /// The lambdas are forced inline so that the BVH's leaf loop compiles as
+  /// one loop, as when it was written as one.
   template <bool AnyHit, class Observer, class PrimFn>
   bool walk_prims(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const {
-    auto range = [&prim](uint32_t first, uint32_t count, float& t) {
+    auto range = [&prim](uint32_t first, uint32_t count, float& t) __attribute__((always_inline)) {
       bool found = false;
       for (uint32_t i = first; i < first + count; ++i)
         if (prim(i, t)) {
@@ -190,7 +192,7 @@ bool Aggregate::intersect(const Ray& ray, PrimHit& hit, Observer& obs) const {
   const TrianglePrecomp pre(ray);
   // A hit at exactly the closest t so far replaces it only if it wins the tie
   // (spheres are tested with the closed bound once something was hit).
-  auto prim = [&](uint32_t i, float& t) {
+  auto prim = [&](uint32_t i, float& t) __attribute__((always_inline)) {
     const PrimRecord& r = records_[i];
     if constexpr (Observer::kActive) obs.on_prim_test(r.id);
     TriangleHit th;
@@ -249,7 +251,7 @@ bool Aggregate::occluded(const Ray& ray, Observer& obs, PrimHit* which) const {
   float tmax = ray.tmax;
   const TrianglePrecomp pre(ray);
   uint32_t hit_record = ~0u;
-  auto prim = [&](uint32_t i, float& t) {
+  auto prim = [&](uint32_t i, float& t) __attribute__((always_inline)) {
     const PrimRecord& r = records_[i];
     if constexpr (Observer::kActive) obs.on_prim_test(r.id);
     TriangleHit th;
