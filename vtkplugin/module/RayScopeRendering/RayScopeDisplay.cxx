@@ -10,15 +10,17 @@
 #include "vtkPointData.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "RayScopeImageArrays.h"
 #include "rayscope/image.h"
 
 namespace rayscope_vtk {
 
 namespace {
 
+// The sRGB byte of a linear value clamped to [0, 1], as the image's colors
+// are made (std::lround(255 * linear_to_srgb(v)), from a table).
 unsigned char to_byte(float linear) {
-  return (unsigned char)std::lround(255.0f *
-                                    rayscope::linear_to_srgb(std::clamp(linear, 0.0f, 1.0f)));
+  return srgb_byte(linear);
 }
 
 // Evenly spread hues for object ids (golden-angle steps), as linear RGB.

@@ -101,18 +101,13 @@ vtkPolyData* vtkRayScopeViewer::GetShownBVH() {
 // --- Rendering ------------------------------------------------------------------
 
 // The frame loop's statistics policy (cost AOVs for the heat map) that also
-// hands each finished tile to the viewer.
+// writes each finished tile into the next image, on the thread that rendered
+// it, and hands the tile over to be shown.
 struct vtkRayScopeViewer::Internals::Policy : rayscope::StatsPolicy {
   Internals* in;
   explicit Policy(Internals* internals) : in(internals) {}
   void tile_done(int x0, int y0, int x1, int y1, const rayscope::Framebuffer& fb) {
-    for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x) {
-        const size_t i = fb.index(x, y);
-        for (int k = 0; k < 3; ++k)
-          in->Staging[3 * i + size_t(k)] = (unsigned char)std::lround(
-              255.0f * rayscope::linear_to_srgb(std::clamp(fb.color[i][k], 0.0f, 1.0f)));
-      }
+    rayscope_vtk::framebuffer_rect_to_image(fb, x0, y0, x1, y1, in->Next);
     std::lock_guard<std::mutex> lock(in->TilesMutex);
     in->FinishedTiles.push_back({x0, y0, x1, y1});
   }
@@ -137,8 +132,10 @@ void vtkRayScopeViewer::Internals::StartRender() {
     const double aspect = ((vp[2] - vp[0]) * ws[0]) / std::max(1.0, (vp[3] - vp[1]) * ws[1]);
     cam->SetParallelScale(0.5 * std::max(double(h), double(w) / aspect) * 1.02);
     this->ImageRen->ResetCameraClippingRange();
+    this->Changed |= kImageView;
   }
-  this->Staging.assign(size_t(w) * size_t(h) * 3, 0);
+  // The statistics policy gives every pixel its cost: the image has them all.
+  rayscope_vtk::prepare_image(this->Next, w, h, true);
   this->FinishedTiles.clear();
   this->TilesShown = 0;
   this->TilesTotal =
@@ -151,7 +148,8 @@ void vtkRayScopeViewer::Internals::StartRender() {
     Policy policy(this);
     try {
       this->Counters = rayscope::RayCounters{};
-      this->Frame = rayscope::render_frame(*scene, rs, policy, &this->Counters);
+      // The framebuffer itself is not kept: its pixels are in Next.
+      rayscope::render_frame(*scene, rs, policy, &this->Counters);
     } catch (const std::exception& e) {
       this->RenderError = e.what();
     }
@@ -170,31 +168,33 @@ void vtkRayScopeViewer::Internals::Poll() {
   }
 }
 
+// Copies the colors of the tiles finished since the last call from the next
+// image into the one shown (both in VTK's row order).
 void vtkRayScopeViewer::Internals::ShowTiles() {
   std::vector<std::array<int, 4>> tiles;
   {
     std::lock_guard<std::mutex> lock(this->TilesMutex);
     tiles.swap(this->FinishedTiles);
   }
+  if (tiles.empty()) return;
   const int w = this->Settings.width, h = this->Settings.height;
   auto* shown = vtkUnsignedCharArray::SafeDownCast(this->Display->GetPointData()->GetScalars());
+  auto* color =
+      vtkUnsignedCharArray::SafeDownCast(this->Next->GetPointData()->GetAbstractArray("Color"));
   for (const auto& t : tiles)
-    for (int y = t[1]; y < t[3]; ++y)
-      for (int x = t[0]; x < t[2]; ++x)
-        for (int k = 0; k < 3; ++k)
-          shown->SetTypedComponent(
-              vtkIdType(h - 1 - y) * w + x, k,
-              this->Staging[3 * (size_t(y) * size_t(w) + size_t(x)) + size_t(k)]);
+    for (int y = t[1]; y < t[3]; ++y) {
+      const size_t at = 3 * (size_t(h - 1 - y) * size_t(w) + size_t(t[0]));
+      std::copy_n(color->GetPointer(0) + at, 3 * size_t(t[2] - t[0]), shown->GetPointer(0) + at);
+    }
   this->TilesShown += tiles.size();
-  if (!tiles.empty()) {
-    this->Display->Modified();
-    std::ostringstream m;
-    m << "rendering " << w << "x" << h << ", " << this->Settings.samples << "x"
-      << this->Settings.samples << " samples, depth " << this->Settings.max_depth << ": "
-      << (100 * this->TilesShown) / std::max<size_t>(1, this->TilesTotal) << "% ("
-      << this->TilesShown << "/" << this->TilesTotal << " tiles)";
-    this->Say(m.str());
-  }
+  this->Display->Modified();
+  this->Changed |= kImageView;
+  std::ostringstream m;
+  m << "rendering " << w << "x" << h << ", " << this->Settings.samples << "x"
+    << this->Settings.samples << " samples, depth " << this->Settings.max_depth << ": "
+    << (100 * this->TilesShown) / std::max<size_t>(1, this->TilesTotal) << "% (" << this->TilesShown
+    << "/" << this->TilesTotal << " tiles)";
+  this->Say(m.str());
 }
 
 void vtkRayScopeViewer::Internals::FinishRender() {
@@ -204,7 +204,13 @@ void vtkRayScopeViewer::Internals::FinishRender() {
   }
   this->Self->LastRenderSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - this->RenderStart).count();
-  vtkRayScopeImageAlgorithm::FramebufferToImage(this->Frame, this->Counters, this->Image);
+  // The next image becomes the last one; its arrays were filled tile by tile.
+  // The last one's arrays are kept for the next render to fill.
+  rayscope_vtk::counters_to_image(this->Counters, this->Next);
+  vtkNew<vtkImageData> previous;
+  previous->ShallowCopy(this->Image);
+  this->Image->ShallowCopy(this->Next);
+  this->Next->ShallowCopy(previous);
   this->HasImage = true;
   this->ShowImage();
   std::ostringstream m;
@@ -224,11 +230,20 @@ void vtkRayScopeViewer::Internals::FinishRender() {
 }
 
 void vtkRayScopeViewer::Internals::ShowImage() {
-  if (!this->HasImage) return;
-  std::vector<unsigned char> rgb = rayscope_vtk::display_pixels(this->Image, this->Self->ImageMode);
-  if (rgb.empty()) rgb = rayscope_vtk::display_pixels(this->Image, rayscope_vtk::kDisplayColor);
   auto* shown = vtkUnsignedCharArray::SafeDownCast(this->Display->GetPointData()->GetScalars());
-  std::copy(rgb.begin(), rgb.end(), shown->GetPointer(0));
+  // (A render of another size has begun: its tiles are shown as they come.)
+  if (!this->HasImage || !shown || shown->GetNumberOfTuples() != this->Image->GetNumberOfPoints())
+    return;
+  std::vector<unsigned char> rgb;
+  if (this->Self->ImageMode != rayscope_vtk::kDisplayColor)
+    rgb = rayscope_vtk::display_pixels(this->Image, this->Self->ImageMode);
+  if (rgb.empty()) {  // the colors, as they are
+    vtkDataArray* color = this->Image->GetPointData()->GetScalars();
+    std::copy_n(static_cast<unsigned char*>(color->GetVoidPointer(0)), shown->GetNumberOfValues(),
+                shown->GetPointer(0));
+  } else {
+    std::copy(rgb.begin(), rgb.end(), shown->GetPointer(0));
+  }
   this->Display->Modified();
   // The color scale of the cost and depth modes.
   std::string title;
@@ -236,6 +251,7 @@ void vtkRayScopeViewer::Internals::ShowImage() {
       rayscope_vtk::display_scale(this->Image, this->Self->ImageMode, this->ScaleTable, title);
   this->ScaleBar->SetVisibility(scale);
   if (scale) this->ScaleBar->SetTitle(title.c_str());
+  this->Changed |= kImageView;
 }
 
 int vtkRayScopeViewer::Initialize() {
@@ -283,6 +299,7 @@ int vtkRayScopeViewer::Initialize() {
   double bounds[6] = {lo.x, hi.x, lo.y, hi.y, lo.z, hi.z};
   in.SceneRen->ResetCamera(bounds);
   in.SceneRen->GetActiveCamera()->Zoom(kSceneZoom);
+  in.Changed = kAllViews;
   in.Redraw();
   return 1;
 }
@@ -306,17 +323,31 @@ int vtkRayScopeViewer::WaitForRender() {
 int vtkRayScopeViewer::Rerender() {
   Internals& in = *this->Internal;
   if (!in.Initialized) return this->Initialize();
-  this->WaitForRender();
-  in.LastError.clear();
-  if (!in.Algorithm->UpdateScene()) {
-    in.Say("cannot render: " + in.LastError);
-    in.Redraw();
-    return 0;
+  const rayscope::RenderSettings& rs = in.Algorithm->GetRenderSettings();
+  std::ostringstream m;
+  m << "re-rendering " << rs.width << "x" << rs.height << ", " << rs.samples << "x" << rs.samples
+    << " samples, depth " << rs.max_depth;
+  return in.Restart(m.str()) ? 1 : 0;
+}
+
+// Waits for a running render, then starts one of the scene source's scene
+// with its settings, `message` in the message line (what the key asked for).
+// The message is drawn with the render's first tiles (the progress timer's
+// next tick, within kProgressTimerMs), not now: drawing the window here
+// would take the CPU from the render it announces. False, with the error
+// drawn, when the scene fails.
+bool vtkRayScopeViewer::Internals::Restart(const std::string& message) {
+  this->Self->WaitForRender();
+  this->LastError.clear();
+  if (!this->Algorithm->UpdateScene()) {
+    this->Say("cannot render: " + this->LastError);
+    this->Redraw();
+    return false;
   }
-  in.Settings = in.Algorithm->GetRenderSettings();
-  in.StartRender();
-  in.Redraw();
-  return 1;
+  this->Settings = this->Algorithm->GetRenderSettings();
+  this->StartRender();
+  this->Say(message);
+  return true;
 }
 
 // --- Picking and the overlay -----------------------------------------------------
@@ -429,6 +460,7 @@ void vtkRayScopeViewer::Internals::UpdateOverlay() {
 
   this->UpdateBVH();
   this->UpdatePanel();
+  this->Changed |= kSceneView | kPanelView | kImageView;  // the tree, its text, the marker
 }
 
 // A marker where each shown shadow ray is blocked: the end of its line, on
@@ -515,6 +547,7 @@ void vtkRayScopeViewer::Internals::UpdateBVH() {
   } else {
     this->BVHMapper->SetInputData(this->NoBoxes);
   }
+  this->Changed |= kSceneView;
 }
 
 // The panel: the inspect text from a few lines before the selected ray,
@@ -541,7 +574,41 @@ void vtkRayScopeViewer::Internals::UpdatePanel() {
   for (int k = std::max(0, first); k < int(lines.size()) && k < first + kPanelLines; ++k)
     shown += lines[size_t(k)] + "\n";
   this->PanelText = shown;
-  this->PanelActor->SetInput(shown.c_str());
+  this->ShowPanelLines(std::vector<std::string>(
+      lines.begin() + std::max(0, first),
+      lines.begin() + std::min<int>(int(lines.size()), first + kPanelLines)));
+}
+
+// Puts `lines` (at most kPanelLines) on the panel, top down. A line already
+// shown keeps its actor and is only moved; the others take the actors left.
+void vtkRayScopeViewer::Internals::ShowPanelLines(const std::vector<std::string>& lines) {
+  const size_t n = this->PanelLines.size();
+  std::vector<int> actor(lines.size(), -1);
+  std::vector<bool> taken(n, false);
+  for (size_t k = 0; k < lines.size() && k < n; ++k)
+    for (size_t a = 0; a < n; ++a)
+      if (!taken[a] && this->PanelLineText[a] == lines[k]) {
+        actor[k] = int(a);
+        taken[a] = true;
+        break;
+      }
+  size_t free_actor = 0;
+  for (size_t k = 0; k < lines.size() && k < n; ++k) {
+    if (actor[k] >= 0) continue;
+    while (taken[free_actor]) ++free_actor;
+    actor[k] = int(free_actor);
+    taken[free_actor] = true;
+    this->PanelLineText[free_actor] = lines[k];
+    this->PanelLines[free_actor]->SetInput(lines[k].c_str());
+  }
+  for (size_t a = 0; a < n; ++a)
+    this->PanelLines[a]->SetVisibility(taken[a] && !this->PanelLineText[a].empty());
+  for (size_t k = 0; k < lines.size() && k < n; ++k) {
+    vtkCoordinate* at = this->PanelLines[size_t(actor[k])]->GetPositionCoordinate();
+    const double y = -double(k) * double(this->PanelLineHeight);
+    if (at->GetValue()[1] != y) at->SetValue(0.0, y);
+  }
+  this->Changed |= kPanelView;
 }
 
 void vtkRayScopeViewer::PrintSelf(ostream& os, vtkIndent indent) {

@@ -94,8 +94,9 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   void Start();
 
   /// Starts a render with the current settings on the worker thread
-  /// (finishing a running one first). Returns 0 when the settings or the
-  /// scene are invalid.
+  /// (finishing a running one first); the window shows its tiles as they
+  /// come (the event loop's timer) or all of it after WaitForRender().
+  /// Returns 0 when the settings or the scene are invalid.
   int Rerender();
   /// Waits for the running render and shows it; returns 1 when an image is
   /// shown.
@@ -143,7 +144,10 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
 
   /// The image shown (RGB bytes of the ImageMode; while a render runs, its
   /// finished tiles) and the last finished render with all its arrays (as
-  /// vtkRayScopeImageAlgorithm outputs them; empty before the first).
+  /// vtkRayScopeImageAlgorithm outputs them; empty before the first). The
+  /// viewer keeps two sets of image arrays and renders into the older one:
+  /// an array of the last image is overwritten by the render after next
+  /// (DeepCopy() the image to keep it longer).
   vtkImageData* GetShownImage();
   vtkImageData* GetLastImage();
 

@@ -25,9 +25,10 @@
 #include "vtkCellData.h"
 #include "vtkCellPicker.h"
 #include "vtkCommand.h"
+#include "vtkCoordinate.h"
 #include "vtkDataSetMapper.h"
+#include "vtkDataSetSurfaceFilter.h"
 #include "vtkFieldData.h"
-#include "vtkGeometryFilter.h"
 #include "vtkHedgeHog.h"
 #include "vtkImageActor.h"
 #include "vtkImageData.h"
@@ -48,21 +49,25 @@
 #include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
+#include "vtkRenderStepsPass.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
 #include "vtkScalarBarActor.h"
 #include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
+#include "vtkStdString.h"
 #include "vtkStringArray.h"
 #include "vtkTextActor.h"
 #include "vtkTextProperty.h"
+#include "vtkTextRenderer.h"
 #include "vtkThreshold.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkWindowToImageFilter.h"
 #include "vtkXMLPolyDataWriter.h"
 
 #include "RayScopeDisplay.h"
+#include "RayScopeImageArrays.h"
 #include "rayscope/frame.h"
 #include "rayscope/image.h"
 #include "rayscope/raytree_format.h"
@@ -107,6 +112,10 @@ inline constexpr double kWalkColors[6][3] = {{0, 0, 0},       {0.9, 0.9, 0.3}, {
 inline constexpr const char* kWalkNames[6] = {"",        "box hit, not entered yet",   "box missed",
                                               "entered", "culled (early termination)", "hit leaf"};
 
+// The window's viewports, as bits of Internals::Changed.
+inline constexpr unsigned kHeaderView = 1, kImageView = 2, kSceneView = 4, kPanelView = 8,
+                          kAllViews = 15;
+
 inline constexpr const char* kHelp =
     "click: pick | Up/Down: depth | Right/Left: ray | t/T: BVH walk | b: BVH, l/L: level | "
     "k: kind | d: labels | m: image | +/-: spp, ]/[: depth, p: projection, r: 3D camera | "
@@ -125,8 +134,11 @@ struct vtkRayScopeViewer::Internals {
   bool Initialized = false;
   std::string LastError, Message, InspectText, PanelText;
 
-  // The image: the last finished render with every array, and what is shown.
-  vtkNew<vtkImageData> Image, Display;
+  // The image: the last finished render with every array, and what is shown;
+  // Next is the image the running render fills, tile by tile, on the worker's
+  // threads (with the arrays of the image before the last: a render allocates
+  // nothing once the size is set).
+  vtkNew<vtkImageData> Image, Display, Next;
   vtkNew<vtkImageActor> ImageActor;
   vtkNew<vtkLookupTable> ScaleTable;
   vtkNew<vtkScalarBarActor> ScaleBar;
@@ -138,10 +150,8 @@ struct vtkRayScopeViewer::Internals {
   std::thread Worker;
   std::atomic<bool> Running{false};
   rayscope::RenderSettings Settings;
-  rayscope::Framebuffer Frame;
   rayscope::RayCounters Counters;
   std::string RenderError;
-  std::vector<unsigned char> Staging;  // sRGB bytes, core row order, per finished tile
   std::mutex TilesMutex;
   std::vector<std::array<int, 4>> FinishedTiles;  // x0, y0, x1, y1 not yet shown
   size_t TilesShown = 0, TilesTotal = 0;
@@ -155,7 +165,9 @@ struct vtkRayScopeViewer::Internals {
   vtkNew<vtkRayScopeRayTreeSource> Tree;
   vtkNew<vtkPassArrays> NoStrings;
   vtkSmartPointer<vtkThreshold> ByDepth, ByRay, ByKind, Traced, Skipped;
-  vtkNew<vtkGeometryFilter> Shown;
+  // The shown rays as polydata, cells in the tree's order (VTK 9.1's
+  // vtkGeometryFilter, threaded, orders them differently from run to run).
+  vtkNew<vtkDataSetSurfaceFilter> Shown;
   vtkNew<vtkActor> TracedActor, SkippedActor, NormalActor, SelectedActor;
   vtkSmartPointer<vtkThreshold> Selected;
   vtkNew<vtkPolyData> Labels;  // a point per shown ray, at its middle, with its label
@@ -177,9 +189,17 @@ struct vtkRayScopeViewer::Internals {
   vtkNew<vtkLegendBoxActor> Legend;
   /// What the legend shows now (label, color), to rebuild it only on a change.
   std::vector<std::pair<std::string, std::array<double, 3>>> LegendEntries;
-  vtkNew<vtkTextActor> HelpActor, MessageActor, PanelActor;
+  vtkNew<vtkTextActor> HelpActor, MessageActor;
+  /// The panel's lines, one text actor each (kPanelLines): a line keeps its
+  /// actor, and the texture FreeType drew for it, while it stays on the
+  /// panel, even when it moves; only new lines are drawn again.
+  std::vector<vtkSmartPointer<vtkTextActor>> PanelLines;
+  std::vector<std::string> PanelLineText;  // what each of them shows
+  int PanelLineHeight = 0;                 // pixels from one line to the next
   vtkSmartPointer<vtkRayScopeViewerStyle> Style;
   int ScreenshotCount = 0, ExportCount = 0;
+  /// The viewports changed since the window was last drawn (k*View bits).
+  unsigned Changed = 0;
 
   explicit Internals(vtkRayScopeViewer* self) : Self(self) {}
   struct Policy;
@@ -193,6 +213,7 @@ struct vtkRayScopeViewer::Internals {
   void BuildSceneGeometry();
   void UpdateCameraGeometry();
   void StartRender();
+  bool Restart(const std::string& message);
   void Poll();
   void ShowTiles();
   void FinishRender();
@@ -202,12 +223,29 @@ struct vtkRayScopeViewer::Internals {
   void UpdateLabels();
   void UpdateOccluders();
   void UpdatePanel();
+  void ShowPanelLines(const std::vector<std::string>& lines);
   void UpdateLegend();
   void Say(const std::string& message) {
     this->Message = message;
     this->MessageActor->SetInput(message.c_str());
+    this->Changed |= rayscope_vtk::viewer::kHeaderView;
   }
+  /// Draws the viewports that changed (Changed), and only those: the others
+  /// keep their pixels (VTK draws into a framebuffer of its own, and a
+  /// renderer whose Draw is off leaves its viewport as it was). Under
+  /// software OpenGL a click then costs the window what the click changed, a
+  /// render's progress the header and the image. Renders of the window by
+  /// anyone else (orbiting, resizing, a screenshot) draw every viewport.
   void Redraw() {
-    if (this->Initialized) this->Window->Render();
+    using namespace rayscope_vtk::viewer;
+    if (!this->Initialized || this->Changed == 0) return;
+    const std::pair<vtkRenderer*, unsigned> views[4] = {{this->HeaderRen, kHeaderView},
+                                                        {this->ImageRen, kImageView},
+                                                        {this->SceneRen, kSceneView},
+                                                        {this->PanelRen, kPanelView}};
+    for (auto [ren, view] : views) ren->SetDraw((this->Changed & view) != 0);
+    this->Changed = 0;
+    this->Window->Render();
+    for (auto [ren, view] : views) ren->SetDraw(1);
   }
 };

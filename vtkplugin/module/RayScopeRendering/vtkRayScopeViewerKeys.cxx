@@ -33,8 +33,7 @@ int vtkRayScopeViewer::HandleKey(const char* keysym) {
     return say(m);
   };
   auto rerender = [&](const std::string& m) {
-    if (this->Rerender()) in.Say(m);
-    in.Redraw();
+    in.Restart(m);  // drawn with the first tiles
     return 1;
   };
   using RS = rayscope::RenderSettings;

@@ -102,6 +102,15 @@ void vtkRayScopeViewer::Internals::Build() {
   this->PanelRen->SetViewport(0.0, 0.0, 1.0, kPanelTop);
   this->ImageRen->SetBackground(0.08, 0.08, 0.08);
   this->SceneRen->SetBackground(0.15, 0.16, 0.2);
+  // The 3D view blends its half-transparent surfaces in the order they are
+  // drawn (vtkRenderStepsPass: VTK's plain opaque, translucent and overlay
+  // steps). Without a pass, VTK 9.1 draws translucent geometry with
+  // order-independent transparency (vtkOrderIndependentTranslucentPass: float
+  // render targets and a full-viewport blend): under software OpenGL (Mesa's
+  // llvmpipe) the window then took 72 ms to draw on the bunny scene instead
+  // of 35, for a 3D view that differs from this one by 0.3 of 255 on average
+  // (docs/benchmarks.md, bench_viewer).
+  this->SceneRen->SetPass(vtkSmartPointer<vtkRenderStepsPass>::New());
   this->PanelRen->SetBackground(0.05, 0.05, 0.05);
   this->HeaderRen->SetBackground(0.0, 0.0, 0.0);
   for (vtkRenderer* r :
@@ -265,13 +274,33 @@ void vtkRayScopeViewer::Internals::Build() {
   this->MessageActor->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
   this->MessageActor->GetPositionCoordinate()->SetValue(0.005, 0.06);
   this->HeaderRen->AddActor2D(this->MessageActor);
-  this->PanelActor->GetTextProperty()->SetFontFamilyToCourier();
-  this->PanelActor->GetTextProperty()->SetFontSize(12);
-  this->PanelActor->GetTextProperty()->SetVerticalJustificationToTop();
-  this->PanelActor->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
-  this->PanelActor->GetPositionCoordinate()->SetValue(0.005, 0.98);
-  this->PanelActor->SetInput("click a pixel of the image (left) or a surface (right)");
-  this->PanelRen->AddActor2D(this->PanelActor);
+  // The panel: a text actor per line, from the top left corner down, a line
+  // height apart (FreeType's own spacing of the lines of one text: drawn
+  // so, the panel is pixel for pixel the text drawn by one actor).
+  vtkNew<vtkTextProperty> panel_text;
+  panel_text->SetFontFamilyToCourier();
+  panel_text->SetFontSize(12);
+  panel_text->SetVerticalJustificationToTop();
+  int one[4], two[4];
+  vtkTextRenderer* text = vtkTextRenderer::GetInstance();
+  this->PanelLineHeight =
+      text && text->GetBoundingBox(panel_text, vtkStdString("Xg"), one, this->Window->GetDPI()) &&
+              text->GetBoundingBox(panel_text, vtkStdString("Xg\nXg"), two, this->Window->GetDPI())
+          ? (two[3] - two[2]) - (one[3] - one[2])
+          : 14;
+  vtkNew<vtkCoordinate> panel_corner;
+  panel_corner->SetCoordinateSystemToNormalizedViewport();
+  panel_corner->SetValue(0.005, 0.98);
+  for (int k = 0; k < kPanelLines; ++k) {
+    auto line = vtkSmartPointer<vtkTextActor>::New();
+    line->GetTextProperty()->ShallowCopy(panel_text);
+    line->GetPositionCoordinate()->SetCoordinateSystemToViewport();
+    line->GetPositionCoordinate()->SetReferenceCoordinate(panel_corner);
+    this->PanelRen->AddActor2D(line);
+    this->PanelLines.push_back(line);
+  }
+  this->PanelLineText.assign(size_t(kPanelLines), std::string());
+  this->ShowPanelLines({"click a pixel of the image (left) or a surface (right)"});
   this->Legend->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
   this->Legend->GetPositionCoordinate()->SetValue(0.0, 0.0);
   this->Legend->GetPosition2Coordinate()->SetValue(0.2, 0.3);
@@ -390,6 +419,7 @@ void vtkRayScopeViewer::Internals::BuildSceneGeometry() {
     add(ray, nullptr, ~0u, false);
   }
   this->Normals->SetScaleFactor(kNormalFraction * size);
+  this->Changed |= kSceneView;
 }
 
 // The camera as the lecture draws it: frustum edges from the eye to the image
@@ -439,6 +469,16 @@ void vtkRayScopeViewer::Internals::UpdateCameraGeometry() {
         point(on_plane(float(x + 1), float(y + 1))), point(on_plane(float(x), float(y + 1)))};
     quad->InsertNextCell(4, ids);
   }
+  // Unchanged (a re-render with the same camera and size, the same pixel):
+  // the 3D view need not be drawn again.
+  vtkPoints* shown = this->CameraGeometry->GetPoints();
+  if (shown && shown->GetNumberOfPoints() == pts->GetNumberOfPoints() &&
+      shown->GetDataType() == VTK_DOUBLE &&
+      std::equal(static_cast<const double*>(pts->GetVoidPointer(0)),
+                 static_cast<const double*>(pts->GetVoidPointer(0)) + 3 * pts->GetNumberOfPoints(),
+                 static_cast<const double*>(shown->GetVoidPointer(0))))
+    return;
+  this->Changed |= kSceneView;
   this->CameraGeometry->Initialize();
   this->CameraGeometry->SetPoints(pts);
   this->CameraGeometry->SetLines(lines);
@@ -473,6 +513,7 @@ void vtkRayScopeViewer::Internals::UpdateLegend() {
   // Rebuilt only when its entries change: each entry is text to rasterize.
   if (entries == this->LegendEntries) return;
   this->LegendEntries = entries;
+  this->Changed |= kSceneView;
   this->Legend->SetNumberOfEntries(int(entries.size()));
   vtkSmartPointer<vtkPolyData> symbol = legend_symbol();
   for (size_t e = 0; e < entries.size(); ++e)

@@ -1,7 +1,10 @@
 #include "RayScopeImageArrays.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
+#include <vector>
 
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
@@ -17,74 +20,163 @@
 
 namespace rayscope_vtk {
 
-void framebuffer_to_image(const rayscope::Framebuffer& fb, const rayscope::RayCounters& counters,
-                          vtkImageData* image) {
-  const int w = fb.width, h = fb.height;
+namespace {
+
+unsigned char srgb_byte_exact(float v) {
+  return (unsigned char)std::lround(255.0f * rayscope::linear_to_srgb(v));
+}
+
+float float_of(uint32_t bits) {
+  float f;
+  std::memcpy(&f, &bits, sizeof f);
+  return f;
+}
+
+// srgb_byte()'s table. srgb_byte_exact() never decreases as v grows (checked
+// once on all 1,065,353,217 floats of [0, 1]), so byte b is the one of every
+// v in [threshold[b], threshold[b + 1]). vtk.VtkImage.SrgbBytesOfEveryFloat
+// compares srgb_byte() with srgb_byte_exact() on every float of [2^-16, 1].
+struct SrgbTable {
+  static constexpr uint32_t kOne = 0x3f800000u;  // the bits of 1.0f
+  float threshold[257];
+  std::vector<unsigned char> start;  // the byte of the first float of each 2^16 bits
+  SrgbTable() {
+    threshold[0] = 0.0f;
+    for (int b = 1; b < 256; ++b) {  // the smallest float of (0, 1] whose byte is b or more
+      uint32_t lo = 0, hi = kOne;
+      while (lo < hi) {
+        const uint32_t mid = lo + (hi - lo) / 2;
+        if (srgb_byte_exact(float_of(mid)) >= b)
+          hi = mid;
+        else
+          lo = mid + 1;
+      }
+      threshold[b] = float_of(lo);
+    }
+    threshold[256] = std::numeric_limits<float>::infinity();
+    start.resize((kOne >> 16) + 1);
+    for (uint32_t k = 0; k < start.size(); ++k) start[k] = srgb_byte_exact(float_of(k << 16));
+  }
+};
+
+constexpr const char* kCostArrays[4] = {"Cost", "CostRays", "CostBoxes", "CostPrimitives"};
+
+// The image's array `name` if it is an A with `components` components and
+// `tuples` tuples.
+template <class A>
+A* fitting_array(vtkPointData* pd, const char* name, int components, vtkIdType tuples) {
+  A* a = A::FastDownCast(pd->GetAbstractArray(name));
+  return a && a->GetNumberOfComponents() == components && a->GetNumberOfTuples() == tuples
+             ? a
+             : nullptr;
+}
+
+template <class A>
+typename A::ValueType* values(vtkPointData* pd, const char* name) {
+  return A::FastDownCast(pd->GetAbstractArray(name))->GetPointer(0);
+}
+
+}  // namespace
+
+unsigned char srgb_byte(float v) {
+  static const SrgbTable table;
+  if (!(v > 0.0f)) return 0;  // NaN too
+  if (v >= 1.0f) return 255;
+  uint32_t bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  unsigned b = table.start[bits >> 16];
+  while (v >= table.threshold[b + 1]) ++b;
+  return (unsigned char)b;
+}
+
+void prepare_image(vtkImageData* image, int w, int h, bool cost) {
   const vtkIdType np = vtkIdType(w) * vtkIdType(h);
+  vtkPointData* pd = image->GetPointData();
+  const int* dims = image->GetDimensions();
+  bool fits = dims[0] == w && dims[1] == h && dims[2] == 1 &&
+              fitting_array<vtkUnsignedCharArray>(pd, "Color", 3, np) &&
+              pd->GetScalars() == pd->GetArray("Color") &&
+              fitting_array<vtkFloatArray>(pd, "LinearColor", 3, np) &&
+              fitting_array<vtkFloatArray>(pd, "Depth", 1, np) &&
+              fitting_array<vtkFloatArray>(pd, "Normal", 3, np) &&
+              fitting_array<vtkIntArray>(pd, "ObjectId", 1, np);
+  for (const char* name : kCostArrays)
+    fits = fits && (cost ? fitting_array<vtkIntArray>(pd, name, 1, np) != nullptr
+                         : pd->GetAbstractArray(name) == nullptr);
+  if (fits) return;
   image->Initialize();
   image->SetExtent(0, w - 1, 0, h - 1, 0, 0);
   image->SetSpacing(1.0, 1.0, 1.0);
   image->SetOrigin(0.0, 0.0, 0.0);
+  pd = image->GetPointData();
+  pd->SetScalars(make_array<vtkUnsignedCharArray>("Color", 3, np));
+  pd->AddArray(make_array<vtkFloatArray>("LinearColor", 3, np));
+  pd->AddArray(make_array<vtkFloatArray>("Depth", 1, np));
+  pd->AddArray(make_array<vtkFloatArray>("Normal", 3, np));
+  pd->AddArray(make_array<vtkIntArray>("ObjectId", 1, np));
+  if (cost)
+    for (const char* name : kCostArrays) pd->AddArray(make_array<vtkIntArray>(name, 1, np));
+}
 
-  auto color = make_array<vtkUnsignedCharArray>("Color", 3, np);
-  auto linear = make_array<vtkFloatArray>("LinearColor", 3, np);
-  auto depth = make_array<vtkFloatArray>("Depth", 1, np);
-  auto normal = make_array<vtkFloatArray>("Normal", 3, np);
-  auto object = make_array<vtkIntArray>("ObjectId", 1, np);
-  const bool cost = !fb.cost.empty();
-  vtkSmartPointer<vtkIntArray> cost_nodes, cost_rays, cost_boxes, cost_prims;
-  if (cost) {
-    cost_nodes = make_array<vtkIntArray>("Cost", 1, np);
-    cost_rays = make_array<vtkIntArray>("CostRays", 1, np);
-    cost_boxes = make_array<vtkIntArray>("CostBoxes", 1, np);
-    cost_prims = make_array<vtkIntArray>("CostPrimitives", 1, np);
-  }
+void framebuffer_rect_to_image(const rayscope::Framebuffer& fb, int x0, int y0, int x1, int y1,
+                               vtkImageData* image) {
+  const int w = fb.width, h = fb.height;
+  vtkPointData* pd = image->GetPointData();
+  unsigned char* color = values<vtkUnsignedCharArray>(pd, "Color");
+  float* linear = values<vtkFloatArray>(pd, "LinearColor");
+  float* depth = values<vtkFloatArray>(pd, "Depth");
+  float* normal = values<vtkFloatArray>(pd, "Normal");
+  int* object = values<vtkIntArray>(pd, "ObjectId");
+  const bool cost = !fb.cost.empty() && pd->GetAbstractArray("Cost");
+  int* cost_nodes = cost ? values<vtkIntArray>(pd, "Cost") : nullptr;
+  int* cost_rays = cost ? values<vtkIntArray>(pd, "CostRays") : nullptr;
+  int* cost_boxes = cost ? values<vtkIntArray>(pd, "CostBoxes") : nullptr;
+  int* cost_prims = cost ? values<vtkIntArray>(pd, "CostPrimitives") : nullptr;
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  for (int j = 0; j < h; ++j) {
-    const int y = h - 1 - j;  // VTK row 0 is the bottom row
-    for (int x = 0; x < w; ++x) {
+  for (int y = y0; y < y1; ++y) {
+    const size_t j = size_t(h - 1 - y);  // VTK row 0 is the bottom row
+    for (int x = x0; x < x1; ++x) {
       const size_t c = fb.index(x, y);
-      const vtkIdType v = vtkIdType(j) * w + x;
+      const size_t v = j * size_t(w) + size_t(x);
       for (int k = 0; k < 3; ++k) {
         const float lin = fb.color[c][k];
-        color->SetTypedComponent(
-            v, k, (unsigned char)std::lround(255.0f * rayscope::linear_to_srgb(lin)));
-        linear->SetTypedComponent(v, k, lin);
-        normal->SetTypedComponent(v, k, fb.normal[c][k]);
+        color[3 * v + size_t(k)] = srgb_byte(lin);
+        linear[3 * v + size_t(k)] = lin;
+        normal[3 * v + size_t(k)] = fb.normal[c][k];
       }
-      depth->SetValue(v, std::isfinite(fb.depth[c]) ? fb.depth[c] : nan);
-      object->SetValue(v, int(fb.object_id[c]));
+      depth[v] = std::isfinite(fb.depth[c]) ? fb.depth[c] : nan;
+      object[v] = int(fb.object_id[c]);
       if (cost) {
-        cost_nodes->SetValue(v, int(fb.cost[c].nodes));
-        cost_rays->SetValue(v, int(fb.cost[c].rays));
-        cost_boxes->SetValue(v, int(fb.cost[c].boxes));
-        cost_prims->SetValue(v, int(fb.cost[c].prims));
+        cost_nodes[v] = int(fb.cost[c].nodes);
+        cost_rays[v] = int(fb.cost[c].rays);
+        cost_boxes[v] = int(fb.cost[c].boxes);
+        cost_prims[v] = int(fb.cost[c].prims);
       }
     }
   }
-  vtkPointData* pd = image->GetPointData();
-  pd->SetScalars(color);
-  pd->AddArray(linear);
-  pd->AddArray(depth);
-  pd->AddArray(normal);
-  pd->AddArray(object);
-  if (cost) {
-    pd->AddArray(cost_nodes);
-    pd->AddArray(cost_rays);
-    pd->AddArray(cost_boxes);
-    pd->AddArray(cost_prims);
-  }
+}
+
+void counters_to_image(const rayscope::RayCounters& counters, vtkImageData* image) {
   vtkFieldData* fd = image->GetFieldData();
+  fd->Initialize();
   auto i64 = [](uint64_t v) { return vtkTypeInt64(v); };
   add_field_tuple<vtkTypeInt64Array>(
       fd, "RayCounts",
       {i64(counters.rays[0]), i64(counters.rays[1]), i64(counters.rays[2]), i64(counters.rays[3])});
   add_field_tuple<vtkTypeInt64Array>(fd, "ShadowRaysOccluded", {i64(counters.shadow_occluded)});
-  if (cost) {
+  if (image->GetPointData()->GetAbstractArray("Cost")) {
     add_field_tuple<vtkTypeInt64Array>(fd, "NodesVisited", {i64(counters.nodes_visited)});
     add_field_tuple<vtkTypeInt64Array>(fd, "BoxesTested", {i64(counters.boxes_tested)});
     add_field_tuple<vtkTypeInt64Array>(fd, "PrimitivesTested", {i64(counters.prims_tested)});
   }
+}
+
+void framebuffer_to_image(const rayscope::Framebuffer& fb, const rayscope::RayCounters& counters,
+                          vtkImageData* image) {
+  image->Initialize();
+  prepare_image(image, fb.width, fb.height, !fb.cost.empty());
+  framebuffer_rect_to_image(fb, 0, 0, fb.width, fb.height, image);
+  counters_to_image(counters, image);
 }
 
 }  // namespace rayscope_vtk

@@ -1,5 +1,8 @@
 // The ray-traced framebuffer as the arrays of a vtkImageData (private header
-// of vtkRayScopeImageAlgorithm, whose class documentation lists the arrays).
+// of vtkRayScopeImageAlgorithm, whose class documentation lists the arrays;
+// RayScope::Rendering uses it too: vtkRayScopeViewer fills its images with it
+// tile by tile while its renders run, so that both make the same arrays, and
+// the display modes color their pixels with srgb_byte()).
 #pragma once
 
 class vtkImageData;
@@ -17,8 +20,32 @@ namespace rayscope_vtk {
 /// "ObjectId" and, when the framebuffer has costs, "Cost", "CostRays",
 /// "CostBoxes", "CostPrimitives"; field data "RayCounts",
 /// "ShadowRaysOccluded" and, with costs, "NodesVisited", "BoxesTested",
-/// "PrimitivesTested".
+/// "PrimitivesTested". New arrays every call. The three functions below
+/// make the same image in steps.
 void framebuffer_to_image(const rayscope::Framebuffer& fb, const rayscope::RayCounters& counters,
                           vtkImageData* image);
+
+/// Gives `image` the geometry and the point-data arrays of a w x h
+/// framebuffer's image (with the cost arrays when `cost`), values not set.
+/// An image that has them already, for that size, is left as it is: an image
+/// filled frame after frame allocates its arrays once.
+void prepare_image(vtkImageData* image, int w, int h, bool cost);
+
+/// Writes the framebuffer's pixels [x0, x1) x [y0, y1) (framebuffer rows, 0 at
+/// the top) into an image prepared for it, as framebuffer_to_image() does.
+/// Rectangles that do not overlap may be written from several threads at once.
+void framebuffer_rect_to_image(const rayscope::Framebuffer& fb, int x0, int y0, int x1, int y1,
+                               vtkImageData* image);
+
+/// Replaces the image's field data with the counters of its render (the cost
+/// totals when the image has the "Cost" array).
+void counters_to_image(const rayscope::RayCounters& counters, vtkImageData* image);
+
+/// The 8-bit sRGB value of a linear color component, exactly
+/// std::lround(255 * rayscope::linear_to_srgb(v)) (0 for NaN), from a table
+/// made once from that function: the byte grows with v, so each byte has a
+/// smallest linear value, and v's float bits (top 16) find the byte to start
+/// from. About ten times faster than the power function it replaces.
+unsigned char srgb_byte(float linear);
 
 }  // namespace rayscope_vtk
