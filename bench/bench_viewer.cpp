@@ -60,11 +60,21 @@ void configure(vtkRayScopeImageAlgorithm* alg, const rayscope::Scene& scene,
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 2 || (argc == 2 && argv[1][0] == '-')) {
+    std::fprintf(stderr, "usage: xvfb-run -a bench_viewer [SCENE.json]\n");
+    return 2;
+  }
   const std::string bunny_file =
       argc > 1 ? argv[1] : std::string(RAYSCOPE_SOURCE_DIR) + "/data/scenes/bunny.json";
 
   // Click to tree, bunny scene.
-  rayscope::LoadedScene bunny = rayscope::load_scene(bunny_file, rayscope_vtk::load_mesh);
+  rayscope::LoadedScene bunny;
+  try {
+    bunny = rayscope::load_scene(bunny_file, rayscope_vtk::load_mesh);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_viewer: %s\n", e.what());
+    return 1;
+  }
   bunny.scene.commit();
   vtkNew<vtkRayScopeImageAlgorithm> alg;
   configure(alg, bunny.scene, bunny.settings);

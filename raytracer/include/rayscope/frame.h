@@ -70,14 +70,16 @@ struct StatsPolicy : FramePolicy {
   }
 };
 
-/// Renders the scene with `policy`. The scene must be committed and
-/// prepare_frame()d for these settings. Counters of all threads are summed
-/// into *counters when not null.
+/// Renders the scene with `policy` into `fb`, which is resized and cleared
+/// first; a caller that renders frame after frame keeps one framebuffer, so
+/// that its memory is not allocated (and page-faulted in) again every frame.
+/// The scene must be committed and prepare_frame()d for these settings.
+/// Counters of all threads are summed into *counters when not null.
 template <class Policy>
-Framebuffer render_frame(const Scene& scene, const RenderSettings& settings, Policy& policy,
-                         RayCounters* counters = nullptr, const ProgressFn& progress = {}) {
+void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings& settings,
+                       Policy& policy, RayCounters* counters = nullptr,
+                       const ProgressFn& progress = {}) {
   using Recorder = typename Policy::Recorder;
-  Framebuffer fb;
   fb.resize(settings.width, settings.height);
   policy.begin(fb);
   const int ts = settings.tile_size;
@@ -146,6 +148,14 @@ Framebuffer render_frame(const Scene& scene, const RenderSettings& settings, Pol
     for (const RayCounters& c : local) sum += c;
     *counters = sum;
   }
+}
+
+/// render_frame_into() a new framebuffer.
+template <class Policy>
+Framebuffer render_frame(const Scene& scene, const RenderSettings& settings, Policy& policy,
+                         RayCounters* counters = nullptr, const ProgressFn& progress = {}) {
+  Framebuffer fb;
+  render_frame_into(fb, scene, settings, policy, counters, progress);
   return fb;
 }
 

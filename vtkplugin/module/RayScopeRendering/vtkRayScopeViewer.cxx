@@ -148,8 +148,7 @@ void vtkRayScopeViewer::Internals::StartRender() {
     Policy policy(this);
     try {
       this->Counters = rayscope::RayCounters{};
-      // The framebuffer itself is not kept: its pixels are in Next.
-      rayscope::render_frame(*scene, rs, policy, &this->Counters);
+      rayscope::render_frame_into(this->Frame, *scene, rs, policy, &this->Counters);
     } catch (const std::exception& e) {
       this->RenderError = e.what();
     }

@@ -151,6 +151,9 @@ struct vtkRayScopeViewer::Internals {
   std::atomic<bool> Running{false};
   rayscope::RenderSettings Settings;
   rayscope::RayCounters Counters;
+  // The worker's framebuffer, kept from frame to frame (its pixels are copied
+  // into Next as tiles finish; only the worker touches it).
+  rayscope::Framebuffer Frame;
   std::string RenderError;
   std::mutex TilesMutex;
   std::vector<std::array<int, 4>> FinishedTiles;  // x0, y0, x1, y1 not yet shown
