@@ -155,12 +155,6 @@ struct Builder {
   }
 };
 
-/// The calling thread's stamps (see KdTree::traverse, "Mailboxing").
-struct Mailbox {
-  uint32_t query = 0;
-  std::vector<uint32_t> stamps;
-};
-
 }  // namespace
 
 void KdTree::build(std::span<const Bounds3> bounds, const KdTreeBuildConfig& cfg) {
@@ -225,17 +219,6 @@ KdTreeQuality KdTree::quality() const {
   const uint32_t full = q.leaves - q.empty_leaves;
   q.mean_leaf_refs = full ? double(refs.size()) / full : 0.0;
   return q;
-}
-
-uint32_t* KdTree::begin_query(uint32_t& stamp) const {
-  thread_local Mailbox mailbox;
-  if (mailbox.stamps.size() < num_prims_) mailbox.stamps.resize(num_prims_, 0u);
-  if (++mailbox.query == 0) {  // wrapped around: old stamps could match again
-    std::fill(mailbox.stamps.begin(), mailbox.stamps.end(), 0u);
-    mailbox.query = 1;
-  }
-  stamp = mailbox.query;
-  return mailbox.stamps.data();
 }
 
 }  // namespace rayscope

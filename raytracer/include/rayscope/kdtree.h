@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "rayscope/intersect.h"
+#include "rayscope/mailbox.h"
 #include "rayscope/math.h"
 #include "rayscope/ray.h"
 #include "rayscope/traversal.h"
@@ -132,12 +133,8 @@ class KdTree {
   ///   closest) and the walk goes on until a cell holding it is reached.
   ///   Distances are compared with the margin kBoxFarScale, as the BVH's box
   ///   test does, so that rounding never skips a cell the ray touches.
-  /// - Mailboxing: each primitive is tested at most once per ray, however many
-  ///   of the leaves visited hold it. Exact, not a cache: every thread keeps a
-  ///   stamp per primitive (thread_local, grown to the largest tree it walked,
-  ///   never shrunk: 4 bytes per primitive per thread) and every query a new
-  ///   stamp value; a primitive is tested when its stamp differs and then
-  ///   takes the query's. No allocation per ray, no locks.
+  /// - Mailboxing (mailbox.h): each primitive is tested at most once per ray,
+  ///   however many of the leaves visited hold it.
   ///
   /// Observer hooks (traversal.h), with the kD-tree's node ids (index in
   /// nodes): on_box_test(0, hit) for the root cell's box; on_node(id) for every
@@ -158,10 +155,6 @@ class KdTree {
   KdTreeBuildConfig config;
 
  private:
-  /// The calling thread's mailbox, ready for a new query over this tree's
-  /// primitives: returns the stamps and sets `stamp` to the query's value.
-  uint32_t* begin_query(uint32_t& stamp) const;
-
   Bounds3 bounds_;
   uint32_t num_prims_ = 0;
   int max_depth_ = 0;
@@ -181,8 +174,7 @@ bool KdTree::traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs)
   if constexpr (Observer::kActive) obs.on_box_test(0, root_hit);
   if (!root_hit) return false;
 
-  uint32_t stamp;
-  uint32_t* const stamps = begin_query(stamp);
+  MailboxQuery mailbox(num_prims_);
   struct Entry {
     uint32_t node;
     float t0, t1;
@@ -238,8 +230,7 @@ bool KdTree::traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs)
     }
     const uint32_t* r = refs.data() + n.first();
     for (const uint32_t* end = r + n.count(); r != end; ++r) {
-      if (stamps[*r] == stamp) continue;
-      stamps[*r] = stamp;
+      if (!mailbox.first_visit(*r)) continue;
       if (prim(*r, tmax)) {
         hit = true;
         if constexpr (AnyHit) return true;
