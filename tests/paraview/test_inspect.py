@@ -14,11 +14,13 @@ Usage: pvpython test_inspect.py RAYSCOPE_EXECUTABLE (the plugin on PV_PLUGIN_PAT
 """
 import json
 import os
-import subprocess
 import sys
 
 from paraview.simple import *
 from paraview import servermanager as sm
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from raytree_compare import assert_same_tree, inspect  # noqa: E402
 
 OUT = os.environ.get("RAYSCOPE_TEST_OUTPUT", ".")
 W, H, SPP, DEPTH = 48, 36, 2, 4
@@ -65,16 +67,6 @@ def write_scene_file(named):
     return path
 
 
-def inspect(exe, scene, pixels):
-    cmd = [exe, "inspect", scene, "--format", "json"]
-    for x, y in pixels:
-        cmd += ["--pixel", f"{x},{y}"]
-    data = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
-    records = data["pixels"] if isinstance(data, dict) and "pixels" in data else [data]
-    assert len(records) == len(pixels), len(records)
-    return records
-
-
 def main(exe):
     named = sources()
     scene_file = write_scene_file(named)
@@ -94,39 +86,8 @@ def main(exe):
     rays_compared = 0
     for (i, j), rec in zip(pixels, records):
         tree.Pixel = [i, j]
-        pd = sm.Fetch(tree)
-        cd = pd.GetCellData()
-        rays = rec["rays"]
-        nverts = pd.GetNumberOfVerts()
-        lines = list(range(nverts, pd.GetNumberOfCells()))
-        assert len(lines) == len(rays), (i, j, len(lines), len(rays))
-        assert tuple(rec["color"]) == pd.GetFieldData().GetArray("PixelColor").GetTuple3(0), \
-            (i, j, rec["color"])
-        hits = 0
-        for c, ray in zip(lines, rays):
-            where = f"pixel ({i}, {j}) ray {ray['id']}"
-            assert cd.GetAbstractArray("KindName").GetValue(c) == ray["kind"], where
-            assert cd.GetArray("Depth").GetValue(c) == ray["depth"], where
-            assert cd.GetArray("ParentId").GetValue(c) == ray["parent"], where
-            assert cd.GetArray("Sample").GetValue(c) == ray["sample"], where
-            assert cd.GetArray("BoxesTested").GetValue(c) == ray["bvh"]["boxes_tested"], where
-            assert cd.GetArray("PrimitivesTested").GetValue(c) == \
-                ray["bvh"]["primitives_tested"], where
-            assert cd.GetArray("Color").GetTuple3(c) == tuple(ray["color"]), where
-            start = pd.GetPoint(pd.GetCell(c).GetPointId(0))
-            assert start == tuple(ray["origin"]), (where, start, ray["origin"])
-            kinds_seen.add(ray["kind"])
-            rays_compared += 1
-            if ray["kind"] == "shadow":
-                assert cd.GetArray("Occluded").GetValue(c) == ray["occluded"], where
-                continue
-            assert cd.GetArray("Hit").GetValue(c) == ray["hit"], where
-            if ray["hit"]:
-                hits += 1
-                end = pd.GetPoint(pd.GetCell(c).GetPointId(1))
-                assert end == tuple(ray["point"]), (where, end, ray["point"])
-                assert cd.GetArray("ObjectId").GetValue(c) == ray["object"], where
-        assert nverts == hits, (i, j, nverts, hits)
+        kinds_seen |= assert_same_tree(sm.Fetch(tree), rec, (i, j))
+        rays_compared += len(rec["rays"])
     print(f"{len(pixels)} pixels, {rays_compared} rays: the Ray Tree filter's trees are identical "
           f"to `rayscope inspect` (kinds seen: {', '.join(sorted(kinds_seen))})")
     assert kinds_seen == {"primary", "shadow", "reflection", "refraction"}, kinds_seen

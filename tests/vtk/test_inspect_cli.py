@@ -13,11 +13,13 @@ Usage: test_inspect_cli.py RAYSCOPE_EXECUTABLE
 """
 import json
 import os
-import subprocess
 import sys
 
 import vtk
 import rayscope
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from raytree_compare import assert_same_tree, inspect  # noqa: E402
 
 OUT = os.environ.get("RAYSCOPE_TEST_OUTPUT", ".")
 W, H, SPP, DEPTH = 48, 36, 2, 4
@@ -120,19 +122,6 @@ def write_scene_file(named_sources):
     return path
 
 
-def inspect(exe, scene, pixels):
-    """`rayscope inspect --format json` of several pixels (core coordinates)."""
-    cmd = [exe, "inspect", scene, "--format", "json"]
-    for x, y in pixels:
-        cmd += ["--pixel", f"{x},{y}"]
-    data = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
-    records = data["pixels"] if isinstance(data, dict) and "pixels" in data else [data]
-    assert len(records) == len(pixels), len(records)
-    for rec, (x, y) in zip(records, pixels):
-        assert tuple(rec["pixel"]) == (x, y), (rec["pixel"], x, y)
-    return records
-
-
 def main(exe):
     named = sources()
     alg = build_vtk_scene(named)
@@ -150,41 +139,8 @@ def main(exe):
     for (i, j), rec in zip(pixels, records):
         tree.SetPixel(i, j)
         tree.Update()
-        pd = tree.GetOutput()
-        cd = pd.GetCellData()
+        kinds_seen |= assert_same_tree(tree.GetOutput(), rec, (i, j))
         rays = rec["rays"]
-        nverts = pd.GetNumberOfVerts()
-        lines = list(range(nverts, pd.GetNumberOfCells()))
-        assert len(lines) == len(rays), (i, j, len(lines), len(rays))
-        assert tuple(rec["color"]) == pd.GetFieldData().GetArray("PixelColor").GetTuple3(0), \
-            (i, j, rec["color"])
-        hits = 0
-        for c, ray in zip(lines, rays):
-            where = f"pixel ({i}, {j}) ray {ray['id']}"
-            assert cd.GetAbstractArray("KindName").GetValue(c) == ray["kind"], where
-            assert cd.GetArray("Depth").GetValue(c) == ray["depth"], where
-            assert cd.GetArray("ParentId").GetValue(c) == ray["parent"], where
-            assert cd.GetArray("Sample").GetValue(c) == ray["sample"], where
-            assert cd.GetArray("BoxesTested").GetValue(c) == ray["bvh"]["boxes_tested"], where
-            assert cd.GetArray("PrimitivesTested").GetValue(c) == \
-                ray["bvh"]["primitives_tested"], where
-            assert cd.GetArray("NodesVisited").GetValue(c) == len(ray["bvh"]["nodes"]), where
-            assert cd.GetArray("Color").GetTuple3(c) == tuple(ray["color"]), where
-            start = pd.GetPoint(pd.GetCell(c).GetPointId(0))
-            end = pd.GetPoint(pd.GetCell(c).GetPointId(1))
-            assert start == tuple(ray["origin"]), where
-            kinds_seen.add(ray["kind"])
-            if ray["kind"] == "shadow":
-                assert cd.GetArray("Occluded").GetValue(c) == ray["occluded"], where
-                if ray["occluded"]:
-                    assert cd.GetArray("ObjectId").GetValue(c) == ray["occluder"], where
-                continue
-            assert cd.GetArray("Hit").GetValue(c) == ray["hit"], where
-            if ray["hit"]:
-                hits += 1
-                assert end == tuple(ray["point"]), (where, end, ray["point"])
-                assert cd.GetArray("ObjectId").GetValue(c) == ray["object"], where
-        assert nverts == hits, (i, j, nverts, hits)
         oid = ids.GetValue(j * W + i)
         assert oid == (rays[0]["object"] if rays[0]["hit"] else -1), (i, j, oid)
         compared += 1

@@ -43,6 +43,17 @@ int object_at(vtkImageData* img, int i, int j) {
       ->GetValue(vtkIdType(j) * dims[0] + i);
 }
 
+// Both images have the same linear colors, bit for bit.
+void expect_same_colors(vtkImageData* a, vtkImageData* b) {
+  vtkDataArray* ca = a->GetPointData()->GetArray("LinearColor");
+  vtkDataArray* cb = b->GetPointData()->GetArray("LinearColor");
+  ASSERT_NE(ca, nullptr);
+  ASSERT_NE(cb, nullptr);
+  ASSERT_EQ(ca->GetNumberOfTuples(), cb->GetNumberOfTuples());
+  for (vtkIdType k = 0; k < ca->GetNumberOfTuples(); ++k)
+    for (int j = 0; j < 3; ++j) ASSERT_EQ(ca->GetComponent(k, j), cb->GetComponent(k, j)) << k;
+}
+
 }  // namespace
 
 // A sphere in front of a perspective camera: hit in the middle, background in
@@ -157,11 +168,7 @@ TEST(VtkImage, CopyCameraAndResetCamera) {
   alg2->SetSize(40, 30);
   alg2->CopyCamera(cam);
   alg2->Update();
-  auto* a = alg->GetOutput()->GetPointData()->GetArray("LinearColor");
-  auto* b = alg2->GetOutput()->GetPointData()->GetArray("LinearColor");
-  ASSERT_EQ(a->GetNumberOfTuples(), b->GetNumberOfTuples());
-  for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k)
-    for (int j = 0; j < 3; ++j) ASSERT_EQ(a->GetComponent(k, j), b->GetComponent(k, j)) << k;
+  expect_same_colors(alg->GetOutput(), alg2->GetOutput());
 }
 
 // ProgressEvent: non-decreasing, from 0 to 1, several steps for a many-tile image.
@@ -413,11 +420,7 @@ TEST(VtkImage, AutoCameraFitsLikeResetCamera) {
   autocam->AutoCameraOn();
   ASSERT_EQ(update(reset), 1);
   ASSERT_EQ(update(autocam), 1);
-  auto* a = reset->GetOutput()->GetPointData()->GetArray("LinearColor");
-  auto* b = autocam->GetOutput()->GetPointData()->GetArray("LinearColor");
-  ASSERT_EQ(a->GetNumberOfTuples(), b->GetNumberOfTuples());
-  for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k)
-    for (int j = 0; j < 3; ++j) ASSERT_EQ(a->GetComponent(k, j), b->GetComponent(k, j)) << k;
+  expect_same_colors(reset->GetOutput(), autocam->GetOutput());
   EXPECT_EQ(autocam->GetPosition()[0], 1.0);  // the settings are not rewritten
   EXPECT_EQ(autocam->GetFocalPoint()[2], 0.0);
   EXPECT_EQ(object_at(autocam->GetOutput(), 20, 15), 0);
