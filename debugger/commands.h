@@ -9,6 +9,8 @@ namespace rayscope::cli {
 void add_render_command(CLI::App& app, int& exit_code);
 /// Registers `rayscope inspect`.
 void add_inspect_command(CLI::App& app, int& exit_code);
+/// Registers `rayscope accel compare`.
+void add_accel_command(CLI::App& app, int& exit_code);
 #ifdef RAYSCOPE_HAVE_VIEWER
 /// Registers `rayscope view` (built with the VTK module).
 void add_view_command(CLI::App& app, int& exit_code);

@@ -9,6 +9,7 @@
 #include "rayscope/raytree_format.h"
 #include "rayscope/replay.h"
 #include "scene_options.h"
+#include "text_file.h"
 
 namespace rayscope::cli {
 namespace {
@@ -71,22 +72,7 @@ int run_inspect(const InspectOptions& o) {
     std::fwrite(text.data(), 1, text.size(), stdout);
     return 0;
   }
-  namespace fs = std::filesystem;
-  fs::path out(o.output);
-  fs::path tmp = out;
-  tmp += ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    if (!f) throw std::runtime_error(o.output + ": cannot write");
-    f << text;
-    if (!f.flush()) throw std::runtime_error(o.output + ": write failed");
-  }
-  std::error_code ec;
-  fs::rename(tmp, out, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error(o.output + ": cannot rename temporary file");
-  }
+  write_text_file(o.output, text);
   return 0;
 }
 

@@ -81,7 +81,7 @@ bool parse_ints(const std::string& s, int n, int* out) {
   return true;
 }
 
-void SceneOptions::add_to(CLI::App* cmd) {
+void SceneOptions::add_to(CLI::App* cmd, bool walk_option) {
   using RS = RenderSettings;
   cmd->add_option("scene", scene,
                   "Scene file (.json), or a mesh file (.obj .stl .ply .vtp .vtu .vtk) shown in "
@@ -100,6 +100,7 @@ void SceneOptions::add_to(CLI::App* cmd) {
                       shortest_text(RS::kMaxMinContribution) + ")");
   cmd->add_option("--seed", seed, "Seed of the sample jitter" + in(0, RS::kMaxSeed));
   cmd->add_option("-t,--threads", threads, "Threads, 0: all" + in(0, RS::kMaxThreads));
+  if (!walk_option) return;
   cmd->add_option("--accel", accel,
                   "Structure the rays walk: bvh (the BVH in 4-wide nodes, what renders use; "
                   "default), bvh2 (the same BVH node by node, two boxes per node: the "

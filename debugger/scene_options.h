@@ -33,8 +33,10 @@ struct SceneOptions {
   /// "bvh2" (the binary teaching walk), "kdtree" or "none".
   std::string accel = to_string(AccelKind::Bvh);
 
-  /// Adds the scene argument and the render-setting options to a subcommand.
-  void add_to(CLI::App* cmd);
+  /// Adds the scene argument and the render-setting options to a subcommand;
+  /// with `walk_option`, --accel too (a command that chooses the structures
+  /// itself, such as accel compare, leaves it out).
+  void add_to(CLI::App* cmd, bool walk_option = true);
   /// Loads (and commits) the scene and applies the option overrides. Throws
   /// std::exception with a one-line message naming the file.
   LoadedScene load() const;

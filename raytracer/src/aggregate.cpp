@@ -1,5 +1,7 @@
 #include "rayscope/aggregate.h"
 
+#include <algorithm>
+#include <chrono>
 #include <stdexcept>
 #include <string>
 
@@ -20,7 +22,7 @@ const char* to_string(AccelKind kind) {
 }
 
 bool parse_accel_kind(std::string_view name, AccelKind& kind) {
-  for (AccelKind k : {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::None, AccelKind::KdTree})
+  for (AccelKind k : kAccelKinds)
     if (name == to_string(k)) {
       kind = k;
       return true;
@@ -36,6 +38,8 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
   config_ = config;
   num_triangles_ = num_triangles;
   planes_ = std::move(planes);
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
   bvh_.build(bounds, centroids, config.bvh);
   records_.resize(records.size());
   for (size_t i = 0; i < bvh_.prim_indices.size(); ++i) records_[i] = records[bvh_.prim_indices[i]];
@@ -50,9 +54,47 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
     for (size_t i = 0; i < leaf_order_bounds.size(); ++i)
       leaf_order_bounds[i] = bounds[bvh_.prim_indices[i]];
     kdtree_.build(leaf_order_bounds, config.kdtree);
+    build_seconds_ = kdtree_.quality().build_seconds;
   } else if (config.kind != AccelKind::None) {
     walk_.build(bvh_, config.kind == AccelKind::BinaryBvh ? 2 : WideBvh::kMaxArity);
+    build_seconds_ = std::chrono::duration<double>(Clock::now() - start).count();
+  } else {
+    build_seconds_ = 0.0;
   }
+}
+
+AccelFigures Aggregate::figures() const {
+  AccelFigures f;
+  f.build_seconds = build_seconds_;
+  const size_t records =
+      records_.size() * sizeof(PrimRecord) + planes_.size() * sizeof(PlaneRecord);
+  const double prims = double(std::max<size_t>(1, records_.size()));
+  switch (config_.kind) {
+    case AccelKind::Bvh:
+    case AccelKind::BinaryBvh: {
+      const BvhQuality q = bvh_.quality();
+      f.memory_bytes = walk_.memory_bytes() + records;
+      f.nodes = walk_.nodes.size() + q.leaves;  // inner wide nodes and the leaves they hold
+      f.leaves = q.leaves;
+      f.depth = walk_.depth();
+      f.refs_per_prim = records_.empty() ? 0.0 : 1.0;
+      break;
+    }
+    case AccelKind::KdTree: {
+      const KdTreeQuality q = kdtree_.quality();
+      f.memory_bytes = kdtree_.memory_bytes() + records;
+      f.nodes = q.nodes;
+      f.leaves = q.leaves - q.empty_leaves;
+      f.depth = q.depth;
+      f.refs_per_prim = double(q.references) / prims;
+      break;
+    }
+    case AccelKind::None:
+      f.memory_bytes = records;
+      f.refs_per_prim = records_.empty() ? 0.0 : 1.0;
+      break;
+  }
+  return f;
 }
 
 size_t Aggregate::memory_bytes() const {

@@ -39,6 +39,9 @@ enum class AccelKind : uint8_t {
   /// mailboxing. Same hits as the BVH.
   KdTree,
 };
+/// Every kind, in the order the tools list them.
+inline constexpr AccelKind kAccelKinds[] = {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::KdTree,
+                                            AccelKind::None};
 /// "bvh", "bvh2", "none", "kdtree".
 const char* to_string(AccelKind kind);
 /// Parses the names to_string() gives; false for anything else.
@@ -52,6 +55,25 @@ struct AccelConfig {
   /// Let scenes with at most Aggregate::kBruteForceMax bounded primitives skip
   /// the structure and test them all. Off only to measure what the skip saves.
   bool allow_brute_force = true;
+};
+
+/// Figures of the structure the rays walk, the same for every kind: what
+/// `rayscope accel compare` puts side by side (Aggregate::figures()).
+struct AccelFigures {
+  /// Building it: the SAH build and the collapse into the walked nodes for
+  /// bvh and bvh2; the structure's own build for the others (the binary BVH
+  /// the tools show is built for every kind and not counted there); 0 for
+  /// none.
+  double build_seconds = 0.0;
+  /// What its queries read: nodes or cells, reference lists and the primitive
+  /// records (not the teaching BVH when another structure is walked).
+  size_t memory_bytes = 0;
+  size_t nodes = 0;   ///< Nodes or cells, leaves included (0 for none).
+  size_t leaves = 0;  ///< Leaves or cells that hold primitives (0 for none).
+  uint32_t depth = 0;
+  /// References stored per bounded primitive: 1 when each is stored once (the
+  /// BVH, none), more when a primitive is stored in every cell it overlaps.
+  double refs_per_prim = 0.0;
 };
 
 /// The closest hit of a ray without any shading data: what tracing needs to
@@ -125,6 +147,9 @@ class Aggregate {
   /// Every byte the aggregate holds: binary nodes, leaf order, wide nodes,
   /// kD-tree nodes and references, primitive records and planes.
   size_t memory_bytes() const;
+  /// Figures of the structure the rays walk (the kind asked for, also for a
+  /// tiny scene that skips it).
+  AccelFigures figures() const;
 
  private:
   /// Whether primitive `a` wins an exact tie in t against primitive `b`:
@@ -180,6 +205,7 @@ class Aggregate {
   std::vector<PlaneRecord> planes_;
   uint32_t num_triangles_ = 0;
   bool use_walk_ = false;
+  double build_seconds_ = 0.0;  ///< The walked structure's build (figures()).
 };
 
 // ---------------------------------------------------------------------------

@@ -1,0 +1,212 @@
+// `rayscope accel compare [SCENE]`: the acceleration structures side by side on
+// one scene, all measured in the same run: what each costs to build and hold,
+// and what it costs per ray.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "commands.h"
+#include "rayscope/render.h"
+#include "scene_options.h"
+#include "text_file.h"
+
+namespace rayscope::cli {
+namespace {
+
+/// Brute force is left out of the comparison unless --structures names it when
+/// its primary rays alone would make more primitive tests than this (primitives
+/// x pixels x samples): 2e7 tests take about a second here, and a frame's
+/// secondary and shadow rays several times more; the bunny at 640x480 would
+/// take hours.
+constexpr double kCompareBruteForceBudget = 2e7;
+/// Timed renders per structure at most (--runs).
+constexpr int kMaxRuns = 100;
+
+struct CompareOptions {
+  SceneOptions scene;
+  std::string structures;  ///< Comma-separated AccelKind names; empty: every kind.
+  int runs = 3;
+  std::string csv;
+};
+
+struct Row {
+  AccelKind kind;
+  AccelFigures figures;
+  RayCounters counters;  ///< From the render with statistics.
+  double seconds = 0.0;  ///< Median of the timed renders (no statistics).
+  bool same_image = true;
+};
+
+std::string known_kinds() {
+  std::string s;
+  for (AccelKind k : kAccelKinds) s += std::string(s.empty() ? "" : ", ") + to_string(k);
+  return s;
+}
+
+std::vector<AccelKind> parse_structures(const std::string& text) {
+  std::vector<AccelKind> kinds;
+  std::stringstream in(text);
+  std::string name;
+  while (std::getline(in, name, ',')) {
+    AccelKind k;
+    if (!parse_accel_kind(name, k))
+      throw std::invalid_argument("--structures: unknown structure '" + name +
+                                  "' (known: " + known_kinds() + ")");
+    if (std::find(kinds.begin(), kinds.end(), k) == kinds.end()) kinds.push_back(k);
+  }
+  if (kinds.empty())
+    throw std::invalid_argument("--structures: expected a list such as bvh,kdtree");
+  return kinds;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+int run_compare(const CompareOptions& o) {
+  std::vector<AccelKind> kinds;
+  if (!o.structures.empty()) kinds = parse_structures(o.structures);
+  if (!o.csv.empty()) {
+    namespace fs = std::filesystem;
+    const fs::path p(o.csv), dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+    if (fs::is_directory(p)) throw std::invalid_argument("--csv: " + o.csv + " is a directory");
+    if (!fs::is_directory(dir))
+      throw std::invalid_argument("--csv: " + o.csv + ": folder " + dir.string() +
+                                  " does not exist");
+  }
+  LoadedScene loaded = o.scene.load();
+  Scene& scene = loaded.scene;
+  RenderSettings rs = loaded.settings;
+  const SceneSummary& sum = scene.summary();
+  const size_t bounded = sum.triangles + sum.spheres;
+  const double brute_tests =
+      double(bounded) * double(rs.width) * double(rs.height) * double(rs.samples * rs.samples);
+  std::vector<std::string> skipped;
+  if (kinds.empty())
+    for (AccelKind k : kAccelKinds) {
+      if (k == AccelKind::None && brute_tests > kCompareBruteForceBudget) {
+        char why[160];
+        std::snprintf(why, sizeof why,
+                      "none (%zu primitives: %.2g tests for the primary rays alone; name it in "
+                      "--structures to measure it anyway)",
+                      bounded, brute_tests);
+        skipped.push_back(why);
+        continue;
+      }
+      kinds.push_back(k);
+    }
+
+  std::vector<Row> rows;
+  std::vector<Color> first_image;
+  for (AccelKind k : kinds) {
+    AccelConfig config;
+    config.kind = k;
+    scene.commit(config);
+    Row row;
+    row.kind = k;
+    row.figures = scene.accel().figures();
+    RenderSettings stats = rs;
+    stats.statistics = true;
+    render(scene, stats, &row.counters);
+    std::vector<double> times;
+    for (int r = 0; r < o.runs; ++r) {
+      const auto t0 = std::chrono::steady_clock::now();
+      Framebuffer fb = render(scene, rs);
+      times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      if (r == 0) {
+        if (rows.empty())
+          first_image = fb.color;
+        else
+          row.same_image = fb.color.size() == first_image.size() &&
+                           std::memcmp(fb.color.data(), first_image.data(),
+                                       fb.color.size() * sizeof(Color)) == 0;
+      }
+    }
+    row.seconds = median(times);
+    rows.push_back(row);
+  }
+
+  const std::string name = o.scene.scene.empty() ? std::string("default scene") : o.scene.scene;
+  std::printf(
+      "%s: %zu triangles, %zu spheres, %zu planes; %dx%d, %dx%d samples, depth %d, %d threads; "
+      "median of %d timed render%s per structure\n",
+      name.c_str(), sum.triangles, sum.spheres, sum.planes, rs.width, rs.height, rs.samples,
+      rs.samples, rs.max_depth,
+      rs.threads > 0 ? rs.threads : int(std::thread::hardware_concurrency()), o.runs,
+      o.runs == 1 ? "" : "s");
+  std::printf("%-9s %9s %10s %9s %8s %6s %9s %10s %10s %10s %9s %8s %6s\n", "structure", "build ms",
+              "memory MiB", "nodes", "leaves", "depth", "refs/prim", "nodes/ray", "boxes/ray",
+              "prims/ray", "render s", "Mrays/s", "image");
+  std::ostringstream csv;
+  csv << "structure,build_ms,memory_bytes,nodes,leaves,depth,refs_per_prim,rays,nodes_per_ray,"
+         "boxes_per_ray,prims_per_ray,render_seconds,mrays_per_s,same_image\n";
+  for (const Row& r : rows) {
+    const AccelFigures& f = r.figures;
+    const double rays = double(std::max<uint64_t>(1, r.counters.total_rays()));
+    const double nodes = double(r.counters.nodes_visited) / rays;
+    const double boxes = double(r.counters.boxes_tested) / rays;
+    const double prims = double(r.counters.prims_tested) / rays;
+    const double mrays = r.seconds > 0.0 ? rays / r.seconds * 1e-6 : 0.0;
+    std::printf("%-9s %9.2f %10.3f %9zu %8zu %6u %9.2f %10.2f %10.2f %10.2f %9.4f %8.2f %6s\n",
+                to_string(r.kind), f.build_seconds * 1e3, double(f.memory_bytes) / 1048576.0,
+                f.nodes, f.leaves, f.depth, f.refs_per_prim, nodes, boxes, prims, r.seconds, mrays,
+                r.same_image ? "same" : "DIFFERS");
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "%s,%.4f,%zu,%zu,%zu,%u,%.4f,%llu,%.4f,%.4f,%.4f,%.6f,%.4f,%d\n",
+                  to_string(r.kind), f.build_seconds * 1e3, f.memory_bytes, f.nodes, f.leaves,
+                  f.depth, f.refs_per_prim, (unsigned long long)r.counters.total_rays(), nodes,
+                  boxes, prims, r.seconds, mrays, r.same_image ? 1 : 0);
+    csv << line;
+  }
+  for (const std::string& s : skipped) std::printf("not measured: %s\n", s.c_str());
+  std::printf(
+      "image: whether the structure rendered the first one's image bit for bit (every "
+      "structure returns the same hits)\n");
+  std::fflush(stdout);
+  if (!o.csv.empty()) write_text_file(o.csv, csv.str());
+  for (const Row& r : rows)
+    if (!r.same_image) {
+      std::fprintf(stderr, "rayscope: error: %s rendered a different image than %s\n",
+                   to_string(r.kind), to_string(rows.front().kind));
+      return 1;
+    }
+  return 0;
+}
+
+}  // namespace
+
+void add_accel_command(CLI::App& app, int& exit_code) {
+  CLI::App* accel = app.add_subcommand("accel", "Acceleration structures: compare them on a scene");
+  accel->require_subcommand(1);
+  auto opts = std::make_shared<CompareOptions>();
+  CLI::App* cmd = accel->add_subcommand(
+      "compare",
+      "Build every acceleration structure on one scene and render it with each, in the same "
+      "run: build time, memory, nodes, depth, references per primitive, and per ray the nodes "
+      "visited, boxes and primitives tested, Mrays/s");
+  opts->scene.add_to(cmd, false);
+  char budget[32];
+  std::snprintf(budget, sizeof budget, "%g", kCompareBruteForceBudget);
+  cmd->add_option("--structures", opts->structures,
+                  "Comma-separated structures to compare (" + known_kinds() +
+                      "); default: all, brute force (none) only when its primary rays make at "
+                      "most " +
+                      budget + " primitive tests");
+  cmd->add_option("--runs", opts->runs,
+                  "Timed renders per structure; the median is reported (1.." +
+                      std::to_string(kMaxRuns) + ")")
+      ->check(CLI::Range(1, kMaxRuns));
+  cmd->add_option("--csv", opts->csv, "Also write the table as CSV to this file");
+  cmd->callback([opts, &exit_code] { exit_code = run_compare(*opts); });
+}
+
+}  // namespace rayscope::cli

@@ -1,0 +1,32 @@
+#include "text_file.h"
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace rayscope::cli {
+
+void write_text_file(const std::string& path, const std::string& text) {
+  namespace fs = std::filesystem;
+  fs::path out(path);
+  fs::path tmp = out;
+  tmp += ".tmp";
+  std::error_code ec;
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    if (!f) throw std::runtime_error(path + ": cannot write");
+    f << text;
+    if (!f.flush()) {
+      f.close();
+      fs::remove(tmp, ec);
+      throw std::runtime_error(path + ": write failed");
+    }
+  }
+  fs::rename(tmp, out, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error(path + ": cannot rename temporary file");
+  }
+}
+
+}  // namespace rayscope::cli

@@ -1,0 +1,13 @@
+// Text output files of the subcommands (inspect -o, accel compare --csv).
+#pragma once
+
+#include <string>
+
+namespace rayscope::cli {
+
+/// Writes `text` to `path` through a temporary file in the same folder that is
+/// renamed over it, so that a failed run never leaves a half-written file.
+/// Throws std::runtime_error "PATH: problem".
+void write_text_file(const std::string& path, const std::string& text);
+
+}  // namespace rayscope::cli
