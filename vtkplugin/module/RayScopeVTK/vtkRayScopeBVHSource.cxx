@@ -19,10 +19,12 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
+#include "vtkStringArray.h"
 #include "vtkUnsignedCharArray.h"
 
 #include "RayScopeArrays.h"
 #include "RayScopeSceneInput.h"
+#include "rayscope/accel_view.h"
 #include "rayscope/frame.h"
 #include "rayscope/replay.h"
 #include "rayscope/scene.h"
@@ -56,8 +58,8 @@ vtkMTimeType vtkRayScopeBVHSource::GetMTime() {
 
 namespace {
 
-// Integrator recorder that counts node visits per binary BVH node (the other
-// hooks are NullRecorder's no-ops).
+// Integrator recorder that counts node visits per node id of the walked
+// structure (the other hooks are NullRecorder's no-ops).
 struct NodeVisitRecorder : rayscope::NullRecorder {
   static constexpr bool kActive = true;
   std::vector<uint32_t>* counts;
@@ -86,9 +88,8 @@ struct NodeVisitPolicy : rayscope::FramePolicy {
 // threads. Progress is reported from the calling thread only (VTK observers
 // expect it there).
 std::vector<uint32_t> frame_visits(const rayscope::Scene& scene,
-                                   const rayscope::RenderSettings& settings,
+                                   const rayscope::RenderSettings& settings, size_t nnodes,
                                    vtkRayScopeBVHSource* self) {
-  const size_t nnodes = scene.bvh().nodes.size();
   NodeVisitPolicy policy(nnodes);
   const std::thread::id caller = std::this_thread::get_id();
   rayscope::render_frame(scene, settings, policy, nullptr, [&](size_t done, size_t total) {
@@ -128,13 +129,8 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
   if (!source) return 0;
   const rayscope::Scene& scene = *source->GetCoreScene();
   const rayscope::RenderSettings settings = source->GetRenderSettings();
-  if (this->VisitMode != VISIT_NONE && scene.accel().kind() == rayscope::AccelKind::KdTree) {
-    vtkErrorMacro(<< "visit counts name BVH nodes, but the scene's rays walk the kD-tree "
-                     "(Accel ACCEL_KDTREE): use VisitModeToNone or a BVH walk");
-    return 0;
-  }
-  const rayscope::Bvh& bvh = scene.bvh();
-  const std::vector<rayscope::BvhNode>& nodes = bvh.nodes;
+  const rayscope::AccelView view = rayscope::make_accel_view(scene.accel());
+  const std::vector<rayscope::AccelViewNode>& nodes = view.nodes;
   const size_t nn = nodes.size();
 
   // Visit counts, and the states of a played walk.
@@ -192,55 +188,35 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
     }
   } else if (this->VisitMode == VISIT_FRAME && nn > 0) {
     try {
-      visits = frame_visits(scene, settings, this);
+      visits = frame_visits(scene, settings, nn, this);
     } catch (const std::exception& e) {
       vtkErrorMacro(<< "counting the frame's node visits failed: " << e.what());
       return 0;
     }
   }
 
-  // Levels, parents and subtree primitive counts (depth-first order, children
-  // after their parent; processed backwards for the counts).
-  std::vector<int> level(nn, 0), parent(nn, -1);
-  std::vector<uint32_t> subtree(nn, 0u), order;
-  order.reserve(nn);
-  if (nn > 0) {
-    std::vector<uint32_t> stack{0u};
-    while (!stack.empty()) {
-      uint32_t i = stack.back();
-      stack.pop_back();
-      order.push_back(i);
-      if (!nodes[i].is_leaf())
-        for (uint32_t c : {nodes[i].index, nodes[i].index + 1}) {
-          level[c] = level[i] + 1;
-          parent[c] = int(i);
-          stack.push_back(c);
-        }
-    }
-    for (auto it = order.rbegin(); it != order.rend(); ++it) {
-      const rayscope::BvhNode& n = nodes[*it];
-      subtree[*it] = n.is_leaf() ? n.count : subtree[n.index] + subtree[n.index + 1];
-    }
+  // Primitives in each subtree (children have higher ids than their parent:
+  // summed backwards) and each node's SAH term.
+  std::vector<uint32_t> subtree(nn, 0u);
+  for (size_t i = nn; i-- > 0;) {
+    subtree[i] += nodes[i].count;
+    if (nodes[i].parent >= 0) subtree[size_t(nodes[i].parent)] += subtree[i];
   }
-  const double root_area = nn ? std::max(1e-30, double(nodes[0].bounds().half_area())) : 1.0;
+  const double root_area = nn ? std::max(1e-30, double(nodes[0].box.half_area())) : 1.0;
   double sah_total = 0.0;
   std::vector<double> sah(nn, 0.0);
-  int tree_depth = 0;
   for (size_t i = 0; i < nn; ++i) {
-    const rayscope::BvhNode& n = nodes[i];
-    const double rel = double(n.bounds().half_area()) / root_area;
-    sah[i] =
-        rel * (n.is_leaf() ? bvh.config.intersection_cost * n.count : bvh.config.traversal_cost);
+    const rayscope::AccelViewNode& n = nodes[i];
+    sah[i] = double(n.box.half_area()) / root_area *
+             ((n.leaf ? 0.0 : view.traversal_cost) + view.intersection_cost * n.count);
     sah_total += sah[i];
-    tree_depth = std::max(tree_depth, level[i] + 1);
   }
 
   std::vector<uint32_t> shown;
-  for (uint32_t i : order)
-    if (level[i] >= this->LevelRange[0] && level[i] <= this->LevelRange[1] &&
-        (!this->OnlyLeaves || nodes[i].is_leaf()) && (!play || state[i] != 0))
+  for (uint32_t i = 0; i < uint32_t(nn); ++i)
+    if (nodes[i].level >= this->LevelRange[0] && nodes[i].level <= this->LevelRange[1] &&
+        (!this->OnlyLeaves || nodes[i].leaf) && (!play || state[i] != 0))
       shown.push_back(i);
-  std::sort(shown.begin(), shown.end());
 
   static const int kEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
                                     {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
@@ -268,11 +244,12 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
   vtkIdType cell = 0;
   for (vtkIdType b = 0; b < nboxes; ++b) {
     const uint32_t i = shown[size_t(b)];
-    const rayscope::BvhNode& n = nodes[i];
+    const rayscope::AccelViewNode& n = nodes[i];
+    const rayscope::Vec3 lo = n.box.lo, hi = n.box.hi;
     for (int c = 0; c < 8; ++c)
-      set_world_point(points, 8 * b + c, scene,
-                      rayscope::Vec3((c & 1) ? n.hi.x : n.lo.x, (c & 2) ? n.hi.y : n.lo.y,
-                                     (c & 4) ? n.hi.z : n.lo.z));
+      set_world_point(
+          points, 8 * b + c, scene,
+          rayscope::Vec3((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z));
     for (int k = 0; k < per_box; ++k, ++cell) {
       if (this->GenerateFaces) {
         vtkIdType q[4];
@@ -282,12 +259,12 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
         vtkIdType e[2] = {8 * b + kEdges[k][0], 8 * b + kEdges[k][1]};
         cells->InsertNextCell(2, e);
       }
-      a_level->SetValue(cell, level[i]);
+      a_level->SetValue(cell, n.level);
       a_node->SetValue(cell, int(i));
-      a_parent->SetValue(cell, parent[i]);
-      a_leaf->SetValue(cell, n.is_leaf() ? 1 : 0);
+      a_parent->SetValue(cell, n.parent);
+      a_leaf->SetValue(cell, n.leaf ? 1 : 0);
       a_count->SetValue(cell, int(subtree[i]));
-      a_offset->SetValue(cell, n.is_leaf() ? int(n.index) : -1);
+      a_offset->SetValue(cell, n.count > 0 ? int(n.first) : -1);
       a_sah->SetValue(cell, sah[i]);
       a_visits->SetValue(cell, int(visits[i]));
       if (play) {
@@ -314,13 +291,16 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
   cd->SetActiveScalars("Level");
 
   vtkFieldData* fd = output->GetFieldData();
-  const auto& prims = scene.accel().records();
-  auto leaf_ids = make_array<vtkIntArray>("LeafPrimitiveIds", 1, vtkIdType(prims.size()));
-  for (size_t k = 0; k < prims.size(); ++k) leaf_ids->SetValue(vtkIdType(k), int(prims[k].id));
+  auto leaf_ids = make_array<vtkIntArray>("LeafPrimitiveIds", 1, vtkIdType(view.refs.size()));
+  for (size_t k = 0; k < view.refs.size(); ++k) leaf_ids->SetValue(vtkIdType(k), int(view.refs[k]));
   fd->AddArray(leaf_ids);
   add_field_tuple<vtkDoubleArray>(fd, "SAHCostTotal", {sah_total});
   add_field_tuple<vtkIntArray>(fd, "BVHUsed", {scene.summary().bvh_used ? 1 : 0});
-  add_field_tuple<vtkIntArray>(fd, "TreeDepth", {tree_depth});
+  add_field_tuple<vtkIntArray>(fd, "TreeDepth", {view.depth});
+  vtkNew<vtkStringArray> structure;
+  structure->SetName("Structure");
+  structure->InsertNextValue(view.structure);
+  fd->AddArray(structure);
   this->UpdateProgress(1.0);
   return 1;
 }

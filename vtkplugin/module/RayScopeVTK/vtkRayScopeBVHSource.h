@@ -1,6 +1,14 @@
 /**
  * @class   vtkRayScopeBVHSource
- * @brief   The bounding volume hierarchy of a scene as vtkPolyData boxes.
+ * @brief   The acceleration structure of a scene as vtkPolyData boxes: the
+ *          bounding volume hierarchy, or the kD-tree's cells.
+ *
+ * It draws the structure the scene's rays walk (the scene source's Accel):
+ * the binary BVH for ACCEL_BVH, ACCEL_BINARY_BVH and ACCEL_NONE (whose rays
+ * walk nothing), the kD-tree's cells for ACCEL_KDTREE; node ids are the ones
+ * its walk reports, so visit counts and played walks work for each. Field
+ * data "Structure" names it ("bvh", "kdtree"). What follows says "node" for a
+ * BVH node or a kD-tree cell.
  *
  * The scene's datasets come through input port 0 (one or more vtkDataSets),
  * as for vtkRayScopeRayTreeSource; SetSceneSource gives the camera and the
@@ -14,7 +22,8 @@
  * with GenerateFaces. Every cell of a box carries the node's data:
  *
  * - "Level", "NodeId", "ParentId" (-1 for the root), "IsLeaf";
- * - "PrimitiveCount": primitives in the node's subtree (a leaf's own count);
+ * - "PrimitiveCount": primitives in the node's subtree (a leaf's own count;
+ *   in a kD-tree a primitive stored in several cells counts in each);
  * - "PrimitiveOffset": a leaf's first slot in the field array
  *   "LeafPrimitiveIds" (-1 for inner nodes); slots offset .. offset+count-1 of
  *   that array hold the leaf's global primitive ids (triangles numbered input

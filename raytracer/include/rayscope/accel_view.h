@@ -1,0 +1,48 @@
+// The teaching view of an acceleration structure: its nodes or cells as boxes,
+// named by the ids its walk reports to observers (traversal.h), with levels,
+// parents and the primitives each one holds. What the tools draw (the VTK
+// structure source, the viewer) is built from this, whatever the structure,
+// so that a recorded walk (its node ids) can be laid over it.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "rayscope/math.h"
+
+namespace rayscope {
+
+class Aggregate;
+
+/// One node or cell.
+struct AccelViewNode {
+  Bounds3 box;          ///< Its box: a BVH node's bounds, a kD-tree cell.
+  int32_t parent = -1;  ///< Id of the parent, -1 for a root.
+  int level = 0;        ///< Root = 0.
+  bool leaf = false;
+  /// The primitives the node itself holds: refs[first .. first + count) (a
+  /// BVH or kD-tree leaf's list; none for inner nodes).
+  uint32_t first = 0, count = 0;
+};
+
+struct AccelView {
+  /// The structure shown: "bvh" (the binary BVH, also for bvh2 and for none,
+  /// whose rays walk nothing) or "kdtree".
+  const char* structure = "bvh";
+  /// nodes[id]: ids are the ones the walk reports (dense, 0 .. size - 1).
+  std::vector<AccelViewNode> nodes;
+  /// Global primitive ids (triangles mesh by mesh, then spheres) of the nodes'
+  /// lists; a primitive stored in several cells appears in each.
+  std::vector<uint32_t> refs;
+  /// Cost constants of the structure's build, for each node's SAH term:
+  /// area / root area x (traversal_cost for an inner node + intersection_cost
+  /// x count).
+  float traversal_cost = 1.0f, intersection_cost = 1.0f;
+  /// Levels on the longest path (the deepest level + 1; 0 when empty).
+  int depth = 0;
+};
+
+/// The view of the structure the aggregate's rays walk.
+AccelView make_accel_view(const Aggregate& accel);
+
+}  // namespace rayscope
