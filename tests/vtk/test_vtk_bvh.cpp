@@ -268,6 +268,28 @@ TEST(VtkBVH, VisitCounts) {
   bvh->SetVisitModeToNone();
   EXPECT_EQ(update(bvh), 1);
   EXPECT_GT(bvh->GetOutput()->GetNumberOfCells(), 0);
+
+  // The octree, with either storage (Accel, Storage): the same image, and
+  // again no BVH visit counts.
+  for (int storage : {vtkRayScopeImageAlgorithm::STORAGE_EVERY_CELL,
+                      vtkRayScopeImageAlgorithm::STORAGE_SMALLEST_CELL}) {
+    s.alg->SetAccelToOctree();
+    s.alg->SetStorage(storage);
+    s.alg->Update();
+    ASSERT_EQ(s.alg->GetCoreScene()->accel().kind(), rayscope::AccelKind::Octree);
+    ASSERT_EQ(s.alg->GetCoreScene()->accel().octree().loose(),
+              storage == vtkRayScopeImageAlgorithm::STORAGE_SMALLEST_CELL);
+    vtkDataArray* oc_rgb = s.alg->GetOutput()->GetPointData()->GetScalars();
+    ASSERT_EQ(wide_rgb->GetNumberOfTuples(), oc_rgb->GetNumberOfTuples());
+    for (vtkIdType k = 0; k < wide_rgb->GetNumberOfTuples(); ++k)
+      for (int j = 0; j < wide_rgb->GetNumberOfComponents(); ++j)
+        ASSERT_EQ(wide_rgb->GetComponent(k, j), oc_rgb->GetComponent(k, j)) << "pixel " << k;
+    bvh->SetVisitModeToFrame();
+    EXPECT_EQ(update(bvh), 0);
+    EXPECT_NE(errors->last.find("octree"), std::string::npos) << errors->last;
+    bvh->SetVisitModeToNone();
+    EXPECT_EQ(update(bvh), 1);
+  }
 }
 
 // The datasets through input port 0, without a scene source: the same boxes
