@@ -38,6 +38,8 @@ struct CompareOptions {
 
 struct Row {
   AccelKind kind;
+  PrimStorage storage;
+  std::string name;  ///< The kind, with the storage for a kind that has several.
   AccelFigures figures;
   RayCounters counters;  ///< From the render with statistics.
   double seconds = 0.0;  ///< Median of the timed renders (no statistics).
@@ -104,14 +106,28 @@ int run_compare(const CompareOptions& o) {
       kinds.push_back(k);
     }
 
+  // One row per structure and storage choice it supports.
   std::vector<Row> rows;
-  std::vector<Color> first_image;
   for (AccelKind k : kinds) {
+    std::vector<PrimStorage> storages;
+    for (PrimStorage st : kPrimStorages)
+      if (accel_storage_error(k, st).empty()) storages.push_back(st);
+    for (PrimStorage st : storages) {
+      Row row;
+      row.kind = k;
+      row.storage = st;
+      row.name = to_string(k);
+      if (storages.size() > 1) row.name += std::string("/") + to_string(st);
+      rows.push_back(row);
+    }
+  }
+  std::vector<Color> first_image;
+  for (size_t ri = 0; ri < rows.size(); ++ri) {
+    Row& row = rows[ri];
     AccelConfig config;
-    config.kind = k;
+    config.kind = row.kind;
+    config.storage = row.storage;
     scene.commit(config);
-    Row row;
-    row.kind = k;
     row.figures = scene.accel().figures();
     RenderSettings stats = rs;
     stats.statistics = true;
@@ -122,7 +138,7 @@ int run_compare(const CompareOptions& o) {
       Framebuffer fb = render(scene, rs);
       times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
       if (r == 0) {
-        if (rows.empty())
+        if (ri == 0)
           first_image = fb.color;
         else
           row.same_image = fb.color.size() == first_image.size() &&
@@ -131,7 +147,6 @@ int run_compare(const CompareOptions& o) {
       }
     }
     row.seconds = median(times);
-    rows.push_back(row);
   }
 
   const std::string name = o.scene.scene.empty() ? std::string("default scene") : o.scene.scene;
@@ -142,9 +157,9 @@ int run_compare(const CompareOptions& o) {
       rs.samples, rs.max_depth,
       rs.threads > 0 ? rs.threads : int(std::thread::hardware_concurrency()), o.runs,
       o.runs == 1 ? "" : "s");
-  std::printf("%-9s %9s %10s %9s %8s %6s %9s %10s %10s %10s %9s %8s %6s\n", "structure", "build ms",
-              "memory MiB", "nodes", "leaves", "depth", "refs/prim", "nodes/ray", "boxes/ray",
-              "prims/ray", "render s", "Mrays/s", "image");
+  std::printf("%-20s %9s %10s %9s %8s %6s %9s %10s %10s %10s %9s %8s %6s\n", "structure",
+              "build ms", "memory MiB", "nodes", "leaves", "depth", "refs/prim", "nodes/ray",
+              "boxes/ray", "prims/ray", "render s", "Mrays/s", "image");
   std::ostringstream csv;
   csv << "structure,build_ms,memory_bytes,nodes,leaves,depth,refs_per_prim,rays,nodes_per_ray,"
          "boxes_per_ray,prims_per_ray,render_seconds,mrays_per_s,same_image\n";
@@ -155,16 +170,16 @@ int run_compare(const CompareOptions& o) {
     const double boxes = double(r.counters.boxes_tested) / rays;
     const double prims = double(r.counters.prims_tested) / rays;
     const double mrays = r.seconds > 0.0 ? rays / r.seconds * 1e-6 : 0.0;
-    std::printf("%-9s %9.2f %10.3f %9zu %8zu %6u %9.2f %10.2f %10.2f %10.2f %9.4f %8.2f %6s\n",
-                to_string(r.kind), f.build_seconds * 1e3, double(f.memory_bytes) / 1048576.0,
-                f.nodes, f.leaves, f.depth, f.refs_per_prim, nodes, boxes, prims, r.seconds, mrays,
+    std::printf("%-20s %9.2f %10.3f %9zu %8zu %6u %9.2f %10.2f %10.2f %10.2f %9.4f %8.2f %6s\n",
+                r.name.c_str(), f.build_seconds * 1e3, double(f.memory_bytes) / 1048576.0, f.nodes,
+                f.leaves, f.depth, f.refs_per_prim, nodes, boxes, prims, r.seconds, mrays,
                 r.same_image ? "same" : "DIFFERS");
     char line[512];
     std::snprintf(line, sizeof line,
-                  "%s,%.4f,%zu,%zu,%zu,%u,%.4f,%llu,%.4f,%.4f,%.4f,%.6f,%.4f,%d\n",
-                  to_string(r.kind), f.build_seconds * 1e3, f.memory_bytes, f.nodes, f.leaves,
-                  f.depth, f.refs_per_prim, (unsigned long long)r.counters.total_rays(), nodes,
-                  boxes, prims, r.seconds, mrays, r.same_image ? 1 : 0);
+                  "%s,%.4f,%zu,%zu,%zu,%u,%.4f,%llu,%.4f,%.4f,%.4f,%.6f,%.4f,%d\n", r.name.c_str(),
+                  f.build_seconds * 1e3, f.memory_bytes, f.nodes, f.leaves, f.depth,
+                  f.refs_per_prim, (unsigned long long)r.counters.total_rays(), nodes, boxes, prims,
+                  r.seconds, mrays, r.same_image ? 1 : 0);
     csv << line;
   }
   for (const std::string& s : skipped) std::printf("not measured: %s\n", s.c_str());
@@ -176,7 +191,7 @@ int run_compare(const CompareOptions& o) {
   for (const Row& r : rows)
     if (!r.same_image) {
       std::fprintf(stderr, "rayscope: error: %s rendered a different image than %s\n",
-                   to_string(r.kind), to_string(rows.front().kind));
+                   r.name.c_str(), rows.front().name.c_str());
       return 1;
     }
   return 0;

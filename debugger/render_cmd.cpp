@@ -55,6 +55,19 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
         "per primitive, %.1f per non-empty leaf, SAH cost %.2f, %.2f MiB, built in %.3f s\n",
         k.nodes, k.leaves, k.empty_leaves, k.depth, accel.kdtree().max_depth(), k.refs_per_prim,
         k.mean_leaf_refs, k.sah_cost, double(k.memory_bytes) / (1024.0 * 1024.0), k.build_seconds);
+  } else if (accel.walks_structure() && accel.kind() == AccelKind::Octree) {
+    const OctreeQuality k = accel.octree().quality();
+    std::printf(
+        "Walk:      octree, %s%s: %u nodes, %u leaves (%u empty octants not stored), depth %u "
+        "(limit %d), %.2f references per primitive (%zu held by inner nodes), %.1f per leaf (max "
+        "%u), %.2f MiB, built in %.3f s\n",
+        to_string(accel.storage()),
+        accel.octree().loose()
+            ? (" (loose factor " + shortest_text(accel.octree().config.loose_factor) + ")").c_str()
+            : "",
+        k.nodes, k.leaves, k.empty_leaves, k.depth, accel.octree().max_depth(), k.refs_per_prim,
+        k.inner_refs, k.mean_leaf_refs, k.max_leaf_refs, double(k.memory_bytes) / (1024.0 * 1024.0),
+        k.build_seconds);
   } else if (accel.walks_structure()) {
     std::printf("Walk:      %s: %zu %d-wide nodes, depth %u%s\n", to_string(accel.kind()),
                 accel.walk().nodes.size(), accel.walk().arity(), accel.walk().depth(),
@@ -62,8 +75,9 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
   } else {
     std::printf("Walk:      none: every primitive is tested against every ray\n");
   }
-  std::printf("Memory:    %.2f MiB for the BVH, its walk or kD-tree and the primitive records\n",
-              double(accel.memory_bytes()) / (1024.0 * 1024.0));
+  std::printf(
+      "Memory:    %.2f MiB for the BVH, its walk, kD-tree or octree and the primitive records\n",
+      double(accel.memory_bytes()) / (1024.0 * 1024.0));
   std::printf("%-22s %14s\n", "Rays", "count");
   for (int k = 0; k < kRayKindCount; ++k)
     std::printf("  %-20s %14llu\n", to_string(RayKind(k)), (unsigned long long)c.rays[size_t(k)]);
@@ -204,11 +218,14 @@ int run_render(const RenderOptions& o) {
   for (int y = 0; y < rs.height; ++y)
     for (int x = 0; x < rs.width; ++x)
       if (!all_finite(fb.color[fb.index(x, y)])) {
-        std::fprintf(
-            stderr,
-            "rayscope: warning: pixel (%d, %d) is not finite; replay it with:\n  "
-            "rayscope inspect %s --pixel %d,%d\n",
-            x, y, SceneOptions::replay_args(o.scene.scene, rs, scene.accel().kind()).c_str(), x, y);
+        std::fprintf(stderr,
+                     "rayscope: warning: pixel (%d, %d) is not finite; replay it with:\n  "
+                     "rayscope inspect %s --pixel %d,%d\n",
+                     x, y,
+                     SceneOptions::replay_args(o.scene.scene, rs, scene.accel().kind(),
+                                               scene.accel().storage())
+                         .c_str(),
+                     x, y);
         y = rs.height;
         break;
       }
@@ -218,7 +235,9 @@ int run_render(const RenderOptions& o) {
     std::printf(
         "pixel (%d, %d) = (%s, %s, %s); its ray tree:\n  rayscope inspect %s --pixel %d,%d\n", px,
         py, shortest_text(c.r).c_str(), shortest_text(c.g).c_str(), shortest_text(c.b).c_str(),
-        SceneOptions::replay_args(o.scene.scene, rs, scene.accel().kind()).c_str(), px, py);
+        SceneOptions::replay_args(o.scene.scene, rs, scene.accel().kind(), scene.accel().storage())
+            .c_str(),
+        px, py);
   }
   if (!o.quiet) std::fprintf(stderr, "wrote %s (%dx%d)\n", o.output.c_str(), rs.width, rs.height);
   return 0;

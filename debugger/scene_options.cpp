@@ -105,16 +105,30 @@ void SceneOptions::add_to(CLI::App* cmd, bool walk_option) {
                   "Structure the rays walk: bvh (the BVH in 4-wide nodes, what renders use; "
                   "default), bvh2 (the same BVH node by node, two boxes per node: the "
                   "lecture's walk, for teaching; same image), kdtree (the SAH kD-tree, every "
-                  "primitive stored in each cell it overlaps; same image), none (every "
-                  "primitive tested)")
+                  "primitive stored in each cell it overlaps; same image), octree (cubes cut "
+                  "into 8 octants, see --storage; same image), none (every primitive tested)")
       ->check(CLI::Validator(
           [](std::string& name) {
             AccelKind k;
             return parse_accel_kind(name, k)
                        ? std::string()
-                       : "expected bvh, bvh2, kdtree or none, got '" + name + "'";
+                       : "expected bvh, bvh2, kdtree, octree or none, got '" + name + "'";
           },
-          "bvh|bvh2|kdtree|none"));
+          "bvh|bvh2|kdtree|octree|none"));
+  cmd->add_option("--storage", storage,
+                  "How a spatial subdivision stores a primitive that straddles its cuts: "
+                  "every-cell (a reference in every cell it overlaps, tested once per ray; "
+                  "default; kdtree and octree), smallest-cell (the loose octree: cells enlarged "
+                  "by 10% on each side, each primitive once, in the deepest cell that holds it; "
+                  "octree), split (the BSP tree's; not available yet)")
+      ->check(CLI::Validator(
+          [](std::string& name) {
+            PrimStorage s;
+            return parse_prim_storage(name, s)
+                       ? std::string()
+                       : "expected every-cell, smallest-cell or split, got '" + name + "'";
+          },
+          "every-cell|smallest-cell|split"));
 }
 
 void parse_pixel_option(const std::string& text, int xy[2]) {
@@ -171,7 +185,11 @@ LoadedScene SceneOptions::load() const {
   set("--threads", [&] { rs.threads = threads; });
   if (mesh) frame_mesh(loaded.scene, rs);
   AccelConfig accel_config;
-  parse_accel_kind(accel, accel_config.kind);  // checked by the option's validator
+  parse_accel_kind(accel, accel_config.kind);         // checked by the option's validator
+  parse_prim_storage(storage, accel_config.storage);  // likewise
+  if (const std::string e = accel_storage_error(accel_config.kind, accel_config.storage);
+      !e.empty())
+    throw std::invalid_argument("--storage: " + e);
   try {
     loaded.scene.commit(accel_config);
     // The camera checks render() runs, here with the file's name (a framed
@@ -185,7 +203,7 @@ LoadedScene SceneOptions::load() const {
 }
 
 std::string SceneOptions::replay_args(const std::string& scene, const RenderSettings& s,
-                                      AccelKind accel) {
+                                      AccelKind accel, PrimStorage storage) {
   std::string a = scene.empty() ? std::string() : "'" + scene + "' ";
   a += "--size " + std::to_string(s.width) + "x" + std::to_string(s.height);
   a += " --spp " + std::to_string(s.samples);
@@ -193,6 +211,7 @@ std::string SceneOptions::replay_args(const std::string& scene, const RenderSett
   a += " --min-contribution " + shortest_text(s.min_contribution);
   a += " --seed " + std::to_string(s.seed);
   if (accel != AccelKind::Bvh) a += std::string(" --accel ") + to_string(accel);
+  if (storage != PrimStorage::EveryCell) a += std::string(" --storage ") + to_string(storage);
   return a;
 }
 

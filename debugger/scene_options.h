@@ -30,8 +30,13 @@ struct SceneOptions {
   std::optional<float> min_contribution;
   int threads = 0;
   /// The structure rays walk (rayscope::parse_accel_kind names it): "bvh",
-  /// "bvh2" (the binary teaching walk), "kdtree" or "none".
+  /// "bvh2" (the binary teaching walk), "kdtree", "octree" or "none".
   std::string accel = to_string(AccelKind::Bvh);
+  /// How a spatial subdivision stores a straddling primitive
+  /// (rayscope::parse_prim_storage names it): "every-cell" (default),
+  /// "smallest-cell" or "split"; checked against the structure by
+  /// rayscope::accel_storage_error.
+  std::string storage = to_string(PrimStorage::EveryCell);
 
   /// Adds the scene argument and the render-setting options to a subcommand;
   /// with `walk_option`, --accel too (a command that chooses the structures
@@ -40,10 +45,10 @@ struct SceneOptions {
   /// Loads (and commits) the scene and applies the option overrides. Throws
   /// std::exception with a one-line message naming the file.
   LoadedScene load() const;
-  /// The options that reproduce `settings` and the scene's walk (`accel`) on
-  /// another command line.
+  /// The options that reproduce `settings` and the scene's walk (`accel`,
+  /// `storage`) on another command line.
   static std::string replay_args(const std::string& scene, const RenderSettings& settings,
-                                 AccelKind accel);
+                                 AccelKind accel, PrimStorage storage);
 };
 
 }  // namespace rayscope::cli

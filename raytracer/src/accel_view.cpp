@@ -72,12 +72,36 @@ AccelView kdtree_view(const Aggregate& a) {
   return v;
 }
 
+AccelView octree_view(const Aggregate& a) {
+  AccelView v;
+  const Octree& oct = a.octree();
+  v.structure = "octree";
+  const std::vector<Bounds3> cells = oct.cells();
+  v.nodes.resize(oct.nodes.size());
+  for (size_t i = 0; i < oct.nodes.size(); ++i) {
+    const OctNode& n = oct.nodes[i];
+    AccelViewNode& o = v.nodes[i];
+    o.box = oct.node_box(cells[i]);  // the loose box for smallest-cell storage
+    o.leaf = n.is_leaf();
+    o.first = n.first;  // inner nodes of a loose octree hold primitives too
+    o.count = n.count;
+    for (int k = 0; k < 8; ++k)
+      if (n.has_child(k)) v.nodes[n.child(k)].parent = int32_t(i);
+  }
+  v.refs.reserve(oct.refs.size());
+  for (uint32_t r : oct.refs) v.refs.push_back(a.records()[r].id);
+  finish_levels(v);
+  return v;
+}
+
 }  // namespace
 
 AccelView make_accel_view(const Aggregate& accel) {
   switch (accel.kind()) {
     case AccelKind::KdTree:
       return kdtree_view(accel);
+    case AccelKind::Octree:
+      return octree_view(accel);
     case AccelKind::Bvh:
     case AccelKind::BinaryBvh:
     case AccelKind::None:

@@ -17,6 +17,8 @@ const char* to_string(AccelKind kind) {
       return "none";
     case AccelKind::KdTree:
       return "kdtree";
+    case AccelKind::Octree:
+      return "octree";
   }
   return "?";
 }
@@ -30,11 +32,35 @@ bool parse_accel_kind(std::string_view name, AccelKind& kind) {
   return false;
 }
 
+std::string accel_storage_error(AccelKind kind, PrimStorage storage) {
+  if (storage == PrimStorage::EveryCell) return {};  // the default: every kind takes it
+  const std::string what = std::string("storage ") + to_string(storage) + " is not available for " +
+                           to_string(kind) + ": ";
+  switch (kind) {
+    case AccelKind::Bvh:
+    case AccelKind::BinaryBvh:
+    case AccelKind::None:
+      return what +
+             "the storage choice is for the spatial subdivisions (kdtree, octree); a BVH or no "
+             "structure holds each primitive once";
+    case AccelKind::KdTree:
+      return what + "the kD-tree stores a primitive in every cell it overlaps (every-cell)";
+    case AccelKind::Octree:
+      if (storage == PrimStorage::SmallestCell) return {};
+      return what +
+             "the octree stores a primitive in every cell it overlaps (every-cell) or once in its "
+             "smallest loose cell (smallest-cell); splitting is the BSP tree's";
+  }
+  return what + "unknown structure";
+}
+
 void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids,
                       std::span<const PrimRecord> records, uint32_t num_triangles,
                       std::vector<PlaneRecord> planes, const AccelConfig& config) {
   if (bounds.size() != records.size() || centroids.size() != records.size())
     throw std::invalid_argument("Aggregate::build: bounds, centroids and records differ in size");
+  if (const std::string e = accel_storage_error(config.kind, config.storage); !e.empty())
+    throw std::invalid_argument(e);
   config_ = config;
   num_triangles_ = num_triangles;
   planes_ = std::move(planes);
@@ -47,14 +73,22 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
               (!config.allow_brute_force || records_.size() > kBruteForceMax);
   walk_ = WideBvh{};
   kdtree_ = KdTree{};
-  if (config.kind == AccelKind::KdTree) {
+  octree_ = Octree{};
+  if (config.kind == AccelKind::KdTree || config.kind == AccelKind::Octree) {
     // Over the records (leaf order), so that its references are record
     // indices.
     std::vector<Bounds3> leaf_order_bounds(records_.size());
     for (size_t i = 0; i < leaf_order_bounds.size(); ++i)
       leaf_order_bounds[i] = bounds[bvh_.prim_indices[i]];
-    kdtree_.build(leaf_order_bounds, config.kdtree);
-    build_seconds_ = kdtree_.quality().build_seconds;
+    if (config.kind == AccelKind::KdTree) {
+      kdtree_.build(leaf_order_bounds, config.kdtree);
+      build_seconds_ = kdtree_.quality().build_seconds;
+    } else {
+      OctreeBuildConfig octree = config.octree;
+      octree.storage = config.storage;
+      octree_.build(leaf_order_bounds, octree);
+      build_seconds_ = octree_.quality().build_seconds;
+    }
   } else if (config.kind != AccelKind::None) {
     walk_.build(bvh_, config.kind == AccelKind::BinaryBvh ? 2 : WideBvh::kMaxArity);
     build_seconds_ = std::chrono::duration<double>(Clock::now() - start).count();
@@ -89,6 +123,15 @@ AccelFigures Aggregate::figures() const {
       f.refs_per_prim = double(q.references) / prims;
       break;
     }
+    case AccelKind::Octree: {
+      const OctreeQuality q = octree_.quality();
+      f.memory_bytes = octree_.memory_bytes() + records;
+      f.nodes = q.nodes;
+      f.leaves = q.leaves;
+      f.depth = q.depth;
+      f.refs_per_prim = double(q.references) / prims;
+      break;
+    }
     case AccelKind::None:
       f.memory_bytes = records;
       f.refs_per_prim = records_.empty() ? 0.0 : 1.0;
@@ -99,8 +142,8 @@ AccelFigures Aggregate::figures() const {
 
 size_t Aggregate::memory_bytes() const {
   return bvh_.nodes.size() * sizeof(BvhNode) + bvh_.prim_indices.size() * sizeof(uint32_t) +
-         walk_.memory_bytes() + kdtree_.memory_bytes() + records_.size() * sizeof(PrimRecord) +
-         planes_.size() * sizeof(PlaneRecord);
+         walk_.memory_bytes() + kdtree_.memory_bytes() + octree_.memory_bytes() +
+         records_.size() * sizeof(PrimRecord) + planes_.size() * sizeof(PlaneRecord);
 }
 
 }  // namespace rayscope

@@ -125,6 +125,15 @@ std::string walk_legend(const Scene& s) {
           ? "the kD-tree (--accel kdtree); nodes are named by their kD-tree ids, a node's two "
             "child boxes are the cells its split plane lets the ray reach, and a primitive "
             "stored in several cells is tested once"
+      : a.kind() == AccelKind::Octree
+          ? (a.octree().loose()
+                 ? "the loose octree (--accel octree --storage smallest-cell); nodes are named "
+                   "by their octree ids, a node's child boxes are its octants' loose boxes "
+                   "(overlapping, entered nearest first), and inner nodes hold primitives too "
+                   "(those that fit no child): hit in leaf is the node that holds the hit"
+                 : "the octree (--accel octree --storage every-cell); nodes are named by their "
+                   "octree ids, a node's child boxes are its non-empty octants, and a primitive "
+                   "stored in several cells is tested once")
           : "the 4-wide BVH, as renders walk it (--accel bvh); nodes are named by their binary "
             "BVH ids";
   return std::string("walk: ") + walk +

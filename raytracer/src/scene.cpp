@@ -38,12 +38,11 @@ void Scene::commit(const AccelConfig& config) {
       throw std::invalid_argument("sphere '" + s.name +
                                   "': center and radius must be finite, radius > 0");
   }
-  for (Plane& p : planes) {
+  for (const Plane& p : planes) {
     check_material(p.material, "plane '" + p.name + "'");
     if (!all_finite(p.point) || !all_finite(p.normal) || p.normal == Vec3(0.0f))
       throw std::invalid_argument("plane '" + p.name +
                                   "': point and normal must be finite, normal non-zero");
-    p.normal = normalize_any_length(p.normal);
   }
   for (const Light& l : lights)
     if (!all_finite(l.position) || !all_finite(l.direction) || !all_finite(l.color) ||
@@ -117,7 +116,10 @@ void Scene::commit(const AccelConfig& config) {
     }
   }
   std::vector<PlaneRecord> plane_records;
-  for (const Plane& p : planes) plane_records.push_back({p.point, p.normal});
+  // The unit normal goes into the aggregate's record; the scene's plane keeps
+  // the normal it was given, so that committing again gives the same record
+  // (normalizing a normalized vector may move it by an ulp).
+  for (const Plane& p : planes) plane_records.push_back({p.point, normalize_any_length(p.normal)});
   accel_.build(bounds, centroids, records, ntri, std::move(plane_records), config);
 
   summary_.bvh_used = accel_.walks_structure();
@@ -164,8 +166,9 @@ SurfaceHit Scene::surface_hit(const Ray& ray, const PrimHit& ph) const {
   hit.t = t;
   if (ph.plane >= 0) {
     const Plane& pl = planes[size_t(ph.plane)];
-    hit.p = plane_point(ray, t, pl.point, pl.normal, hit.p_error);
-    hit.ng = hit.ns = pl.normal;
+    const PlaneRecord& rec = accel_.plane_records()[size_t(ph.plane)];
+    hit.p = plane_point(ray, t, rec.point, rec.normal, hit.p_error);
+    hit.ng = hit.ns = rec.normal;
     hit.object = uint32_t(meshes.size() + spheres.size() + size_t(ph.plane));
     hit.prim = 0;
     hit.material = pl.material;

@@ -284,6 +284,41 @@ TEST(VtkBVH, VisitCounts) {
   }
   EXPECT_GT(root_volume, 0.0);
   EXPECT_NEAR(leaf_volume, root_volume, 1e-9 * root_volume);
+
+  // The octree, with either storage (Accel, Storage): the same image; the
+  // source draws its nodes (loose boxes for smallest-cell), and the frame's
+  // visits are the image's Cost of the octree walk.
+  for (int storage : {vtkRayScopeImageAlgorithm::STORAGE_EVERY_CELL,
+                      vtkRayScopeImageAlgorithm::STORAGE_SMALLEST_CELL}) {
+    s.alg->SetAccelToOctree();
+    s.alg->SetStorage(storage);
+    s.alg->Update();
+    ASSERT_EQ(s.alg->GetCoreScene()->accel().kind(), rayscope::AccelKind::Octree);
+    ASSERT_EQ(s.alg->GetCoreScene()->accel().octree().loose(),
+              storage == vtkRayScopeImageAlgorithm::STORAGE_SMALLEST_CELL);
+    vtkDataArray* oc_rgb = s.alg->GetOutput()->GetPointData()->GetScalars();
+    ASSERT_EQ(wide_rgb->GetNumberOfTuples(), oc_rgb->GetNumberOfTuples());
+    for (vtkIdType k = 0; k < wide_rgb->GetNumberOfTuples(); ++k)
+      for (int j = 0; j < wide_rgb->GetNumberOfComponents(); ++j)
+        ASSERT_EQ(wide_rgb->GetComponent(k, j), oc_rgb->GetComponent(k, j)) << "pixel " << k;
+    double oc_cost = 0.0;
+    c = s.alg->GetOutput()->GetPointData()->GetArray("Cost");
+    for (vtkIdType k = 0; k < c->GetNumberOfTuples(); ++k) oc_cost += c->GetTuple1(k);
+    ASSERT_EQ(update(bvh), 1);
+    EXPECT_GT(oc_cost, 0.0);
+    EXPECT_EQ(visits(), oc_cost);
+    vtkPolyData* o = bvh->GetOutput();
+    EXPECT_EQ(o->GetFieldData()->GetAbstractArray("Structure")->GetVariantValue(0).ToString(),
+              "octree");
+    const rayscope::Octree& oct = s.alg->GetCoreScene()->accel().octree();
+    ASSERT_EQ(o->GetNumberOfCells(), vtkIdType(12 * oct.nodes.size()));
+    // The root's drawn box is the node box the walk tests.
+    const rayscope::Bounds3 root = oct.node_box(oct.cells()[0]);
+    double lo[3];
+    o->GetPoint(0, lo);
+    const double origin_x = s.alg->GetCoreScene()->origin.x;  // world = scene + origin
+    EXPECT_NEAR(lo[0] - origin_x, root.lo.x, 1e-5 * (1.0 + std::abs(root.lo.x)));
+  }
 }
 
 // The datasets through input port 0, without a scene source: the same boxes

@@ -266,6 +266,16 @@ TEST(VtkImage, RejectsBadParameters) {
          m->SetIndexOfRefraction(-1.0);
          a->SetInputMaterial(0, m);
        }},
+      // Structure and storage: the core's one check (accel_storage_error),
+      // as the CLI's --storage.
+      {"storage smallest-cell is not available for kdtree",
+       [](auto* a) {
+         a->SetAccelToKdTree();
+         a->SetStorageToSmallestCell();
+       }},
+      {"storage smallest-cell is not available for bvh",
+       [](auto* a) { a->SetStorageToSmallestCell(); }},
+      {"Accel 4 names no structure", [](auto* a) { a->SetAccel(4); }},
   };
   for (const Case& c : cases) {
     vtkNew<vtkRayScopeImageAlgorithm> alg;

@@ -16,18 +16,18 @@ class Aggregate;
 
 /// One node or cell.
 struct AccelViewNode {
-  Bounds3 box;          ///< Its box: a BVH node's bounds, a kD-tree cell.
+  Bounds3 box;  ///< Its box: a BVH node's bounds, a kD-tree cell, an octree node's (loose) box.
   int32_t parent = -1;  ///< Id of the parent, -1 for a root.
   int level = 0;        ///< Root = 0.
   bool leaf = false;
   /// The primitives the node itself holds: refs[first .. first + count) (a
-  /// BVH or kD-tree leaf's list; none for inner nodes).
+  /// leaf's list; inner nodes hold none, except in a loose octree).
   uint32_t first = 0, count = 0;
 };
 
 struct AccelView {
   /// The structure shown: "bvh" (the binary BVH, also for bvh2 and for none,
-  /// whose rays walk nothing) or "kdtree".
+  /// whose rays walk nothing), "kdtree" or "octree".
   const char* structure = "bvh";
   /// nodes[id]: ids are the ones the walk reports (dense, 0 .. size - 1).
   std::vector<AccelViewNode> nodes;
@@ -36,7 +36,7 @@ struct AccelView {
   std::vector<uint32_t> refs;
   /// Cost constants of the structure's build, for each node's SAH term:
   /// area / root area x (traversal_cost for an inner node + intersection_cost
-  /// x count).
+  /// x count); 1 and 1 for the octree, whose build uses none.
   float traversal_cost = 1.0f, intersection_cost = 1.0f;
   /// Levels on the longest path (the deepest level + 1; 0 when empty).
   int depth = 0;

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <string_view>
 #include <type_traits>
 #include <vector>
@@ -19,6 +20,8 @@
 #include "rayscope/bvh.h"
 #include "rayscope/intersect.h"
 #include "rayscope/kdtree.h"
+#include "rayscope/octree.h"
+#include "rayscope/prim_storage.h"
 #include "rayscope/traversal.h"
 #include "rayscope/wide_bvh.h"
 
@@ -38,11 +41,15 @@ enum class AccelKind : uint8_t {
   /// stored in each leaf cell it overlaps, walked front to back with
   /// mailboxing. Same hits as the BVH.
   KdTree,
+  /// The octree (octree.h): a cube cut into 8 octants, recursively; a
+  /// primitive stored in every leaf cell it overlaps (PrimStorage::EveryCell)
+  /// or once, in its smallest loose cell (SmallestCell). Same hits as the BVH.
+  Octree,
 };
 /// Every kind, in the order the tools list them.
 inline constexpr AccelKind kAccelKinds[] = {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::KdTree,
-                                            AccelKind::None};
-/// "bvh", "bvh2", "none", "kdtree".
+                                            AccelKind::Octree, AccelKind::None};
+/// "bvh", "bvh2", "none", "kdtree", "octree".
 const char* to_string(AccelKind kind);
 /// Parses the names to_string() gives; false for anything else.
 bool parse_accel_kind(std::string_view name, AccelKind& kind);
@@ -52,10 +59,23 @@ struct AccelConfig {
   AccelKind kind = AccelKind::Bvh;
   BvhBuildConfig bvh;        ///< Settings of the SAH builder (bvh.h).
   KdTreeBuildConfig kdtree;  ///< Settings of the kD-tree builder (kdtree.h), for AccelKind::KdTree.
+  /// Settings of the octree builder (octree.h), for AccelKind::Octree; its
+  /// `storage` is replaced by the one below.
+  OctreeBuildConfig octree;
+  /// How a spatial subdivision stores a primitive that straddles its cuts: the
+  /// one setting for every structure, checked by accel_storage_error() (the
+  /// BVH kinds and the kD-tree take only the default, every-cell).
+  PrimStorage storage = PrimStorage::EveryCell;
   /// Let scenes with at most Aggregate::kBruteForceMax bounded primitives skip
   /// the structure and test them all. Off only to measure what the skip saves.
   bool allow_brute_force = true;
 };
+
+/// Why structure `kind` cannot store primitives the `storage` way, in one line
+/// (no trailing period); empty when it can. The one check of the pair: the
+/// CLI, the VTK image algorithm and Aggregate::build (which throws
+/// std::invalid_argument with it) all ask here.
+std::string accel_storage_error(AccelKind kind, PrimStorage storage);
 
 /// Figures of the structure the rays walk, the same for every kind: what
 /// `rayscope accel compare` puts side by side (Aggregate::figures()).
@@ -138,14 +158,21 @@ class Aggregate {
   /// The binary hierarchy: built for every kind (the tools show it).
   const Bvh& bvh() const { return bvh_; }
   /// The walked collapse of bvh() (arity 4 for AccelKind::Bvh, 2 for BinaryBvh;
-  /// empty for None and KdTree).
+  /// empty for None, KdTree and Octree).
   const WideBvh& walk() const { return walk_; }
+  /// The storage choice the structure was built with (AccelConfig::storage).
+  PrimStorage storage() const { return config_.storage; }
   /// The kD-tree, over records() (its references are record indices); empty
   /// unless the kind is AccelKind::KdTree.
   const KdTree& kdtree() const { return kdtree_; }
+  /// The octree, over records() like the kD-tree; empty unless the kind is
+  /// AccelKind::Octree.
+  const Octree& octree() const { return octree_; }
   const std::vector<PrimRecord>& records() const { return records_; }
+  /// The unbounded planes, with unit normals, in the scene's order.
+  const std::vector<PlaneRecord>& plane_records() const { return planes_; }
   /// Every byte the aggregate holds: binary nodes, leaf order, wide nodes,
-  /// kD-tree nodes and references, primitive records and planes.
+  /// kD-tree or octree nodes and references, primitive records and planes.
   size_t memory_bytes() const;
   /// Figures of the structure the rays walk (the kind asked for, also for a
   /// tiny scene that skips it).
@@ -177,8 +204,9 @@ class Aggregate {
 
   /// Tests the primitives the ray can hit with `prim(record, tmax)`, which
   /// returns true on a hit (lowering tmax, or ending an any-hit query): the
-  /// BVH's leaves (contiguous record ranges), the kD-tree's leaves (reference
-  /// lists, each record once per ray), or all records without a structure.
+  /// BVH's leaves (contiguous record ranges), the kD-tree's or octree's nodes
+  /// (reference lists, each record once per ray), or all records without a
+  /// structure.
   /// The lambdas are forced inline so that the BVH's leaf loop compiles as
   /// one loop, as when it was written as one.
   template <bool AnyHit, class Observer, class PrimFn>
@@ -194,6 +222,7 @@ class Aggregate {
     };
     if (!use_walk_) return range(0u, uint32_t(records_.size()), tmax);
     if (config_.kind == AccelKind::KdTree) return kdtree_.traverse<AnyHit>(ray, tmax, prim, obs);
+    if (config_.kind == AccelKind::Octree) return octree_.traverse<AnyHit>(ray, tmax, prim, obs);
     return walk_.traverse<AnyHit>(ray, tmax, range, obs);
   }
 
@@ -201,6 +230,7 @@ class Aggregate {
   Bvh bvh_;
   WideBvh walk_;
   KdTree kdtree_;
+  Octree octree_;
   std::vector<PrimRecord> records_;  ///< Leaf order.
   std::vector<PlaneRecord> planes_;
   uint32_t num_triangles_ = 0;

@@ -53,7 +53,7 @@ struct Sphere {
 struct Plane {
   std::string name;
   Vec3 point{0.0f};
-  Vec3 normal{0.0f, 1.0f, 0.0f};
+  Vec3 normal{0.0f, 1.0f, 0.0f};  ///< Any non-zero length (the aggregate keeps it unit length).
   uint32_t material = 0;
 };
 

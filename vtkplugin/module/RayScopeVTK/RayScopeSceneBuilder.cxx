@@ -172,6 +172,63 @@ void SceneBuilder::SetFixedScene(const rayscope::Scene& scene) {
   this->GeometryInputs.clear();
 }
 
+bool accel_kind_of(int accel, rayscope::AccelKind& kind) {
+  switch (accel) {
+    case vtkRayScopeImageAlgorithm::ACCEL_BVH:
+      kind = rayscope::AccelKind::Bvh;
+      return true;
+    case vtkRayScopeImageAlgorithm::ACCEL_BINARY_BVH:
+      kind = rayscope::AccelKind::BinaryBvh;
+      return true;
+    case vtkRayScopeImageAlgorithm::ACCEL_NONE:
+      kind = rayscope::AccelKind::None;
+      return true;
+    case vtkRayScopeImageAlgorithm::ACCEL_KDTREE:
+      kind = rayscope::AccelKind::KdTree;
+      return true;
+    case vtkRayScopeImageAlgorithm::ACCEL_OCTREE:
+      kind = rayscope::AccelKind::Octree;
+      return true;
+    default:
+      return false;
+  }
+}
+
+int accel_of(rayscope::AccelKind kind) {
+  switch (kind) {
+    case rayscope::AccelKind::Bvh:
+      return vtkRayScopeImageAlgorithm::ACCEL_BVH;
+    case rayscope::AccelKind::BinaryBvh:
+      return vtkRayScopeImageAlgorithm::ACCEL_BINARY_BVH;
+    case rayscope::AccelKind::None:
+      return vtkRayScopeImageAlgorithm::ACCEL_NONE;
+    case rayscope::AccelKind::KdTree:
+      return vtkRayScopeImageAlgorithm::ACCEL_KDTREE;
+    case rayscope::AccelKind::Octree:
+      return vtkRayScopeImageAlgorithm::ACCEL_OCTREE;
+  }
+  return vtkRayScopeImageAlgorithm::ACCEL_BVH;
+}
+
+rayscope::PrimStorage storage_of(int storage) {
+  return storage == vtkRayScopeImageAlgorithm::STORAGE_SMALLEST_CELL
+             ? rayscope::PrimStorage::SmallestCell
+             : rayscope::PrimStorage::EveryCell;
+}
+
+int storage_value_of(rayscope::PrimStorage storage) {
+  return storage == rayscope::PrimStorage::SmallestCell
+             ? vtkRayScopeImageAlgorithm::STORAGE_SMALLEST_CELL
+             : vtkRayScopeImageAlgorithm::STORAGE_EVERY_CELL;
+}
+
+rayscope::AccelConfig accel_config_of(vtkRayScopeImageAlgorithm* alg) {
+  rayscope::AccelConfig accel;
+  if (!accel_kind_of(alg->GetAccel(), accel.kind)) accel.kind = rayscope::AccelKind::Bvh;
+  accel.storage = storage_of(alg->GetStorage());
+  return accel;
+}
+
 int SceneBuilder::Commit(vtkRayScopeImageAlgorithm* alg, const rayscope::AccelConfig& accel) {
   try {
     this->Scene.commit(accel);
@@ -185,9 +242,8 @@ int SceneBuilder::Commit(vtkRayScopeImageAlgorithm* alg, const rayscope::AccelCo
 
 int SceneBuilder::UpdateFixed(vtkRayScopeImageAlgorithm* alg) {
   rayscope::Scene& s = this->Scene;
-  rayscope::AccelConfig accel;
-  accel.kind = rayscope::AccelKind(alg->GetAccel());
-  if (s.accel().kind() != accel.kind) {
+  const rayscope::AccelConfig accel = accel_config_of(alg);
+  if (s.accel().kind() != accel.kind || s.accel().storage() != accel.storage) {
     this->HasScene = false;
     if (!this->Commit(alg, accel)) return 0;
   }
@@ -251,15 +307,10 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
   rayscope::Scene& s = this->Scene;
   if (regeometry) s.origin = origin;
   std::vector<rayscope::Light> core = core_lights(alg, lights, s);
-  static_assert(int(rayscope::AccelKind::Bvh) == vtkRayScopeImageAlgorithm::ACCEL_BVH &&
-                int(rayscope::AccelKind::BinaryBvh) ==
-                    vtkRayScopeImageAlgorithm::ACCEL_BINARY_BVH &&
-                int(rayscope::AccelKind::None) == vtkRayScopeImageAlgorithm::ACCEL_NONE &&
-                int(rayscope::AccelKind::KdTree) == vtkRayScopeImageAlgorithm::ACCEL_KDTREE);
-  rayscope::AccelConfig accel;
-  accel.kind = rayscope::AccelKind(alg->GetAccel());
+  const rayscope::AccelConfig accel = accel_config_of(alg);
   bool recommit = regeometry || materials.size() != s.materials.size() ||
-                  core.size() != s.lights.size() || s.accel().kind() != accel.kind;
+                  core.size() != s.lights.size() || s.accel().kind() != accel.kind ||
+                  s.accel().storage() != accel.storage;
   for (size_t i = 0; !recommit && i < materials.size(); ++i)
     recommit = materials[i].reflective() != s.materials[i].reflective() ||
                materials[i].refractive() != s.materials[i].refractive();

@@ -1,14 +1,15 @@
 /**
  * @class   vtkRayScopeBVHSource
  * @brief   The acceleration structure of a scene as vtkPolyData boxes: the
- *          bounding volume hierarchy, or the kD-tree's cells.
+ *          bounding volume hierarchy, the kD-tree's cells or the octree's nodes.
  *
  * It draws the structure the scene's rays walk (the scene source's Accel):
  * the binary BVH for ACCEL_BVH, ACCEL_BINARY_BVH and ACCEL_NONE (whose rays
- * walk nothing), the kD-tree's cells for ACCEL_KDTREE; node ids are the ones
- * its walk reports, so visit counts and played walks work for each. Field
- * data "Structure" names it ("bvh", "kdtree"). What follows says "node" for a
- * BVH node or a kD-tree cell.
+ * walk nothing), the kD-tree's cells for ACCEL_KDTREE, the octree's nodes
+ * (their loose boxes with smallest-cell storage) for ACCEL_OCTREE; node ids
+ * are the ones its walk reports, so visit counts and played walks work for
+ * each. Field data "Structure" names it ("bvh", "kdtree", "octree"). What
+ * follows says "node" for a BVH node or a cell.
  *
  * The scene's datasets come through input port 0 (one or more vtkDataSets),
  * as for vtkRayScopeRayTreeSource; SetSceneSource gives the camera and the

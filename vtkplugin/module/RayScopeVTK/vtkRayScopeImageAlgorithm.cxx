@@ -52,6 +52,7 @@ vtkRayScopeImageAlgorithm::vtkRayScopeImageAlgorithm()
       Seed(0),
       ComputeCost(1),
       Accel(ACCEL_BVH),
+      Storage(STORAGE_EVERY_CELL),
       Position{0.0, 0.0, 1.0},
       FocalPoint{0.0, 0.0, 0.0},
       ViewUp{0.0, 1.0, 0.0},
@@ -283,6 +284,12 @@ std::string vtkRayScopeImageAlgorithm::ValidateParameters() {
       if (!(std::isfinite(a) && a >= 0.0))
         return name + ": attenuation values must be finite and >= 0";
   }
+  rayscope::AccelKind kind;
+  if (!rayscope_vtk::accel_kind_of(this->Accel, kind))
+    return "Accel " + std::to_string(this->Accel) + " names no structure of this build";
+  if (std::string e = rayscope::accel_storage_error(kind, rayscope_vtk::storage_of(this->Storage));
+      !e.empty())
+    return e;
   if (std::string m = this->Internal->material->Validate(); !m.empty())
     return "default material: " + m;
   for (auto& [index, mat] : this->Internal->input_materials)
@@ -328,7 +335,8 @@ void vtkRayScopeImageAlgorithm::SetCoreScene(const rayscope::Scene& scene) {
   this->SetViewAngle(c.vfov_degrees);
   this->SetParallelProjection(c.parallel);
   this->SetParallelScale(c.parallel_scale);
-  this->SetAccel(int(scene.accel().kind()));
+  this->SetAccel(rayscope_vtk::accel_of(scene.accel().kind()));
+  this->SetStorage(rayscope_vtk::storage_value_of(scene.accel().storage()));
   this->Modified();
 }
 
@@ -514,7 +522,11 @@ void vtkRayScopeImageAlgorithm::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "Threads: " << this->Threads << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "ComputeCost: " << this->ComputeCost << "\n";
-  os << indent << "Accel: " << rayscope::to_string(rayscope::AccelKind(this->Accel)) << "\n";
+  rayscope::AccelKind kind;
+  os << indent << "Accel: "
+     << (rayscope_vtk::accel_kind_of(this->Accel, kind) ? rayscope::to_string(kind) : "?") << "\n";
+  os << indent << "Storage: " << rayscope::to_string(rayscope_vtk::storage_of(this->Storage))
+     << "\n";
   v3("Position", this->Position);
   v3("FocalPoint", this->FocalPoint);
   v3("ViewUp", this->ViewUp);

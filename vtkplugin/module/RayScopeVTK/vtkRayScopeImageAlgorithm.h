@@ -133,15 +133,38 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// so that ray trees, the "Cost" arrays and vtkRayScopeBVHSource's visit
   /// counts show every binary node a ray enters; ACCEL_NONE, every primitive
   /// tested against every ray; ACCEL_KDTREE, the SAH kD-tree (its walk names
-  /// kD-tree nodes, so vtkRayScopeBVHSource cannot count its visits). The
-  /// image is the same for all four.
-  enum AccelKinds { ACCEL_BVH = 0, ACCEL_BINARY_BVH = 1, ACCEL_NONE = 2, ACCEL_KDTREE = 3 };
-  vtkSetClampMacro(Accel, int, ACCEL_BVH, ACCEL_KDTREE);
+  /// kD-tree nodes, so vtkRayScopeBVHSource cannot count its visits);
+  /// ACCEL_OCTREE, the octree, stored as Storage says (its walk names octree
+  /// nodes: no BVH visit counts either). The image is the same for all. 4 is
+  /// kept for the uniform grid (not in this build: an error).
+  enum AccelKinds {
+    ACCEL_BVH = 0,
+    ACCEL_BINARY_BVH = 1,
+    ACCEL_NONE = 2,
+    ACCEL_KDTREE = 3,
+    ACCEL_OCTREE = 5
+  };
+  vtkSetClampMacro(Accel, int, ACCEL_BVH, ACCEL_OCTREE);
   vtkGetMacro(Accel, int);
   void SetAccelToBvh() { this->SetAccel(ACCEL_BVH); }
   void SetAccelToBinaryBvh() { this->SetAccel(ACCEL_BINARY_BVH); }
   void SetAccelToNone() { this->SetAccel(ACCEL_NONE); }
   void SetAccelToKdTree() { this->SetAccel(ACCEL_KDTREE); }
+  void SetAccelToOctree() { this->SetAccel(ACCEL_OCTREE); }
+  ///@}
+
+  ///@{
+  /// How a spatial subdivision stores a primitive that straddles its cuts
+  /// (rayscope::PrimStorage, docs/acceleration.md): STORAGE_EVERY_CELL, a
+  /// reference in every cell it overlaps (default; every Accel takes it);
+  /// STORAGE_SMALLEST_CELL, once, in its smallest loose cell (ACCEL_OCTREE
+  /// only). A pair the structure cannot build is an error, with the core's
+  /// message (rayscope::accel_storage_error, as the CLI's --storage).
+  enum StorageKinds { STORAGE_EVERY_CELL = 0, STORAGE_SMALLEST_CELL = 1 };
+  vtkSetClampMacro(Storage, int, STORAGE_EVERY_CELL, STORAGE_SMALLEST_CELL);
+  vtkGetMacro(Storage, int);
+  void SetStorageToEveryCell() { this->SetStorage(STORAGE_EVERY_CELL); }
+  void SetStorageToSmallestCell() { this->SetStorage(STORAGE_SMALLEST_CELL); }
   ///@}
 
   ///@{
@@ -388,6 +411,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   int Seed;
   vtkTypeBool ComputeCost;
   int Accel;
+  int Storage;
   double Position[3];
   double FocalPoint[3];
   double ViewUp[3];
