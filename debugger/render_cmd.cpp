@@ -55,6 +55,14 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
         "per primitive, %.1f per non-empty leaf, SAH cost %.2f, %.2f MiB, built in %.3f s\n",
         k.nodes, k.leaves, k.empty_leaves, k.depth, accel.kdtree().max_depth(), k.refs_per_prim,
         k.mean_leaf_refs, k.sah_cost, double(k.memory_bytes) / (1024.0 * 1024.0), k.build_seconds);
+  } else if (accel.walks_structure() && accel.kind() == AccelKind::Grid) {
+    const GridQuality g = accel.grid().quality();
+    std::printf(
+        "Walk:      grid: %u x %u x %u cells (%zu, %zu empty), %.2f references per primitive, "
+        "%.1f per non-empty cell (at most %u), %.2f MiB, built in %.3f s\n",
+        g.resolution.x, g.resolution.y, g.resolution.z, g.cells, g.empty_cells, g.refs_per_prim,
+        g.mean_cell_refs, g.max_cell_refs, double(g.memory_bytes) / (1024.0 * 1024.0),
+        g.build_seconds);
   } else if (accel.walks_structure()) {
     std::printf("Walk:      %s: %zu %d-wide nodes, depth %u%s\n", to_string(accel.kind()),
                 accel.walk().nodes.size(), accel.walk().arity(), accel.walk().depth(),
@@ -62,8 +70,9 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
   } else {
     std::printf("Walk:      none: every primitive is tested against every ray\n");
   }
-  std::printf("Memory:    %.2f MiB for the BVH, its walk or kD-tree and the primitive records\n",
-              double(accel.memory_bytes()) / (1024.0 * 1024.0));
+  std::printf(
+      "Memory:    %.2f MiB for the BVH, its walk, kD-tree or grid and the primitive records\n",
+      double(accel.memory_bytes()) / (1024.0 * 1024.0));
   std::printf("%-22s %14s\n", "Rays", "count");
   for (int k = 0; k < kRayKindCount; ++k)
     std::printf("  %-20s %14llu\n", to_string(RayKind(k)), (unsigned long long)c.rays[size_t(k)]);

@@ -104,16 +104,17 @@ void SceneOptions::add_to(CLI::App* cmd) {
                   "Structure the rays walk: bvh (the BVH in 4-wide nodes, what renders use; "
                   "default), bvh2 (the same BVH node by node, two boxes per node: the "
                   "lecture's walk, for teaching; same image), kdtree (the SAH kD-tree, every "
-                  "primitive stored in each cell it overlaps; same image), none (every "
-                  "primitive tested)")
+                  "primitive stored in each cell it overlaps; same image), grid (the uniform "
+                  "grid, cells chosen from the object count, every primitive stored in each "
+                  "cell it overlaps; same image), none (every primitive tested)")
       ->check(CLI::Validator(
           [](std::string& name) {
             AccelKind k;
             return parse_accel_kind(name, k)
                        ? std::string()
-                       : "expected bvh, bvh2, kdtree or none, got '" + name + "'";
+                       : "expected bvh, bvh2, kdtree, grid or none, got '" + name + "'";
           },
-          "bvh|bvh2|kdtree|none"));
+          "bvh|bvh2|kdtree|grid|none"));
 }
 
 void parse_pixel_option(const std::string& text, int xy[2]) {

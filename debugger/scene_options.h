@@ -30,7 +30,7 @@ struct SceneOptions {
   std::optional<float> min_contribution;
   int threads = 0;
   /// The structure rays walk (rayscope::parse_accel_kind names it): "bvh",
-  /// "bvh2" (the binary teaching walk), "kdtree" or "none".
+  /// "bvh2" (the binary teaching walk), "kdtree", "grid" or "none".
   std::string accel = to_string(AccelKind::Bvh);
 
   /// Adds the scene argument and the render-setting options to a subcommand.

@@ -15,12 +15,15 @@ const char* to_string(AccelKind kind) {
       return "none";
     case AccelKind::KdTree:
       return "kdtree";
+    case AccelKind::Grid:
+      return "grid";
   }
   return "?";
 }
 
 bool parse_accel_kind(std::string_view name, AccelKind& kind) {
-  for (AccelKind k : {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::None, AccelKind::KdTree})
+  for (AccelKind k :
+       {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::None, AccelKind::KdTree, AccelKind::Grid})
     if (name == to_string(k)) {
       kind = k;
       return true;
@@ -43,13 +46,17 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
               (!config.allow_brute_force || records_.size() > kBruteForceMax);
   walk_ = WideBvh{};
   kdtree_ = KdTree{};
-  if (config.kind == AccelKind::KdTree) {
+  grid_ = UniformGrid{};
+  if (config.kind == AccelKind::KdTree || config.kind == AccelKind::Grid) {
     // Over the records (leaf order), so that its references are record
     // indices.
     std::vector<Bounds3> leaf_order_bounds(records_.size());
     for (size_t i = 0; i < leaf_order_bounds.size(); ++i)
       leaf_order_bounds[i] = bounds[bvh_.prim_indices[i]];
-    kdtree_.build(leaf_order_bounds, config.kdtree);
+    if (config.kind == AccelKind::KdTree)
+      kdtree_.build(leaf_order_bounds, config.kdtree);
+    else
+      grid_.build(leaf_order_bounds, config.grid);
   } else if (config.kind != AccelKind::None) {
     walk_.build(bvh_, config.kind == AccelKind::BinaryBvh ? 2 : WideBvh::kMaxArity);
   }
@@ -57,8 +64,8 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
 
 size_t Aggregate::memory_bytes() const {
   return bvh_.nodes.size() * sizeof(BvhNode) + bvh_.prim_indices.size() * sizeof(uint32_t) +
-         walk_.memory_bytes() + kdtree_.memory_bytes() + records_.size() * sizeof(PrimRecord) +
-         planes_.size() * sizeof(PlaneRecord);
+         walk_.memory_bytes() + kdtree_.memory_bytes() + grid_.memory_bytes() +
+         records_.size() * sizeof(PrimRecord) + planes_.size() * sizeof(PlaneRecord);
 }
 
 }  // namespace rayscope

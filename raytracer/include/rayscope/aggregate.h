@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "rayscope/bvh.h"
+#include "rayscope/grid.h"
 #include "rayscope/intersect.h"
 #include "rayscope/kdtree.h"
 #include "rayscope/traversal.h"
@@ -38,8 +39,12 @@ enum class AccelKind : uint8_t {
   /// stored in each leaf cell it overlaps, walked front to back with
   /// mailboxing. Same hits as the BVH.
   KdTree,
+  /// The uniform grid (grid.h): equal cells, their number chosen from the
+  /// object count, every primitive stored in each cell it overlaps, walked
+  /// cell by cell (3D-DDA) with mailboxing. Same hits as the BVH.
+  Grid,
 };
-/// "bvh", "bvh2", "none", "kdtree".
+/// "bvh", "bvh2", "none", "kdtree", "grid".
 const char* to_string(AccelKind kind);
 /// Parses the names to_string() gives; false for anything else.
 bool parse_accel_kind(std::string_view name, AccelKind& kind);
@@ -49,6 +54,7 @@ struct AccelConfig {
   AccelKind kind = AccelKind::Bvh;
   BvhBuildConfig bvh;        ///< Settings of the SAH builder (bvh.h).
   KdTreeBuildConfig kdtree;  ///< Settings of the kD-tree builder (kdtree.h), for AccelKind::KdTree.
+  GridBuildConfig grid;      ///< Settings of the grid builder (grid.h), for AccelKind::Grid.
   /// Let scenes with at most Aggregate::kBruteForceMax bounded primitives skip
   /// the structure and test them all. Off only to measure what the skip saves.
   bool allow_brute_force = true;
@@ -116,14 +122,18 @@ class Aggregate {
   /// The binary hierarchy: built for every kind (the tools show it).
   const Bvh& bvh() const { return bvh_; }
   /// The walked collapse of bvh() (arity 4 for AccelKind::Bvh, 2 for BinaryBvh;
-  /// empty for None and KdTree).
+  /// empty for None, KdTree and Grid).
   const WideBvh& walk() const { return walk_; }
   /// The kD-tree, over records() (its references are record indices); empty
   /// unless the kind is AccelKind::KdTree.
   const KdTree& kdtree() const { return kdtree_; }
+  /// The uniform grid, over records() (its references are record indices);
+  /// empty unless the kind is AccelKind::Grid.
+  const UniformGrid& grid() const { return grid_; }
   const std::vector<PrimRecord>& records() const { return records_; }
   /// Every byte the aggregate holds: binary nodes, leaf order, wide nodes,
-  /// kD-tree nodes and references, primitive records and planes.
+  /// kD-tree nodes and references, grid cells and references, primitive
+  /// records and planes.
   size_t memory_bytes() const;
 
  private:
@@ -152,8 +162,9 @@ class Aggregate {
 
   /// Tests the primitives the ray can hit with `prim(record, tmax)`, which
   /// returns true on a hit (lowering tmax, or ending an any-hit query): the
-  /// BVH's leaves (contiguous record ranges), the kD-tree's leaves (reference
-  /// lists, each record once per ray), or all records without a structure.
+  /// BVH's leaves (contiguous record ranges), the kD-tree's leaves or the
+  /// grid's cells (reference lists, each record once per ray), or all records
+  /// without a structure.
   /// The lambdas are forced inline so that the BVH's leaf loop compiles as
   /// one loop, as when it was written as one.
   template <bool AnyHit, class Observer, class PrimFn>
@@ -169,6 +180,7 @@ class Aggregate {
     };
     if (!use_walk_) return range(0u, uint32_t(records_.size()), tmax);
     if (config_.kind == AccelKind::KdTree) return kdtree_.traverse<AnyHit>(ray, tmax, prim, obs);
+    if (config_.kind == AccelKind::Grid) return grid_.traverse<AnyHit>(ray, tmax, prim, obs);
     return walk_.traverse<AnyHit>(ray, tmax, range, obs);
   }
 
@@ -176,6 +188,7 @@ class Aggregate {
   Bvh bvh_;
   WideBvh walk_;
   KdTree kdtree_;
+  UniformGrid grid_;
   std::vector<PrimRecord> records_;  ///< Leaf order.
   std::vector<PlaneRecord> planes_;
   uint32_t num_triangles_ = 0;

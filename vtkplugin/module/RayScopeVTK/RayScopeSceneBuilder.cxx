@@ -255,7 +255,8 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
                 int(rayscope::AccelKind::BinaryBvh) ==
                     vtkRayScopeImageAlgorithm::ACCEL_BINARY_BVH &&
                 int(rayscope::AccelKind::None) == vtkRayScopeImageAlgorithm::ACCEL_NONE &&
-                int(rayscope::AccelKind::KdTree) == vtkRayScopeImageAlgorithm::ACCEL_KDTREE);
+                int(rayscope::AccelKind::KdTree) == vtkRayScopeImageAlgorithm::ACCEL_KDTREE &&
+                int(rayscope::AccelKind::Grid) == vtkRayScopeImageAlgorithm::ACCEL_GRID);
   rayscope::AccelConfig accel;
   accel.kind = rayscope::AccelKind(alg->GetAccel());
   bool recommit = regeometry || materials.size() != s.materials.size() ||

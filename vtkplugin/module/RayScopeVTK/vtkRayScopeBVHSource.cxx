@@ -133,6 +133,11 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
                      "(Accel ACCEL_KDTREE): use VisitModeToNone or a BVH walk");
     return 0;
   }
+  if (this->VisitMode != VISIT_NONE && scene.accel().kind() == rayscope::AccelKind::Grid) {
+    vtkErrorMacro(<< "visit counts name BVH nodes, but the scene's rays walk the uniform grid "
+                     "(Accel ACCEL_GRID): use VisitModeToNone or a BVH walk");
+    return 0;
+  }
   const rayscope::Bvh& bvh = scene.bvh();
   const std::vector<rayscope::BvhNode>& nodes = bvh.nodes;
   const size_t nn = nodes.size();

@@ -133,15 +133,23 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// so that ray trees, the "Cost" arrays and vtkRayScopeBVHSource's visit
   /// counts show every binary node a ray enters; ACCEL_NONE, every primitive
   /// tested against every ray; ACCEL_KDTREE, the SAH kD-tree (its walk names
-  /// kD-tree nodes, so vtkRayScopeBVHSource cannot count its visits). The
-  /// image is the same for all four.
-  enum AccelKinds { ACCEL_BVH = 0, ACCEL_BINARY_BVH = 1, ACCEL_NONE = 2, ACCEL_KDTREE = 3 };
-  vtkSetClampMacro(Accel, int, ACCEL_BVH, ACCEL_KDTREE);
+  /// kD-tree nodes, so vtkRayScopeBVHSource cannot count its visits);
+  /// ACCEL_GRID, the uniform grid (its walk names grid cells, likewise). The
+  /// image is the same for all five.
+  enum AccelKinds {
+    ACCEL_BVH = 0,
+    ACCEL_BINARY_BVH = 1,
+    ACCEL_NONE = 2,
+    ACCEL_KDTREE = 3,
+    ACCEL_GRID = 4
+  };
+  vtkSetClampMacro(Accel, int, ACCEL_BVH, ACCEL_GRID);
   vtkGetMacro(Accel, int);
   void SetAccelToBvh() { this->SetAccel(ACCEL_BVH); }
   void SetAccelToBinaryBvh() { this->SetAccel(ACCEL_BINARY_BVH); }
   void SetAccelToNone() { this->SetAccel(ACCEL_NONE); }
   void SetAccelToKdTree() { this->SetAccel(ACCEL_KDTREE); }
+  void SetAccelToGrid() { this->SetAccel(ACCEL_GRID); }
   ///@}
 
   ///@{
