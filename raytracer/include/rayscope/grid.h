@@ -252,6 +252,7 @@ bool UniformGrid::traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer&
     return false;
   };
   auto inside = [&](int a, int k) { return k >= 0 && k < int(res_[a]); };
+  const float* pl[3] = {planes[0].data(), planes[1].data(), planes[2].data()};
   if (enter(idx[0], idx[1], idx[2])) return true;
   for (;;) {
     // The axes by next crossing; the crossings tied with the first (each
@@ -262,8 +263,23 @@ bool UniformGrid::traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer&
     if (t_next[o1] < t_next[o0]) std::swap(o0, o1);
     const float tn = t_next[o0];
     if (!(tn < kInfinity)) return hit;  // the ray moves along no axis (or NaN)
+    if (!(step[o1] != 0 && t_next[o1] <= tn * kBoxFarScale)) {
+      // The common case, one plane crossed: the general steps below with
+      // tied = {o0}, written out.
+      const int a = o0;
+      idx[a] += step[a];
+      if (!inside(a, idx[a])) return hit;
+      if (!(tn <= tmax * kBoxFarScale)) {
+        if constexpr (Observer::kActive)
+          if (hit && tn <= t1) obs.on_cull(uint32_t(idx[0] + nx * (idx[1] + ny * idx[2])));
+        return hit;
+      }
+      t_next[a] = (pl[a][idx[a] + (step[a] > 0)] - ray.origin[a]) * inv_dir[a];
+      if (enter(idx[0], idx[1], idx[2])) return true;
+      continue;
+    }
     unsigned tied = 1u << o0;
-    if (step[o1] != 0 && t_next[o1] <= tn * kBoxFarScale) {
+    {
       tied |= 1u << o1;
       if (step[o2] != 0 && t_next[o2] <= t_next[o1] * kBoxFarScale) tied |= 1u << o2;
     }
@@ -300,7 +316,7 @@ bool UniformGrid::traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer&
     if (stop(idx)) return hit;
     for (int a = 0; a < 3; ++a)
       if (tied & (1u << a))
-        t_next[a] = (planes[a][size_t(idx[a] + (step[a] > 0))] - ray.origin[a]) * inv_dir[a];
+        t_next[a] = (pl[a][idx[a] + (step[a] > 0)] - ray.origin[a]) * inv_dir[a];
     if (enter(idx[0], idx[1], idx[2])) return true;
   }
 }
