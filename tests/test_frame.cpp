@@ -52,7 +52,8 @@ PixelCost walk_of(const PixelRecord& rec) {
 
 class FrameWalk : public ::testing::TestWithParam<AccelKind> {};
 INSTANTIATE_TEST_SUITE_P(Accel, FrameWalk,
-                         ::testing::Values(AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::KdTree),
+                         ::testing::Values(AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::KdTree,
+                                           AccelKind::Grid),
                          [](const auto& info) { return std::string(to_string(info.param)); });
 
 TEST_P(FrameWalk, StatisticsAndRecordingObserveThePlainWalk) {

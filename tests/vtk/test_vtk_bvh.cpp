@@ -268,6 +268,23 @@ TEST(VtkBVH, VisitCounts) {
   bvh->SetVisitModeToNone();
   EXPECT_EQ(update(bvh), 1);
   EXPECT_GT(bvh->GetOutput()->GetNumberOfCells(), 0);
+
+  // The uniform grid likewise: the same image; its walk names grid cells.
+  s.alg->SetAccelToGrid();
+  EXPECT_EQ(s.alg->GetAccel(), vtkRayScopeImageAlgorithm::ACCEL_GRID);
+  s.alg->Update();
+  vtkDataArray* grid_rgb = s.alg->GetOutput()->GetPointData()->GetScalars();
+  ASSERT_EQ(wide_rgb->GetNumberOfTuples(), grid_rgb->GetNumberOfTuples());
+  for (vtkIdType k = 0; k < wide_rgb->GetNumberOfTuples(); ++k)
+    for (int j = 0; j < wide_rgb->GetNumberOfComponents(); ++j)
+      ASSERT_EQ(wide_rgb->GetComponent(k, j), grid_rgb->GetComponent(k, j)) << "pixel " << k;
+  bvh->SetVisitModeToFrame();
+  EXPECT_EQ(update(bvh), 0);
+  EXPECT_NE(errors->last.find("uniform grid"), std::string::npos) << errors->last;
+  bvh->SetVisitModeToNone();
+  EXPECT_EQ(update(bvh), 1);
+  s.alg->SetAccel(99);  // clamped to the last kind
+  EXPECT_EQ(s.alg->GetAccel(), vtkRayScopeImageAlgorithm::ACCEL_GRID);
 }
 
 // The datasets through input port 0, without a scene source: the same boxes
