@@ -46,12 +46,6 @@ struct Row {
   bool same_image = true;
 };
 
-std::string known_kinds() {
-  std::string s;
-  for (AccelKind k : kAccelKinds) s += std::string(s.empty() ? "" : ", ") + to_string(k);
-  return s;
-}
-
 std::vector<AccelKind> parse_structures(const std::string& text) {
   std::vector<AccelKind> kinds;
   std::stringstream in(text);
@@ -60,7 +54,7 @@ std::vector<AccelKind> parse_structures(const std::string& text) {
     AccelKind k;
     if (!parse_accel_kind(name, k))
       throw std::invalid_argument("--structures: unknown structure '" + name +
-                                  "' (known: " + known_kinds() + ")");
+                                  "' (known: " + accel_kind_names(", ", ", ") + ")");
     if (std::find(kinds.begin(), kinds.end(), k) == kinds.end()) kinds.push_back(k);
   }
   if (kinds.empty())
@@ -212,7 +206,7 @@ void add_accel_command(CLI::App& app, int& exit_code) {
   char budget[32];
   std::snprintf(budget, sizeof budget, "%g", kCompareBruteForceBudget);
   cmd->add_option("--structures", opts->structures,
-                  "Comma-separated structures to compare (" + known_kinds() +
+                  "Comma-separated structures to compare (" + accel_kind_names(", ", ", ") +
                       "); default: all, brute force (none) only when its primary rays make at "
                       "most " +
                       budget + " primitive tests");

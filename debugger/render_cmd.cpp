@@ -68,6 +68,14 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
         k.nodes, k.leaves, k.empty_leaves, k.depth, accel.octree().max_depth(), k.refs_per_prim,
         k.inner_refs, k.mean_leaf_refs, k.max_leaf_refs, double(k.memory_bytes) / (1024.0 * 1024.0),
         k.build_seconds);
+  } else if (accel.walks_structure() && accel.kind() == AccelKind::Grid) {
+    const GridQuality g = accel.grid().quality();
+    std::printf(
+        "Walk:      grid: %u x %u x %u cells (%zu, %zu empty), %.2f references per primitive, "
+        "%.1f per non-empty cell (at most %u), %.2f MiB, built in %.3f s\n",
+        g.resolution.x, g.resolution.y, g.resolution.z, g.cells, g.empty_cells, g.refs_per_prim,
+        g.mean_cell_refs, g.max_cell_refs, double(g.memory_bytes) / (1024.0 * 1024.0),
+        g.build_seconds);
   } else if (accel.walks_structure()) {
     std::printf("Walk:      %s: %zu %d-wide nodes, depth %u%s\n", to_string(accel.kind()),
                 accel.walk().nodes.size(), accel.walk().arity(), accel.walk().depth(),
@@ -76,7 +84,8 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
     std::printf("Walk:      none: every primitive is tested against every ray\n");
   }
   std::printf(
-      "Memory:    %.2f MiB for the BVH, its walk, kD-tree or octree and the primitive records\n",
+      "Memory:    %.2f MiB for the BVH, its walk or the kD-tree, grid or octree, and the "
+      "primitive records\n",
       double(accel.memory_bytes()) / (1024.0 * 1024.0));
   std::printf("%-22s %14s\n", "Rays", "count");
   for (int k = 0; k < kRayKindCount; ++k)

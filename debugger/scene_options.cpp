@@ -64,6 +64,14 @@ void frame_mesh(Scene& s, const RenderSettings& rs) {
 
 }  // namespace
 
+std::string accel_kind_names(const char* sep, const char* last_sep) {
+  std::string s;
+  const size_t n = std::size(kAccelKinds);
+  for (size_t i = 0; i < n; ++i)
+    s += std::string(i == 0 ? "" : i + 1 == n ? last_sep : sep) + to_string(kAccelKinds[i]);
+  return s;
+}
+
 bool parse_ints(const std::string& s, int n, int* out) {
   size_t pos = 0;
   for (int i = 0; i < n; ++i) {
@@ -105,22 +113,24 @@ void SceneOptions::add_to(CLI::App* cmd, bool walk_option) {
                   "Structure the rays walk: bvh (the BVH in 4-wide nodes, what renders use; "
                   "default), bvh2 (the same BVH node by node, two boxes per node: the "
                   "lecture's walk, for teaching; same image), kdtree (the SAH kD-tree, every "
-                  "primitive stored in each cell it overlaps; same image), octree (cubes cut "
-                  "into 8 octants, see --storage; same image), none (every primitive tested)")
+                  "primitive stored in each cell it overlaps; same image), grid (the uniform "
+                  "grid, cells chosen from the object count, every primitive stored in each "
+                  "cell it overlaps; same image), octree (cubes cut into 8 octants, see "
+                  "--storage; same image), none (every primitive tested)")
       ->check(CLI::Validator(
           [](std::string& name) {
             AccelKind k;
             return parse_accel_kind(name, k)
                        ? std::string()
-                       : "expected bvh, bvh2, kdtree, octree or none, got '" + name + "'";
+                       : "expected " + accel_kind_names(", ", " or ") + ", got '" + name + "'";
           },
-          "bvh|bvh2|kdtree|octree|none"));
+          accel_kind_names("|", "|")));
   cmd->add_option("--storage", storage,
                   "How a spatial subdivision stores a primitive that straddles its cuts: "
                   "every-cell (a reference in every cell it overlaps, tested once per ray; "
-                  "default; kdtree and octree), smallest-cell (the loose octree: cells enlarged "
-                  "by 10% on each side, each primitive once, in the deepest cell that holds it; "
-                  "octree), split (the BSP tree's; not available yet)")
+                  "default; kdtree, grid and octree), smallest-cell (the loose octree: cells "
+                  "enlarged by 10% on each side, each primitive once, in the deepest cell that "
+                  "holds it; octree), split (the BSP tree's; not available yet)")
       ->check(CLI::Validator(
           [](std::string& name) {
             PrimStorage s;

@@ -11,6 +11,10 @@
 
 namespace rayscope::cli {
 
+/// The structures' names (rayscope::kAccelKinds, as --accel takes them)
+/// joined by `sep`, the last two by `last_sep`: "bvh, bvh2, ... or none".
+std::string accel_kind_names(const char* sep, const char* last_sep);
+
 /// Parses n comma-separated integers ("X,Y" or "X,Y,W,H") into out; false when
 /// the text is not exactly that.
 bool parse_ints(const std::string& s, int n, int* out);
@@ -30,7 +34,7 @@ struct SceneOptions {
   std::optional<float> min_contribution;
   int threads = 0;
   /// The structure rays walk (rayscope::parse_accel_kind names it): "bvh",
-  /// "bvh2" (the binary teaching walk), "kdtree", "octree" or "none".
+  /// "bvh2" (the binary teaching walk), "kdtree", "grid", "octree" or "none".
   std::string accel = to_string(AccelKind::Bvh);
   /// How a spatial subdivision stores a straddling primitive
   /// (rayscope::parse_prim_storage names it): "every-cell" (default),

@@ -104,8 +104,7 @@ TEST(Aggregate, EveryStructureGivesTheSameHitsBitForBit) {
   std::vector<Ray> rays;
   for (int i = 0; i < 5000; ++i) rays.push_back(random_ray(rng, scene.bvh().bounds(), boxes));
   std::vector<std::vector<PrimHit>> per_kind;
-  for (AccelKind kind : {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::None, AccelKind::KdTree,
-                         AccelKind::Octree}) {
+  for (AccelKind kind : kAccelKinds) {
     AccelConfig cfg;
     cfg.kind = kind;
     scene.commit(cfg);
@@ -184,8 +183,7 @@ TEST_P(AggregateKind, ObserverSeesTheChosenWalk) {
 }
 
 TEST(Aggregate, KindNamesRoundTrip) {
-  for (AccelKind k : {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::None, AccelKind::KdTree,
-                      AccelKind::Octree}) {
+  for (AccelKind k : kAccelKinds) {
     AccelKind parsed = AccelKind::None;
     ASSERT_TRUE(parse_accel_kind(to_string(k), parsed));
     EXPECT_EQ(parsed, k);

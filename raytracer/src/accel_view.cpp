@@ -8,11 +8,12 @@ namespace rayscope {
 
 namespace {
 
-// Levels and depth from the parents (a parent's id is always below its
-// children's in every structure's flattened order).
+// Levels and depth from the parents (counted up to the root: the grid's box
+// has the last id, so a parent may come after its children).
 void finish_levels(AccelView& v) {
   for (AccelViewNode& n : v.nodes) {
-    n.level = n.parent < 0 ? 0 : v.nodes[size_t(n.parent)].level + 1;
+    n.level = 0;
+    for (int32_t p = n.parent; p >= 0; p = v.nodes[size_t(p)].parent) ++n.level;
     v.depth = std::max(v.depth, n.level + 1);
   }
 }
@@ -94,12 +95,42 @@ AccelView octree_view(const Aggregate& a) {
   return v;
 }
 
+AccelView grid_view(const Aggregate& a) {
+  AccelView v;
+  const UniformGrid& grid = a.grid();
+  v.structure = "grid";
+  const uint32_t ncells = uint32_t(grid.cells());
+  if (ncells == 0) return v;
+  // Cells x + nx (y + ny z), then the grid's box (box_id() = ncells): the ids
+  // the walk reports.
+  v.nodes.resize(size_t(ncells) + 1);
+  const glm::uvec3 res = grid.resolution();
+  for (uint32_t z = 0; z < res.z; ++z)
+    for (uint32_t y = 0; y < res.y; ++y)
+      for (uint32_t x = 0; x < res.x; ++x) {
+        const uint32_t id = grid.cell_id(x, y, z);
+        AccelViewNode& o = v.nodes[id];
+        o.box = grid.cell_box(x, y, z);
+        o.parent = int32_t(grid.box_id());
+        o.leaf = true;
+        o.first = grid.offsets[id];
+        o.count = grid.offsets[id + 1] - grid.offsets[id];
+      }
+  v.nodes[grid.box_id()].box = grid.bounds();
+  v.refs.reserve(grid.refs.size());
+  for (uint32_t r : grid.refs) v.refs.push_back(a.records()[r].id);
+  finish_levels(v);
+  return v;
+}
+
 }  // namespace
 
 AccelView make_accel_view(const Aggregate& accel) {
   switch (accel.kind()) {
     case AccelKind::KdTree:
       return kdtree_view(accel);
+    case AccelKind::Grid:
+      return grid_view(accel);
     case AccelKind::Octree:
       return octree_view(accel);
     case AccelKind::Bvh:

@@ -17,6 +17,8 @@ const char* to_string(AccelKind kind) {
       return "none";
     case AccelKind::KdTree:
       return "kdtree";
+    case AccelKind::Grid:
+      return "grid";
     case AccelKind::Octree:
       return "octree";
   }
@@ -45,6 +47,8 @@ std::string accel_storage_error(AccelKind kind, PrimStorage storage) {
              "structure holds each primitive once";
     case AccelKind::KdTree:
       return what + "the kD-tree stores a primitive in every cell it overlaps (every-cell)";
+    case AccelKind::Grid:
+      return what + "the uniform grid stores a primitive in every cell it overlaps (every-cell)";
     case AccelKind::Octree:
       if (storage == PrimStorage::SmallestCell) return {};
       return what +
@@ -74,7 +78,9 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
   walk_ = WideBvh{};
   kdtree_ = KdTree{};
   octree_ = Octree{};
-  if (config.kind == AccelKind::KdTree || config.kind == AccelKind::Octree) {
+  grid_ = UniformGrid{};
+  if (config.kind == AccelKind::KdTree || config.kind == AccelKind::Grid ||
+      config.kind == AccelKind::Octree) {
     // Over the records (leaf order), so that its references are record
     // indices.
     std::vector<Bounds3> leaf_order_bounds(records_.size());
@@ -83,6 +89,9 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
     if (config.kind == AccelKind::KdTree) {
       kdtree_.build(leaf_order_bounds, config.kdtree);
       build_seconds_ = kdtree_.quality().build_seconds;
+    } else if (config.kind == AccelKind::Grid) {
+      grid_.build(leaf_order_bounds, config.grid);
+      build_seconds_ = grid_.quality().build_seconds;
     } else {
       OctreeBuildConfig octree = config.octree;
       octree.storage = config.storage;
@@ -132,6 +141,15 @@ AccelFigures Aggregate::figures() const {
       f.refs_per_prim = double(q.references) / prims;
       break;
     }
+    case AccelKind::Grid: {
+      const GridQuality q = grid_.quality();
+      f.memory_bytes = grid_.memory_bytes() + records;
+      f.nodes = q.cells;
+      f.leaves = q.cells - q.empty_cells;
+      f.depth = 1;
+      f.refs_per_prim = double(q.references) / prims;
+      break;
+    }
     case AccelKind::None:
       f.memory_bytes = records;
       f.refs_per_prim = records_.empty() ? 0.0 : 1.0;
@@ -142,8 +160,9 @@ AccelFigures Aggregate::figures() const {
 
 size_t Aggregate::memory_bytes() const {
   return bvh_.nodes.size() * sizeof(BvhNode) + bvh_.prim_indices.size() * sizeof(uint32_t) +
-         walk_.memory_bytes() + kdtree_.memory_bytes() + octree_.memory_bytes() +
-         records_.size() * sizeof(PrimRecord) + planes_.size() * sizeof(PlaneRecord);
+         walk_.memory_bytes() + kdtree_.memory_bytes() + grid_.memory_bytes() +
+         octree_.memory_bytes() + records_.size() * sizeof(PrimRecord) +
+         planes_.size() * sizeof(PlaneRecord);
 }
 
 }  // namespace rayscope

@@ -125,6 +125,10 @@ std::string walk_legend(const Scene& s) {
           ? "the kD-tree (--accel kdtree); nodes are named by their kD-tree ids, a node's two "
             "child boxes are the cells its split plane lets the ray reach, and a primitive "
             "stored in several cells is tested once"
+      : a.kind() == AccelKind::Grid
+          ? "the uniform grid (--accel grid); nodes are cells, named by their index x + nx * (y "
+            "+ ny * z), entered front to back; the one box tested is the grid's (id = the number "
+            "of cells), and a primitive stored in several cells is tested once"
       : a.kind() == AccelKind::Octree
           ? (a.octree().loose()
                  ? "the loose octree (--accel octree --storage smallest-cell); nodes are named "

@@ -319,6 +319,32 @@ TEST(VtkBVH, VisitCounts) {
     const double origin_x = s.alg->GetCoreScene()->origin.x;  // world = scene + origin
     EXPECT_NEAR(lo[0] - origin_x, root.lo.x, 1e-5 * (1.0 + std::abs(root.lo.x)));
   }
+
+  // The uniform grid likewise: the same image; the source draws the grid's
+  // box (level 0) and its cells (level 1), and the frame's visits are the
+  // image's Cost of the grid walk.
+  s.alg->SetAccelToGrid();
+  s.alg->SetStorageToEveryCell();
+  EXPECT_EQ(s.alg->GetAccel(), vtkRayScopeImageAlgorithm::ACCEL_GRID);
+  s.alg->Update();
+  vtkDataArray* grid_rgb = s.alg->GetOutput()->GetPointData()->GetScalars();
+  ASSERT_EQ(wide_rgb->GetNumberOfTuples(), grid_rgb->GetNumberOfTuples());
+  for (vtkIdType k = 0; k < wide_rgb->GetNumberOfTuples(); ++k)
+    for (int j = 0; j < wide_rgb->GetNumberOfComponents(); ++j)
+      ASSERT_EQ(wide_rgb->GetComponent(k, j), grid_rgb->GetComponent(k, j)) << "pixel " << k;
+  double grid_cost = 0.0;
+  c = s.alg->GetOutput()->GetPointData()->GetArray("Cost");
+  for (vtkIdType k = 0; k < c->GetNumberOfTuples(); ++k) grid_cost += c->GetTuple1(k);
+  ASSERT_EQ(update(bvh), 1);
+  EXPECT_GT(grid_cost, 0.0);
+  EXPECT_EQ(visits(), grid_cost);
+  vtkPolyData* g = bvh->GetOutput();
+  EXPECT_EQ(g->GetFieldData()->GetAbstractArray("Structure")->GetVariantValue(0).ToString(),
+            "grid");
+  EXPECT_EQ(g->GetNumberOfCells(),
+            vtkIdType(12 * (s.alg->GetCoreScene()->accel().grid().cells() + 1)));
+  s.alg->SetAccel(99);  // clamped to the last kind
+  EXPECT_EQ(s.alg->GetAccel(), vtkRayScopeImageAlgorithm::ACCEL_OCTREE);
 }
 
 // The datasets through input port 0, without a scene source: the same boxes

@@ -275,7 +275,11 @@ TEST(VtkImage, RejectsBadParameters) {
        }},
       {"storage smallest-cell is not available for bvh",
        [](auto* a) { a->SetStorageToSmallestCell(); }},
-      {"Accel 4 names no structure", [](auto* a) { a->SetAccel(4); }},
+      {"storage smallest-cell is not available for grid",
+       [](auto* a) {
+         a->SetAccelToGrid();
+         a->SetStorageToSmallestCell();
+       }},
   };
   for (const Case& c : cases) {
     vtkNew<vtkRayScopeImageAlgorithm> alg;

@@ -27,7 +27,8 @@ struct AccelViewNode {
 
 struct AccelView {
   /// The structure shown: "bvh" (the binary BVH, also for bvh2 and for none,
-  /// whose rays walk nothing), "kdtree" or "octree".
+  /// whose rays walk nothing), "kdtree", "grid" (the cells, then the grid's
+  /// box as the root with the last id) or "octree".
   const char* structure = "bvh";
   /// nodes[id]: ids are the ones the walk reports (dense, 0 .. size - 1).
   std::vector<AccelViewNode> nodes;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "rayscope/bvh.h"
+#include "rayscope/grid.h"
 #include "rayscope/intersect.h"
 #include "rayscope/kdtree.h"
 #include "rayscope/octree.h"
@@ -41,15 +42,20 @@ enum class AccelKind : uint8_t {
   /// stored in each leaf cell it overlaps, walked front to back with
   /// mailboxing. Same hits as the BVH.
   KdTree,
+  /// The uniform grid (grid.h): equal cells, their number chosen from the
+  /// object count, every primitive stored in each cell it overlaps, walked
+  /// cell by cell (3D-DDA) with mailboxing. Same hits as the BVH.
+  Grid,
   /// The octree (octree.h): a cube cut into 8 octants, recursively; a
   /// primitive stored in every leaf cell it overlaps (PrimStorage::EveryCell)
   /// or once, in its smallest loose cell (SmallestCell). Same hits as the BVH.
   Octree,
 };
 /// Every kind, in the order the tools list them.
-inline constexpr AccelKind kAccelKinds[] = {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::KdTree,
+inline constexpr AccelKind kAccelKinds[] = {AccelKind::Bvh,    AccelKind::BinaryBvh,
+                                            AccelKind::KdTree, AccelKind::Grid,
                                             AccelKind::Octree, AccelKind::None};
-/// "bvh", "bvh2", "none", "kdtree", "octree".
+/// "bvh", "bvh2", "none", "kdtree", "grid", "octree".
 const char* to_string(AccelKind kind);
 /// Parses the names to_string() gives; false for anything else.
 bool parse_accel_kind(std::string_view name, AccelKind& kind);
@@ -59,6 +65,7 @@ struct AccelConfig {
   AccelKind kind = AccelKind::Bvh;
   BvhBuildConfig bvh;        ///< Settings of the SAH builder (bvh.h).
   KdTreeBuildConfig kdtree;  ///< Settings of the kD-tree builder (kdtree.h), for AccelKind::KdTree.
+  GridBuildConfig grid;      ///< Settings of the grid builder (grid.h), for AccelKind::Grid.
   /// Settings of the octree builder (octree.h), for AccelKind::Octree; its
   /// `storage` is replaced by the one below.
   OctreeBuildConfig octree;
@@ -158,7 +165,7 @@ class Aggregate {
   /// The binary hierarchy: built for every kind (the tools show it).
   const Bvh& bvh() const { return bvh_; }
   /// The walked collapse of bvh() (arity 4 for AccelKind::Bvh, 2 for BinaryBvh;
-  /// empty for None, KdTree and Octree).
+  /// empty for None, KdTree, Grid and Octree).
   const WideBvh& walk() const { return walk_; }
   /// The storage choice the structure was built with (AccelConfig::storage).
   PrimStorage storage() const { return config_.storage; }
@@ -168,11 +175,15 @@ class Aggregate {
   /// The octree, over records() like the kD-tree; empty unless the kind is
   /// AccelKind::Octree.
   const Octree& octree() const { return octree_; }
+  /// The uniform grid, over records() (its references are record indices);
+  /// empty unless the kind is AccelKind::Grid.
+  const UniformGrid& grid() const { return grid_; }
   const std::vector<PrimRecord>& records() const { return records_; }
   /// The unbounded planes, with unit normals, in the scene's order.
   const std::vector<PlaneRecord>& plane_records() const { return planes_; }
   /// Every byte the aggregate holds: binary nodes, leaf order, wide nodes,
-  /// kD-tree or octree nodes and references, primitive records and planes.
+  /// kD-tree, grid or octree nodes or cells and references, primitive records
+  /// and planes.
   size_t memory_bytes() const;
   /// Figures of the structure the rays walk (the kind asked for, also for a
   /// tiny scene that skips it).
@@ -204,9 +215,9 @@ class Aggregate {
 
   /// Tests the primitives the ray can hit with `prim(record, tmax)`, which
   /// returns true on a hit (lowering tmax, or ending an any-hit query): the
-  /// BVH's leaves (contiguous record ranges), the kD-tree's or octree's nodes
-  /// (reference lists, each record once per ray), or all records without a
-  /// structure.
+  /// BVH's leaves (contiguous record ranges), the kD-tree's, grid's or
+  /// octree's cells (reference lists, each record once per ray), or all records
+  /// without a structure.
   /// The lambdas are forced inline so that the BVH's leaf loop compiles as
   /// one loop, as when it was written as one.
   template <bool AnyHit, class Observer, class PrimFn>
@@ -223,6 +234,7 @@ class Aggregate {
     if (!use_walk_) return range(0u, uint32_t(records_.size()), tmax);
     if (config_.kind == AccelKind::KdTree) return kdtree_.traverse<AnyHit>(ray, tmax, prim, obs);
     if (config_.kind == AccelKind::Octree) return octree_.traverse<AnyHit>(ray, tmax, prim, obs);
+    if (config_.kind == AccelKind::Grid) return grid_.traverse<AnyHit>(ray, tmax, prim, obs);
     return walk_.traverse<AnyHit>(ray, tmax, range, obs);
   }
 
@@ -231,6 +243,7 @@ class Aggregate {
   WideBvh walk_;
   KdTree kdtree_;
   Octree octree_;
+  UniformGrid grid_;
   std::vector<PrimRecord> records_;  ///< Leaf order.
   std::vector<PlaneRecord> planes_;
   uint32_t num_triangles_ = 0;

@@ -186,6 +186,9 @@ bool accel_kind_of(int accel, rayscope::AccelKind& kind) {
     case vtkRayScopeImageAlgorithm::ACCEL_KDTREE:
       kind = rayscope::AccelKind::KdTree;
       return true;
+    case vtkRayScopeImageAlgorithm::ACCEL_GRID:
+      kind = rayscope::AccelKind::Grid;
+      return true;
     case vtkRayScopeImageAlgorithm::ACCEL_OCTREE:
       kind = rayscope::AccelKind::Octree;
       return true;
@@ -204,6 +207,8 @@ int accel_of(rayscope::AccelKind kind) {
       return vtkRayScopeImageAlgorithm::ACCEL_NONE;
     case rayscope::AccelKind::KdTree:
       return vtkRayScopeImageAlgorithm::ACCEL_KDTREE;
+    case rayscope::AccelKind::Grid:
+      return vtkRayScopeImageAlgorithm::ACCEL_GRID;
     case rayscope::AccelKind::Octree:
       return vtkRayScopeImageAlgorithm::ACCEL_OCTREE;
   }

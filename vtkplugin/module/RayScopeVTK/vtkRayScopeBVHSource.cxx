@@ -195,14 +195,21 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
     }
   }
 
-  // Primitives in each subtree (children have higher ids than their parent:
-  // summed backwards) and each node's SAH term.
-  std::vector<uint32_t> subtree(nn, 0u);
-  for (size_t i = nn; i-- > 0;) {
+  // Primitives in each subtree (deepest levels first, each added to its
+  // parent) and each node's SAH term, relative to the root's area (the root
+  // is the node without a parent: the grid's box has the last id).
+  std::vector<uint32_t> subtree(nn, 0u), deepest_first(nn);
+  for (uint32_t i = 0; i < uint32_t(nn); ++i) deepest_first[i] = i;
+  std::stable_sort(deepest_first.begin(), deepest_first.end(),
+                   [&](uint32_t a, uint32_t b) { return nodes[a].level > nodes[b].level; });
+  double root_area = 1.0;
+  for (uint32_t i : deepest_first) {
     subtree[i] += nodes[i].count;
-    if (nodes[i].parent >= 0) subtree[size_t(nodes[i].parent)] += subtree[i];
+    if (nodes[i].parent >= 0)
+      subtree[size_t(nodes[i].parent)] += subtree[i];
+    else
+      root_area = std::max(1e-30, double(nodes[i].box.half_area()));
   }
-  const double root_area = nn ? std::max(1e-30, double(nodes[0].box.half_area())) : 1.0;
   double sah_total = 0.0;
   std::vector<double> sah(nn, 0.0);
   for (size_t i = 0; i < nn; ++i) {

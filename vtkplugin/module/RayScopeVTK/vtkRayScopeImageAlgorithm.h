@@ -132,16 +132,16 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// ACCEL_BINARY_BVH, the same BVH node by node, the lecture's binary walk,
   /// so that ray trees, the "Cost" arrays and vtkRayScopeBVHSource's visit
   /// counts show every binary node a ray enters; ACCEL_NONE, every primitive
-  /// tested against every ray; ACCEL_KDTREE, the SAH kD-tree (its walk names
-  /// kD-tree nodes, so vtkRayScopeBVHSource cannot count its visits);
-  /// ACCEL_OCTREE, the octree, stored as Storage says (its walk names octree
-  /// nodes: no BVH visit counts either). The image is the same for all. 4 is
-  /// kept for the uniform grid (not in this build: an error).
+  /// tested against every ray; ACCEL_KDTREE, the SAH kD-tree; ACCEL_GRID, the
+  /// uniform grid; ACCEL_OCTREE, the octree, stored as Storage says. Each walk
+  /// names its own nodes or cells, and vtkRayScopeBVHSource draws the
+  /// structure walked. The image is the same for all.
   enum AccelKinds {
     ACCEL_BVH = 0,
     ACCEL_BINARY_BVH = 1,
     ACCEL_NONE = 2,
     ACCEL_KDTREE = 3,
+    ACCEL_GRID = 4,
     ACCEL_OCTREE = 5
   };
   vtkSetClampMacro(Accel, int, ACCEL_BVH, ACCEL_OCTREE);
@@ -150,6 +150,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   void SetAccelToBinaryBvh() { this->SetAccel(ACCEL_BINARY_BVH); }
   void SetAccelToNone() { this->SetAccel(ACCEL_NONE); }
   void SetAccelToKdTree() { this->SetAccel(ACCEL_KDTREE); }
+  void SetAccelToGrid() { this->SetAccel(ACCEL_GRID); }
   void SetAccelToOctree() { this->SetAccel(ACCEL_OCTREE); }
   ///@}
 

@@ -1,0 +1,204 @@
+// Uniform grid builder: the resolution from the object count (or given), the
+// cell planes, then two passes over the primitives' cell ranges: count the
+// references per cell, then fill them in (CSR). A primitive goes to every
+// cell whose closed box its closed bounds overlap, so one touching a plane is
+// stored on both sides (grid.h's walk relies on it for rays lying in a plane).
+#include "rayscope/grid.h"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace rayscope {
+namespace {
+
+/// The automatic resolution (see GridBuildConfig::density), with `scale`
+/// times the rule's cells per unit length on the automatic axes.
+glm::uvec3 auto_resolution(const Bounds3& box, size_t n, const GridBuildConfig& cfg, double scale) {
+  glm::uvec3 res(1u);
+  double target = std::max(1.0, double(cfg.density) * double(n));  // cells in all
+  bool active[3];
+  for (int a = 0; a < 3; ++a) {
+    if (cfg.resolution[a] != 0) {
+      res[a] = cfg.resolution[a];
+      target /= double(cfg.resolution[a]);
+      active[a] = false;
+    } else {
+      active[a] = double(box.hi[a]) > double(box.lo[a]);
+    }
+  }
+  // Cells per unit length s over the k automatic non-flat axes: their
+  // extents' product times s^k is the target. An axis that would get less
+  // than one cell gets one, and s is found again without it.
+  double s = 0.0;
+  for (int round = 0; round < 3; ++round) {
+    double product = 1.0;
+    int k = 0;
+    for (int a = 0; a < 3; ++a)
+      if (active[a]) {
+        product *= double(box.hi[a]) - double(box.lo[a]);
+        ++k;
+      }
+    if (k == 0) break;
+    s = std::pow(std::max(target, 1.0) / product, 1.0 / k);
+    bool dropped = false;
+    for (int a = 0; a < 3; ++a)
+      if (active[a] && (double(box.hi[a]) - double(box.lo[a])) * s < 1.0) {
+        active[a] = false;
+        dropped = true;
+      }
+    if (!dropped) break;
+  }
+  for (int a = 0; a < 3; ++a)
+    if (active[a]) {
+      const double cells = std::round((double(box.hi[a]) - double(box.lo[a])) * s * scale);
+      res[a] = uint32_t(std::clamp(cells, 1.0, double(UniformGrid::kMaxResolution)));
+    }
+  return res;
+}
+
+size_t cell_count(const glm::uvec3& r) {
+  return size_t(r.x) * size_t(r.y) * size_t(r.z);
+}
+
+std::string text(const glm::uvec3& r) {
+  return std::to_string(r.x) + " x " + std::to_string(r.y) + " x " + std::to_string(r.z);
+}
+
+}  // namespace
+
+bool UniformGrid::cell_range(const Bounds3& b, glm::uvec3& first, glm::uvec3& last) const {
+  if (offsets.empty()) return false;
+  for (int a = 0; a < 3; ++a) {
+    if (!(b.lo[a] <= bounds_.hi[a] && b.hi[a] >= bounds_.lo[a])) return false;
+    const std::vector<float>& pl = planes[a];
+    const uint32_t n = res_[a];
+    // First cell whose upper plane reaches b.lo, last whose lower plane is at
+    // or below b.hi (closed boxes: a plane touched counts on both sides).
+    first[a] = uint32_t(std::lower_bound(pl.begin() + 1, pl.end(), b.lo[a]) - (pl.begin() + 1));
+    last[a] = uint32_t(std::upper_bound(pl.begin(), pl.begin() + n, b.hi[a]) - pl.begin());
+    first[a] = std::min(first[a], n - 1);
+    last[a] = last[a] > 0 ? last[a] - 1 : 0;
+  }
+  return true;
+}
+
+void UniformGrid::build(std::span<const Bounds3> bounds, const GridBuildConfig& cfg) {
+  const auto start = std::chrono::steady_clock::now();
+  config = cfg;
+  offsets.clear();
+  refs.clear();
+  for (std::vector<float>& pl : planes) pl.clear();
+  bounds_ = Bounds3();
+  res_ = glm::uvec3(0u);
+  inv_width_ = Vec3(0.0f);
+  num_prims_ = uint32_t(bounds.size());
+  const size_t n = bounds.size();
+  for (int a = 0; a < 3; ++a)
+    if (cfg.resolution[a] > kMaxResolution)
+      throw std::length_error("UniformGrid::build: resolution " + text(cfg.resolution) +
+                              " exceeds kMaxResolution (" + std::to_string(kMaxResolution) +
+                              " cells per axis)");
+  if (n == 0) {
+    build_seconds_ =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return;
+  }
+  if (n > kMaxReferences) throw std::length_error("UniformGrid::build: too many primitives");
+  for (size_t i = 0; i < n; ++i) {
+    const Bounds3& b = bounds[i];
+    if (!all_finite(b.lo) || !all_finite(b.hi) || b.empty())
+      throw std::invalid_argument("UniformGrid::build: primitive " + std::to_string(i) +
+                                  " has non-finite or inverted bounds");
+    bounds_.extend(b);
+  }
+
+  // The resolution; planes and cell ranges for it; the references it stores.
+  std::vector<glm::uvec3> first(n), last(n);
+  auto layout = [&](const glm::uvec3& res) {
+    res_ = res;
+    for (int a = 0; a < 3; ++a) {
+      const double lo = bounds_.lo[a], hi = bounds_.hi[a];
+      std::vector<float>& pl = planes[a];
+      pl.resize(res[a] + 1);
+      for (uint32_t k = 0; k <= res[a]; ++k)
+        pl[k] = std::min(float(lo + (hi - lo) * double(k) / double(res[a])), bounds_.hi[a]);
+      pl[0] = bounds_.lo[a];
+      pl[res[a]] = bounds_.hi[a];
+      inv_width_[a] = hi > lo ? float(double(res[a]) / (hi - lo)) : 0.0f;
+    }
+    offsets.assign(1, 0u);  // non-empty: cell_range() works
+    size_t total = 0;
+    for (size_t i = 0; i < n; ++i) {
+      cell_range(bounds[i], first[i], last[i]);
+      total += cell_count(last[i] - first[i] + 1u);
+    }
+    return total;
+  };
+  glm::uvec3 res = auto_resolution(bounds_, n, cfg, 1.0);
+  const bool automatic = cfg.resolution.x == 0 || cfg.resolution.y == 0 || cfg.resolution.z == 0;
+  if (!automatic && cell_count(res) > kMaxCells)
+    throw std::length_error("UniformGrid::build: " + text(res) + " cells exceed kMaxCells (" +
+                            std::to_string(kMaxCells) + ")");
+  // An automatic resolution is coarsened (cells per length times 0.8 at a
+  // time) until the cells and references fit their budgets.
+  const size_t auto_budget = std::min(kMaxReferences, kMaxAutoReferencesPerPrim * n);
+  double scale = 1.0;
+  while (automatic && cell_count(res) > kMaxCells)
+    res = auto_resolution(bounds_, n, cfg, scale *= 0.8);
+  size_t total = layout(res);
+  while (automatic && total > auto_budget) {
+    const glm::uvec3 coarser = auto_resolution(bounds_, n, cfg, scale *= 0.8);
+    if (coarser == res) {
+      if (coarser == glm::uvec3(1u) || scale < 1e-6) break;
+      continue;
+    }
+    res = coarser;
+    total = layout(res);
+  }
+  if (total > kMaxReferences) {
+    offsets.clear();
+    throw std::length_error("UniformGrid::build: " + text(res) + " cells would store " +
+                            std::to_string(total) + " references, more than kMaxReferences (" +
+                            std::to_string(kMaxReferences) + ")");
+  }
+
+  // Count per cell, prefix sums, fill (primitives in index order).
+  const size_t cells = cell_count(res_);
+  offsets.assign(cells + 1, 0u);
+  auto for_cells = [&](size_t i, auto&& f) {
+    for (uint32_t z = first[i].z; z <= last[i].z; ++z)
+      for (uint32_t y = first[i].y; y <= last[i].y; ++y) {
+        const uint32_t row = res_.x * (y + res_.y * z);
+        for (uint32_t x = first[i].x; x <= last[i].x; ++x) f(row + x);
+      }
+  };
+  for (size_t i = 0; i < n; ++i) for_cells(i, [&](uint32_t c) { offsets[c + 1]++; });
+  for (size_t c = 0; c < cells; ++c) offsets[c + 1] += offsets[c];
+  refs.resize(total);
+  std::vector<uint32_t> fill(offsets.begin(), offsets.end() - 1);
+  for (size_t i = 0; i < n; ++i) for_cells(i, [&](uint32_t c) { refs[fill[c]++] = uint32_t(i); });
+  build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+GridQuality UniformGrid::quality() const {
+  GridQuality q;
+  q.build_seconds = build_seconds_;
+  if (offsets.empty()) return q;
+  q.resolution = res_;
+  q.cells = cells();
+  q.references = refs.size();
+  q.refs_per_prim = num_prims_ ? double(refs.size()) / num_prims_ : 0.0;
+  q.memory_bytes = memory_bytes();
+  for (size_t c = 0; c < q.cells; ++c) {
+    const uint32_t k = offsets[c + 1] - offsets[c];
+    q.empty_cells += k == 0;
+    q.max_cell_refs = std::max(q.max_cell_refs, k);
+  }
+  const size_t full = q.cells - q.empty_cells;
+  q.mean_cell_refs = full ? double(refs.size()) / double(full) : 0.0;
+  return q;
+}
+
+}  // namespace rayscope
