@@ -1,7 +1,5 @@
 // `rayscope inspect [SCENE] --pixel X,Y`: replays one pixel and prints its ray tree.
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -67,26 +65,7 @@ int run_inspect(const InspectOptions& o) {
   } else {
     for (const PixelRecord& r : records) text += format_text(r, loaded.scene);
   }
-  if (o.output.empty()) {
-    std::fwrite(text.data(), 1, text.size(), stdout);
-    return 0;
-  }
-  namespace fs = std::filesystem;
-  fs::path out(o.output);
-  fs::path tmp = out;
-  tmp += ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    if (!f) throw std::runtime_error(o.output + ": cannot write");
-    f << text;
-    if (!f.flush()) throw std::runtime_error(o.output + ": write failed");
-  }
-  std::error_code ec;
-  fs::rename(tmp, out, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error(o.output + ": cannot rename temporary file");
-  }
+  write_text_output(text, o.output);
   return 0;
 }
 

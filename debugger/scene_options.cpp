@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 #include <vtkDataSet.h>
 #include <vtkSmartPointer.h>
@@ -81,25 +83,28 @@ bool parse_ints(const std::string& s, int n, int* out) {
   return true;
 }
 
-void SceneOptions::add_to(CLI::App* cmd) {
+void SceneOptions::add_to(CLI::App* cmd, bool render_settings) {
   using RS = RenderSettings;
   cmd->add_option("scene", scene,
                   "Scene file (.json), or a mesh file (.obj .stl .ply .vtp .vtu .vtk) shown in "
                   "the default material with a camera that frames it and a headlight; omit for "
                   "the default scene");
-  cmd->add_option("--size", size, "Image size WIDTHxHEIGHT");
-  const std::string pixels = ", at most " + std::to_string(RS::kMaxPixels) + " pixels in all";
-  cmd->add_option("-W,--width", width, "Image width in pixels" + in(1, RS::kMaxImageSide) + pixels);
-  cmd->add_option("-H,--height", height,
-                  "Image height in pixels" + in(1, RS::kMaxImageSide) + pixels);
-  cmd->add_option("-s,--spp", samples,
-                  "N: N x N stratified samples per pixel" + in(1, RS::kMaxSamples));
-  cmd->add_option("-d,--max-depth", max_depth, "Maximum recursion depth" + in(0, RS::kMaxDepth));
-  cmd->add_option("--min-contribution", min_contribution,
-                  "Skip secondary rays whose weight within their sample is below this (0.." +
-                      shortest_text(RS::kMaxMinContribution) + ")");
-  cmd->add_option("--seed", seed, "Seed of the sample jitter" + in(0, RS::kMaxSeed));
-  cmd->add_option("-t,--threads", threads, "Threads, 0: all" + in(0, RS::kMaxThreads));
+  if (render_settings) {
+    cmd->add_option("--size", size, "Image size WIDTHxHEIGHT");
+    const std::string pixels = ", at most " + std::to_string(RS::kMaxPixels) + " pixels in all";
+    cmd->add_option("-W,--width", width,
+                    "Image width in pixels" + in(1, RS::kMaxImageSide) + pixels);
+    cmd->add_option("-H,--height", height,
+                    "Image height in pixels" + in(1, RS::kMaxImageSide) + pixels);
+    cmd->add_option("-s,--spp", samples,
+                    "N: N x N stratified samples per pixel" + in(1, RS::kMaxSamples));
+    cmd->add_option("-d,--max-depth", max_depth, "Maximum recursion depth" + in(0, RS::kMaxDepth));
+    cmd->add_option("--min-contribution", min_contribution,
+                    "Skip secondary rays whose weight within their sample is below this (0.." +
+                        shortest_text(RS::kMaxMinContribution) + ")");
+    cmd->add_option("--seed", seed, "Seed of the sample jitter" + in(0, RS::kMaxSeed));
+    cmd->add_option("-t,--threads", threads, "Threads, 0: all" + in(0, RS::kMaxThreads));
+  }
   cmd->add_option("--accel", accel,
                   "Structure the rays walk: bvh (the BVH in 4-wide nodes, what renders use; "
                   "default), bvh2 (the same BVH node by node, two boxes per node: the "
@@ -114,6 +119,29 @@ void SceneOptions::add_to(CLI::App* cmd) {
                        : "expected bvh, bvh2, kdtree or none, got '" + name + "'";
           },
           "bvh|bvh2|kdtree|none"));
+}
+
+void write_text_output(const std::string& text, const std::string& path) {
+  if (path.empty()) {
+    std::fwrite(text.data(), 1, text.size(), stdout);
+    return;
+  }
+  namespace fs = std::filesystem;
+  fs::path out(path);
+  fs::path tmp = out;
+  tmp += ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    if (!f) throw std::runtime_error(path + ": cannot write");
+    f << text;
+    if (!f.flush()) throw std::runtime_error(path + ": write failed");
+  }
+  std::error_code ec;
+  fs::rename(tmp, out, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error(path + ": cannot rename temporary file");
+  }
 }
 
 void parse_pixel_option(const std::string& text, int xy[2]) {

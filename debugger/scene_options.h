@@ -22,6 +22,11 @@ bool parse_ints(const std::string& s, int n, int* out);
 void parse_pixel_option(const std::string& text, int xy[2]);
 void check_pixel_option(const std::string& text, const int xy[2], const RenderSettings& settings);
 
+/// Writes a command's text output to standard output (empty `path`) or to the
+/// file `path`, under a temporary name renamed when complete. Throws
+/// std::runtime_error naming the file when it cannot be written.
+void write_text_output(const std::string& text, const std::string& path);
+
 struct SceneOptions {
   std::string scene;  ///< Empty: the built-in default scene.
   std::string size;
@@ -33,8 +38,10 @@ struct SceneOptions {
   /// "bvh2" (the binary teaching walk), "kdtree" or "none".
   std::string accel = to_string(AccelKind::Bvh);
 
-  /// Adds the scene argument and the render-setting options to a subcommand.
-  void add_to(CLI::App* cmd);
+  /// Adds the scene argument, the render-setting options (unless
+  /// `render_settings` is false: commands that render nothing) and --accel to
+  /// a subcommand.
+  void add_to(CLI::App* cmd, bool render_settings = true);
   /// Loads (and commits) the scene and applies the option overrides. Throws
   /// std::exception with a one-line message naming the file.
   LoadedScene load() const;
