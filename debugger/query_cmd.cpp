@@ -184,7 +184,7 @@ StructureFigures structure_figures(const Aggregate& a) {
     const KdTreeQuality q = a.kdtree().quality();
     std::snprintf(buf, sizeof buf,
                   "kD-tree (%s): %u nodes, %u leaves (%u empty), depth %u, %.2f references "
-                  "per primitive, built in %.3g ms",
+                  "per primitive, built in %.1f ms",
                   a.kdtree().config.rule == KdSplitRule::Sah ? "SAH" : "median", q.nodes, q.leaves,
                   q.empty_leaves, q.depth, q.refs_per_prim, q.build_seconds * 1e3);
     f.text = buf;
