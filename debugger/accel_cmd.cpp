@@ -202,7 +202,7 @@ void add_accel_command(CLI::App& app, int& exit_code) {
       "Build every acceleration structure on one scene and render it with each, in the same "
       "run: build time, memory, nodes, depth, references per primitive, and per ray the nodes "
       "visited, boxes and primitives tested, Mrays/s");
-  opts->scene.add_to(cmd, false);
+  opts->scene.add_to(cmd, true, false);
   char budget[32];
   std::snprintf(budget, sizeof budget, "%g", kCompareBruteForceBudget);
   cmd->add_option("--structures", opts->structures,

@@ -9,6 +9,8 @@ namespace rayscope::cli {
 void add_render_command(CLI::App& app, int& exit_code);
 /// Registers `rayscope inspect`.
 void add_inspect_command(CLI::App& app, int& exit_code);
+/// Registers `rayscope query` (range queries: box, sphere, k nearest).
+void add_query_command(CLI::App& app, int& exit_code);
 /// Registers `rayscope accel compare`.
 void add_accel_command(CLI::App& app, int& exit_code);
 #ifdef RAYSCOPE_HAVE_VIEWER

@@ -1,7 +1,5 @@
 // `rayscope inspect [SCENE] --pixel X,Y`: replays one pixel and prints its ray tree.
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -68,11 +66,7 @@ int run_inspect(const InspectOptions& o) {
   } else {
     for (const PixelRecord& r : records) text += format_text(r, loaded.scene);
   }
-  if (o.output.empty()) {
-    std::fwrite(text.data(), 1, text.size(), stdout);
-    return 0;
-  }
-  write_text_file(o.output, text);
+  write_text_output(text, o.output);
   return 0;
 }
 

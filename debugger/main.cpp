@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   rayscope::cli::add_render_command(app, exit_code);
   rayscope::cli::add_inspect_command(app, exit_code);
+  rayscope::cli::add_query_command(app, exit_code);
   rayscope::cli::add_accel_command(app, exit_code);
 #ifdef RAYSCOPE_HAVE_VIEWER
   rayscope::cli::add_view_command(app, exit_code);

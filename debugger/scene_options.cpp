@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 #include <vtkDataSet.h>
 #include <vtkSmartPointer.h>
@@ -89,25 +91,28 @@ bool parse_ints(const std::string& s, int n, int* out) {
   return true;
 }
 
-void SceneOptions::add_to(CLI::App* cmd, bool walk_option) {
+void SceneOptions::add_to(CLI::App* cmd, bool render_settings, bool walk_option) {
   using RS = RenderSettings;
   cmd->add_option("scene", scene,
                   "Scene file (.json), or a mesh file (.obj .stl .ply .vtp .vtu .vtk) shown in "
                   "the default material with a camera that frames it and a headlight; omit for "
                   "the default scene");
-  cmd->add_option("--size", size, "Image size WIDTHxHEIGHT");
-  const std::string pixels = ", at most " + std::to_string(RS::kMaxPixels) + " pixels in all";
-  cmd->add_option("-W,--width", width, "Image width in pixels" + in(1, RS::kMaxImageSide) + pixels);
-  cmd->add_option("-H,--height", height,
-                  "Image height in pixels" + in(1, RS::kMaxImageSide) + pixels);
-  cmd->add_option("-s,--spp", samples,
-                  "N: N x N stratified samples per pixel" + in(1, RS::kMaxSamples));
-  cmd->add_option("-d,--max-depth", max_depth, "Maximum recursion depth" + in(0, RS::kMaxDepth));
-  cmd->add_option("--min-contribution", min_contribution,
-                  "Skip secondary rays whose weight within their sample is below this (0.." +
-                      shortest_text(RS::kMaxMinContribution) + ")");
-  cmd->add_option("--seed", seed, "Seed of the sample jitter" + in(0, RS::kMaxSeed));
-  cmd->add_option("-t,--threads", threads, "Threads, 0: all" + in(0, RS::kMaxThreads));
+  if (render_settings) {
+    cmd->add_option("--size", size, "Image size WIDTHxHEIGHT");
+    const std::string pixels = ", at most " + std::to_string(RS::kMaxPixels) + " pixels in all";
+    cmd->add_option("-W,--width", width,
+                    "Image width in pixels" + in(1, RS::kMaxImageSide) + pixels);
+    cmd->add_option("-H,--height", height,
+                    "Image height in pixels" + in(1, RS::kMaxImageSide) + pixels);
+    cmd->add_option("-s,--spp", samples,
+                    "N: N x N stratified samples per pixel" + in(1, RS::kMaxSamples));
+    cmd->add_option("-d,--max-depth", max_depth, "Maximum recursion depth" + in(0, RS::kMaxDepth));
+    cmd->add_option("--min-contribution", min_contribution,
+                    "Skip secondary rays whose weight within their sample is below this (0.." +
+                        shortest_text(RS::kMaxMinContribution) + ")");
+    cmd->add_option("--seed", seed, "Seed of the sample jitter" + in(0, RS::kMaxSeed));
+    cmd->add_option("-t,--threads", threads, "Threads, 0: all" + in(0, RS::kMaxThreads));
+  }
   if (!walk_option) return;
   cmd->add_option("--accel", accel,
                   "Structure the rays walk: bvh (the BVH in 4-wide nodes, what renders use; "

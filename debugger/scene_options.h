@@ -42,10 +42,11 @@ struct SceneOptions {
   /// rayscope::accel_storage_error.
   std::string storage = to_string(PrimStorage::EveryCell);
 
-  /// Adds the scene argument and the render-setting options to a subcommand;
-  /// with `walk_option`, --accel too (a command that chooses the structures
-  /// itself, such as accel compare, leaves it out).
-  void add_to(CLI::App* cmd, bool walk_option = true);
+  /// Adds the scene argument, the render-setting options (unless
+  /// `render_settings` is false: commands that render nothing) and, with
+  /// `walk_option`, --accel and --storage (a command that chooses the
+  /// structures itself, such as accel compare, leaves them out).
+  void add_to(CLI::App* cmd, bool render_settings = true, bool walk_option = true);
   /// Loads (and commits) the scene and applies the option overrides. Throws
   /// std::exception with a one-line message naming the file.
   LoadedScene load() const;

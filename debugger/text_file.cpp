@@ -1,5 +1,6 @@
 #include "text_file.h"
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -27,6 +28,14 @@ void write_text_file(const std::string& path, const std::string& text) {
     fs::remove(tmp, ec);
     throw std::runtime_error(path + ": cannot rename temporary file");
   }
+}
+
+void write_text_output(const std::string& text, const std::string& path) {
+  if (path.empty()) {
+    std::fwrite(text.data(), 1, text.size(), stdout);
+    return;
+  }
+  write_text_file(path, text);
 }
 
 }  // namespace rayscope::cli

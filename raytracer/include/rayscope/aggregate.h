@@ -8,8 +8,14 @@
 // structure returns the same hit, bit for bit, for every ray. Observers
 // (traversal.h) see the walk of the chosen structure: the very walk a plain
 // query does (statistics and recording may cost time; they never change it).
+//
+// Range queries (range_query.h: box, sphere, k nearest) go through the same
+// structures, each walked by its one walk_range(), with one primitive test per
+// range (record_overlaps, record_distance) and one order of results, so every
+// structure finds the same objects in the same order.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -23,6 +29,7 @@
 #include "rayscope/kdtree.h"
 #include "rayscope/octree.h"
 #include "rayscope/prim_storage.h"
+#include "rayscope/range_query.h"
 #include "rayscope/traversal.h"
 #include "rayscope/wide_bvh.h"
 
@@ -157,6 +164,38 @@ class Aggregate {
   template <class Observer = NullTraversalObserver>
   bool occluded(const Ray& ray, Observer& obs, PrimHit* which = nullptr) const;
 
+  /// Range queries (range_query.h): the objects (bounded primitives, then the
+  /// planes beside the structure) that intersect the closed box, in
+  /// before_in_box_order(): primitives by global index, then planes (RangeHit
+  /// names a plane by its index, with prim = ~0u); distance 0. Throws
+  /// std::invalid_argument for a box BoxRange refuses (non-finite, lo > hi).
+  template <class Observer>
+  std::vector<RangeHit> query_box(const Bounds3& box, Observer& obs) const;
+  /// The objects within distance `radius` of `center` (closed), with their
+  /// distances, in the order nearer(). Throws std::invalid_argument for a
+  /// range SphereRange refuses (non-finite, radius < 0).
+  template <class Observer>
+  std::vector<RangeHit> query_sphere(const Vec3& center, float radius, Observer& obs) const;
+  /// The k objects nearest to `p` (all of them when there are fewer), nearest
+  /// first in the order nearer(): distance, then primitives by global index,
+  /// then planes. Throws std::invalid_argument for a non-finite point or k = 0.
+  template <class Observer>
+  std::vector<RangeHit> nearest(const Vec3& p, uint32_t k, Observer& obs) const;
+  std::vector<RangeHit> query_box(const Bounds3& box) const {
+    NullTraversalObserver obs;
+    return query_box(box, obs);
+  }
+  std::vector<RangeHit> query_sphere(const Vec3& center, float radius) const {
+    NullTraversalObserver obs;
+    return query_sphere(center, radius, obs);
+  }
+  std::vector<RangeHit> nearest(const Vec3& p, uint32_t k) const {
+    NullTraversalObserver obs;
+    return nearest(p, k, obs);
+  }
+  /// Bounded primitives plus planes: what a k-nearest query can return at most.
+  size_t object_count() const { return records_.size() + planes_.size(); }
+
   /// The structure asked for.
   AccelKind kind() const { return config_.kind; }
   /// Whether queries walk a structure (false for AccelKind::None and for tiny
@@ -236,6 +275,37 @@ class Aggregate {
     if (config_.kind == AccelKind::Octree) return octree_.traverse<AnyHit>(ray, tmax, prim, obs);
     if (config_.kind == AccelKind::Grid) return grid_.traverse<AnyHit>(ray, tmax, prim, obs);
     return walk_.traverse<AnyHit>(ray, tmax, range, obs);
+  }
+
+  /// The one primitive test of box queries (exact, see range_query.h).
+  bool record_overlaps(const PrimRecord& r, const Bounds3& box) const {
+    return r.id < num_triangles_ ? triangle_overlaps_box(r.a, r.b, r.c, box)
+                                 : sphere_overlaps_box(r.a, r.b.x, box);
+  }
+  /// The one distance of sphere and k-nearest queries (exact, see
+  /// range_query.h): never below the distance to the record's bounds, so no
+  /// walk prunes a node whose primitive a brute-force loop would find.
+  float record_distance(const PrimRecord& r, const Vec3& p) const {
+    return r.id < num_triangles_ ? point_triangle_distance(p, r.a, r.b, r.c)
+                                 : point_sphere_distance(p, r.a, r.b.x);
+  }
+
+  /// Passes the records the range may hold to `prim(record)`, each once: the
+  /// chosen structure's walk_range(), or every record without a structure.
+  template <class Range, class Observer, class PrimFn>
+  void walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
+    static_assert(QueryRange<Range>);
+    if (!use_walk_) {
+      for (uint32_t i = 0; i < uint32_t(records_.size()); ++i) prim(i);
+    } else if (config_.kind == AccelKind::KdTree) {
+      kdtree_.walk_range(range, prim, obs);
+    } else if (config_.kind == AccelKind::Grid) {
+      grid_.walk_range(range, prim, obs);
+    } else if (config_.kind == AccelKind::Octree) {
+      octree_.walk_range(range, prim, obs);
+    } else {  // Bvh and BinaryBvh: the binary tree
+      bvh_.walk_range(range, prim, obs);
+    }
   }
 
   AccelConfig config_;
@@ -336,6 +406,70 @@ bool Aggregate::occluded(const Ray& ray, Observer& obs, PrimHit* which) const {
     which->prim = records_[hit_record].id;
   }
   return true;
+}
+
+template <class Observer>
+std::vector<RangeHit> Aggregate::query_box(const Bounds3& box, Observer& obs) const {
+  const BoxRange range(box);
+  std::vector<RangeHit> found;
+  auto prim = [&](uint32_t i) {
+    const PrimRecord& r = records_[i];
+    if constexpr (Observer::kActive) obs.on_prim_test(r.id);
+    if (!record_overlaps(r, box)) return;
+    if constexpr (Observer::kActive) obs.on_prim_hit(r.id);
+    found.push_back({r.id, -1, 0.0f});
+  };
+  walk_range(range, prim, obs);
+  std::sort(found.begin(), found.end(), before_in_box_order);
+  for (size_t k = 0; k < planes_.size(); ++k)
+    if (plane_overlaps_box(planes_[k].point, planes_[k].normal, box)) {
+      if constexpr (Observer::kActive) obs.on_prim_hit(kPrimOutsideStructure);
+      found.push_back({~0u, int(k), 0.0f});
+    }
+  return found;
+}
+
+template <class Observer>
+std::vector<RangeHit> Aggregate::query_sphere(const Vec3& center, float radius,
+                                              Observer& obs) const {
+  const SphereRange range(center, radius);
+  std::vector<RangeHit> found;
+  auto prim = [&](uint32_t i) {
+    const PrimRecord& r = records_[i];
+    if constexpr (Observer::kActive) obs.on_prim_test(r.id);
+    const float d = record_distance(r, center);
+    if (!(d <= radius)) return;
+    if constexpr (Observer::kActive) obs.on_prim_hit(r.id);
+    found.push_back({r.id, -1, d});
+  };
+  walk_range(range, prim, obs);
+  for (size_t k = 0; k < planes_.size(); ++k) {
+    const float d = point_plane_distance(center, planes_[k].point, planes_[k].normal);
+    if (!(d <= radius)) continue;
+    if constexpr (Observer::kActive) obs.on_prim_hit(kPrimOutsideStructure);
+    found.push_back({~0u, int(k), d});
+  }
+  std::sort(found.begin(), found.end(), nearer);
+  return found;
+}
+
+template <class Observer>
+std::vector<RangeHit> Aggregate::nearest(const Vec3& p, uint32_t k, Observer& obs) const {
+  KnnRange range(p, k);
+  // The planes first: a near plane shrinks the range before the walk starts.
+  for (size_t j = 0; j < planes_.size(); ++j) {
+    const float d = point_plane_distance(p, planes_[j].point, planes_[j].normal);
+    if (!range.offer({~0u, int(j), d})) continue;
+    if constexpr (Observer::kActive) obs.on_prim_hit(kPrimOutsideStructure);
+  }
+  auto prim = [&](uint32_t i) {
+    const PrimRecord& r = records_[i];
+    if constexpr (Observer::kActive) obs.on_prim_test(r.id);
+    if (!range.offer({r.id, -1, record_distance(r, p)})) return;
+    if constexpr (Observer::kActive) obs.on_prim_hit(r.id);
+  };
+  walk_range(range, prim, obs);
+  return range.take_sorted();
 }
 
 }  // namespace rayscope

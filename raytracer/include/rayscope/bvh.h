@@ -69,9 +69,81 @@ class Bvh {
   Bounds3 bounds() const { return empty() ? Bounds3() : nodes[0].bounds(); }
   BvhQuality quality() const;
 
+  /// Entries of walk_range()'s stack: one per level at most (the builder
+  /// keeps every leaf within 64 levels of the root).
+  static constexpr int kRangeStackSize = 64;
+
+  /// The lecture's range-query algorithm (range_query.h) on the binary tree:
+  /// from the root, a node whose box the range overlaps is entered; a leaf's
+  /// primitives are passed to `prim(i)`, i being their position in leaf order
+  /// (prim_indices[i] is the primitive), each exactly once; an inner node's
+  /// two child boxes are tested, and the children that overlap are visited
+  /// nearer first by range.distance() (ties: the binary tree's order), the
+  /// farther pushed. A pushed node is entered only if the range still overlaps
+  /// its box when it is popped (a k-nearest range shrinks while it is walked);
+  /// else it is culled. Nothing else is pruned: every primitive of every leaf
+  /// whose box overlaps the range is passed.
+  ///
+  /// Observer hooks (traversal.h), with Bvh::nodes ids: on_box_test(0, hit) for
+  /// the root's box; on_node(id) for every node entered (inner or leaf);
+  /// on_box_test(child, overlaps) for both child boxes of an inner node
+  /// entered; on_cull(id) for a pushed node the range no longer overlaps when
+  /// it is popped. Primitive tests are the caller's (`prim`).
+  template <class Range, class Observer, class PrimFn>
+  void walk_range(Range& range, PrimFn&& prim, Observer& obs) const;
+
   std::vector<BvhNode> nodes;          ///< nodes[0] is the root.
   std::vector<uint32_t> prim_indices;  ///< Leaf order -> primitive index.
   BvhBuildConfig config;
 };
+
+// ---------------------------------------------------------------------------
+
+template <class Range, class Observer, class PrimFn>
+void Bvh::walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
+  if (nodes.empty()) return;
+  const bool root_overlaps = range.overlaps(nodes[0].bounds());
+  if constexpr (Observer::kActive) obs.on_box_test(0, root_overlaps);
+  if (!root_overlaps) return;
+  uint32_t stack[kRangeStackSize];
+  int sp = 0;
+  uint32_t node = 0;
+  for (;;) {
+    if constexpr (Observer::kActive) obs.on_node(node);
+    const BvhNode& n = nodes[node];
+    if (n.is_leaf()) {
+      for (uint32_t i = n.index; i < n.index + n.count; ++i) prim(i);
+    } else {
+      const uint32_t c0 = n.index, c1 = n.index + 1;
+      const Bounds3 b0 = nodes[c0].bounds(), b1 = nodes[c1].bounds();
+      const bool o0 = range.overlaps(b0), o1 = range.overlaps(b1);
+      if constexpr (Observer::kActive) {
+        obs.on_box_test(c0, o0);
+        obs.on_box_test(c1, o1);
+      }
+      if (o0 && o1) {
+        const bool second_first = range.distance(b1) < range.distance(b0);
+        assert(sp < kRangeStackSize);
+        stack[sp++] = second_first ? c0 : c1;
+        node = second_first ? c1 : c0;
+        continue;
+      }
+      if (o0 || o1) {
+        node = o0 ? c0 : c1;
+        continue;
+      }
+    }
+    // Pop the next node the range still overlaps.
+    for (;;) {
+      if (sp == 0) return;
+      const uint32_t next = stack[--sp];
+      if (range.overlaps(nodes[next].bounds())) {
+        node = next;
+        break;
+      }
+      if constexpr (Observer::kActive) obs.on_cull(next);
+    }
+  }
+}
 
 }  // namespace rayscope

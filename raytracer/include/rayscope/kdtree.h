@@ -8,7 +8,8 @@
 // named by their index in that span; the leaves hold lists of those indices
 // (references), so a primitive that straddles a split plane appears in several
 // leaves. The walk tests it once per ray all the same (mailboxing, see
-// traverse()).
+// traverse()). Range queries (range_query.h) walk the same cells
+// (walk_range()), mailboxed too.
 #pragma once
 
 #include <bit>
@@ -150,6 +151,25 @@ class KdTree {
   template <bool AnyHit, class Observer, class PrimFn>
   [[gnu::noinline]] bool traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const;
 
+  /// The lecture's range-query algorithm (range_query.h) on the cells: from
+  /// the root cell, a cell the range overlaps is entered; a leaf's references
+  /// are passed to `prim(index)` (index in the span build() was given), each
+  /// primitive at most once per query however many leaves hold it
+  /// (mailboxing); an inner node's two child cells (its cell cut at the split
+  /// plane) are tested, and those that overlap visited nearer first by
+  /// range.distance() (ties: below first), the farther pushed with its cell.
+  /// A pushed cell is entered only if the range still overlaps it when it is
+  /// popped (a k-nearest range shrinks while it is walked); else it is culled.
+  ///
+  /// Observer hooks (traversal.h), with the kD-tree's node ids: on_box_test(0,
+  /// hit) for the root cell; on_node(id) for every node entered (inner or
+  /// leaf); on_box_test(child, overlaps) for both child cells of an inner node
+  /// entered; on_cull(id) for a pushed cell the range no longer overlaps when
+  /// it is popped. Primitive tests are the caller's (`prim`), after the
+  /// mailbox.
+  template <class Range, class Observer, class PrimFn>
+  void walk_range(Range& range, PrimFn&& prim, Observer& obs) const;
+
   std::vector<KdNode> nodes;   ///< nodes[0] is the root.
   std::vector<uint32_t> refs;  ///< Leaf reference lists: primitive indices.
   KdTreeBuildConfig config;
@@ -244,6 +264,65 @@ bool KdTree::traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs)
         node = e.node;
         t0 = e.t0;
         t1 = e.t1;
+        break;
+      }
+      if constexpr (Observer::kActive) obs.on_cull(e.node);
+    }
+  }
+}
+
+template <class Range, class Observer, class PrimFn>
+void KdTree::walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
+  if (nodes.empty()) return;
+  const bool root_overlaps = range.overlaps(bounds_);
+  if constexpr (Observer::kActive) obs.on_box_test(0, root_overlaps);
+  if (!root_overlaps) return;
+  MailboxQuery mailbox(num_prims_);
+  struct Entry {
+    uint32_t node;
+    Bounds3 cell;
+  };
+  Entry stack[kMaxDepth];
+  int sp = 0;
+  uint32_t node = 0;
+  Bounds3 cell = bounds_;
+  for (;;) {
+    if constexpr (Observer::kActive) obs.on_node(node);
+    const KdNode& n = nodes[node];
+    if (!n.is_leaf()) {
+      Bounds3 below = cell, above = cell;
+      below.hi[n.axis()] = above.lo[n.axis()] = n.split();
+      const uint32_t below_node = node + 1, above_node = n.above();
+      const bool ob = range.overlaps(below), oa = range.overlaps(above);
+      if constexpr (Observer::kActive) {
+        obs.on_box_test(below_node, ob);
+        obs.on_box_test(above_node, oa);
+      }
+      if (ob && oa) {
+        const bool above_first = range.distance(above) < range.distance(below);
+        assert(sp < kMaxDepth);
+        stack[sp++] = above_first ? Entry{below_node, below} : Entry{above_node, above};
+        node = above_first ? above_node : below_node;
+        cell = above_first ? above : below;
+        continue;
+      }
+      if (ob || oa) {
+        node = ob ? below_node : above_node;
+        cell = ob ? below : above;
+        continue;
+      }
+    } else {
+      const uint32_t* r = refs.data() + n.first();
+      for (const uint32_t* end = r + n.count(); r != end; ++r)
+        if (mailbox.first_visit(*r)) prim(*r);
+    }
+    // Pop the next cell the range still overlaps.
+    for (;;) {
+      if (sp == 0) return;
+      const Entry& e = stack[--sp];
+      if (range.overlaps(e.cell)) {
+        node = e.node;
+        cell = e.cell;
         break;
       }
       if constexpr (Observer::kActive) obs.on_cull(e.node);

@@ -189,6 +189,11 @@ class Scene {
   const std::string& object_name(uint32_t object) const;
   /// Global primitive index -> object id.
   uint32_t prim_object(uint32_t prim) const;
+  /// Global primitive index -> its index within its object: the triangle's
+  /// index in its mesh (SurfaceHit::prim), 0 for a sphere.
+  uint32_t prim_in_object(uint32_t prim) const {
+    return prim < num_triangles_ ? prim - tri_offsets_[prim_object(prim)] : 0;
+  }
 
  private:
   Aggregate accel_;

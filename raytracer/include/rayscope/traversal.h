@@ -36,7 +36,10 @@ struct TraversalHooks {
   /// Primitive `prim`, just tested, is now the query's hit: the closest so far
   /// (a later call replaces it) or, for an any-hit query, the occluder. The
   /// leaf that holds it is the node entered last. kPrimOutsideStructure: a
-  /// plane beside the structure became the hit.
+  /// plane beside the structure became the hit. In a range query (range
+  /// queries walk with the same hooks, see range_query.h): the primitive lies
+  /// in the range (for k nearest: it is among the k best so far, and may be
+  /// pushed out later).
   void on_prim_hit(uint32_t /*prim*/) {}
 };
 
