@@ -22,6 +22,10 @@ import tempfile
 
 import vtk
 
+# The panel snapshot and the atomic PNG writer of the benchmark plots.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "bench"))
+from plot_quality import snapshot, write_png  # noqa: E402
+
 PANEL = (520, 420)
 BAR = (0, 114, 178)
 BAR2 = (213, 94, 0)
@@ -109,34 +113,7 @@ def bar_chart(rows, columns, title, ytitle, log=False):
     else:
         left.SetMinimum(0.0)
         left.SetBehavior(vtk.vtkAxis.AUTO)
-    view.GetRenderWindow().Render()
-    w2i = vtk.vtkWindowToImageFilter()
-    w2i.SetInput(view.GetRenderWindow())
-    w2i.ReadFrontBufferOff()
-    w2i.Update()
-    img = vtk.vtkImageData()
-    img.DeepCopy(w2i.GetOutput())
-    return img
-
-
-def write_png(images, path):
-    """The panels side by side, written atomically (temporary file + rename)."""
-    append = vtk.vtkImageAppend()
-    append.SetAppendAxis(0)
-    for img in images:
-        append.AddInputData(img)
-    append.Update()
-    fd, tmp = tempfile.mkstemp(suffix=".png", dir=os.path.dirname(os.path.abspath(path)))
-    os.close(fd)
-    w = vtk.vtkPNGWriter()
-    w.SetFileName(tmp)
-    w.SetInputData(append.GetOutput())
-    w.Write()
-    if w.GetErrorCode() != 0 or os.path.getsize(tmp) == 0:
-        os.remove(tmp)
-        sys.exit(f"accel_compare.py: {path}: cannot write PNG")
-    os.chmod(tmp, 0o644)
-    os.replace(tmp, path)
+    return snapshot(view)
 
 
 def main():

@@ -290,4 +290,74 @@ inline rayscope::Scene soup_scene(Rng& rng) {
   return scene;
 }
 
+// --- Adversarial rays shared by the structure tests ----------------------------
+
+/// A point uniformly inside `world`.
+inline rayscope::Vec3 point_in(Rng& rng, const rayscope::Bounds3& world) {
+  return to_f(to_d(world.lo) +
+              to_d(world.extent()) * DVec3(rng.uniform(), rng.uniform(), rng.uniform()));
+}
+
+/// Rays aimed at every third vertex and at every other triangle's edge
+/// midpoint (exact ties between the triangles sharing it), and rays lying
+/// along those edges from outside them.
+inline void add_mesh_rays(Rng& rng, const rayscope::Scene& scene,
+                          std::vector<rayscope::Ray>& rays) {
+  using namespace rayscope;
+  auto aim = [&](const Vec3& target) {
+    const Vec3 o = to_f(to_d(target) + 8.0 * rng.unit_vector());
+    rays.push_back(Ray{o, target - o, kInfinity});
+  };
+  for (const TriangleMesh& m : scene.meshes) {
+    for (size_t v = 0; v < m.positions.size(); v += 3) aim(m.positions[v]);
+    for (size_t k = 0; k < m.triangles.size(); k += 2) {
+      const glm::uvec3& t = m.triangles[k];
+      const Vec3 a = m.positions[t.x], b = m.positions[t.y];
+      aim(0.5f * (a + b));
+      rays.push_back(Ray{to_f(to_d(a) - 0.5 * (to_d(b) - to_d(a))), b - a, kInfinity});
+    }
+  }
+}
+
+/// For the axis-aligned plane `axis` = `plane` of a structure: a ray lying in
+/// it and one leaving it (origins inside `world`), and with `across`, one
+/// axis-parallel ray crossing it from outside `world`, through `*through`
+/// (default: the leaving ray's origin).
+inline void add_plane_rays(Rng& rng, const rayscope::Bounds3& world, int axis, float plane,
+                           std::vector<rayscope::Ray>& rays, bool across = true,
+                           const rayscope::Vec3* through = nullptr) {
+  using namespace rayscope;
+  Vec3 o = point_in(rng, world);
+  o[axis] = plane;
+  Vec3 d = to_f(rng.unit_vector());
+  d[axis] = rng.coin() ? 0.0f : -0.0f;
+  if (d == Vec3(0.0f)) d[(axis + 1) % 3] = 1.0f;
+  rays.push_back(Ray{o, d, kInfinity});                        // in the plane
+  rays.push_back(Ray{o, to_f(rng.unit_vector()), kInfinity});  // leaving it
+  if (!across) return;
+  Vec3 p = through ? *through : o, dp(0.0f);
+  dp[axis] = rng.coin() ? 1.0f : -1.0f;
+  p[axis] = dp[axis] > 0.0f ? world.lo[axis] - 1.0f : world.hi[axis] + 1.0f;
+  rays.push_back(Ray{p, dp, kInfinity});
+}
+
+/// n rays starting inside `world`, every other one short (tmax below 2), and
+/// 20 rays tangent to each of the scene's spheres.
+inline void add_inside_and_grazing_rays(Rng& rng, const rayscope::Scene& scene,
+                                        const rayscope::Bounds3& world, int n,
+                                        std::vector<rayscope::Ray>& rays) {
+  using namespace rayscope;
+  for (int i = 0; i < n; ++i) {
+    const Vec3 o = point_in(rng, world);
+    rays.push_back(Ray{o, to_f(rng.unit_vector()), i % 2 ? kInfinity : float(rng.uniform(0, 2))});
+  }
+  for (const Sphere& s : scene.spheres)
+    for (int k = 0; k < 20; ++k) {
+      const DVec3 nrm = rng.unit_vector();
+      const DVec3 t = glm::normalize(glm::cross(nrm, rng.unit_vector()));
+      const DVec3 p = to_d(s.center) + double(s.radius) * nrm;
+      rays.push_back(Ray{to_f(p - 5.0 * t), to_f(t), kInfinity});
+    }
+}
+
 }  // namespace rstest

@@ -493,26 +493,10 @@ TEST_P(GridResolution, RandomRaysMatchBruteForce) {
 // starting inside cells, and grazing spheres.
 std::vector<Ray> adversarial_rays(Rng& rng, const Scene& scene) {
   std::vector<Ray> rays;
-  auto aim = [&](const Vec3& target) {
-    const Vec3 o = to_f(to_d(target) + 8.0 * rng.unit_vector());
-    rays.push_back(Ray{o, target - o, kInfinity});
-  };
-  for (const TriangleMesh& m : scene.meshes) {
-    for (size_t v = 0; v < m.positions.size(); v += 3) aim(m.positions[v]);
-    for (size_t k = 0; k < m.triangles.size(); k += 2) {
-      const glm::uvec3& t = m.triangles[k];
-      const Vec3 a = m.positions[t.x], b = m.positions[t.y];
-      aim(0.5f * (a + b));
-      rays.push_back(Ray{to_f(to_d(a) - 0.5 * (to_d(b) - to_d(a))), b - a, kInfinity});
-    }
-  }
+  rstest::add_mesh_rays(rng, scene, rays);
   const UniformGrid& g = scene.accel().grid();
   const Bounds3 world = g.bounds();
   const glm::uvec3 res = g.resolution();
-  auto any_point = [&]() {
-    return to_f(to_d(world.lo) +
-                to_d(world.extent()) * DVec3(rng.uniform(), rng.uniform(), rng.uniform()));
-  };
   auto corner = [&]() {
     return Vec3(g.planes[0][size_t(rng.integer(0, int(res.x)))],
                 g.planes[1][size_t(rng.integer(0, int(res.y)))],
@@ -520,31 +504,12 @@ std::vector<Ray> adversarial_rays(Rng& rng, const Scene& scene) {
   };
   for (int i = 0; i < 3000; ++i) {
     const int a = rng.integer(0, 2);
-    const float plane = g.planes[size_t(a)][size_t(rng.integer(0, int(res[a])))];
-    Vec3 o = any_point();
-    o[a] = plane;
-    Vec3 d = to_f(rng.unit_vector());
-    d[a] = rng.coin() ? 0.0f : -0.0f;
-    if (d == Vec3(0.0f)) d[(a + 1) % 3] = 1.0f;
-    rays.push_back(Ray{o, d, kInfinity});                        // in the plane
-    rays.push_back(Ray{o, to_f(rng.unit_vector()), kInfinity});  // from the plane
-    Vec3 dp(0.0f);                                               // axis-parallel across the planes
-    dp[a] = rng.coin() ? 1.0f : -1.0f;
-    o[a] = dp[a] > 0.0f ? world.lo[a] - 1.0f : world.hi[a] + 1.0f;
-    rays.push_back(Ray{o, dp, kInfinity});
+    rstest::add_plane_rays(rng, world, a, g.planes[size_t(a)][size_t(rng.integer(0, int(res[a])))],
+                           rays);
     const Vec3 c0 = corner(), c1 = corner();  // through two cell corners
     if (c0 != c1) rays.push_back(Ray{c0 - 1.5f * (c1 - c0), c1 - c0, kInfinity});
   }
-  for (int i = 0; i < 3000; ++i)  // starting inside cells, short and long
-    rays.push_back(
-        Ray{any_point(), to_f(rng.unit_vector()), i % 2 ? kInfinity : float(rng.uniform(0, 2))});
-  for (const rayscope::Sphere& s : scene.spheres)  // grazing: tangent to the sphere
-    for (int k = 0; k < 20; ++k) {
-      const DVec3 n = rng.unit_vector();
-      DVec3 t = glm::normalize(glm::cross(n, rng.unit_vector()));
-      const DVec3 p = to_d(s.center) + double(s.radius) * n;
-      rays.push_back(Ray{to_f(p - 5.0 * t), to_f(t), kInfinity});
-    }
+  rstest::add_inside_and_grazing_rays(rng, scene, world, 3000, rays);
   return rays;
 }
 

@@ -161,56 +161,15 @@ TEST_P(KdTreeRule, RandomRaysMatchBruteForce) {
 // starting inside cells, and grazing spheres.
 std::vector<Ray> adversarial_rays(Rng& rng, const Scene& scene) {
   std::vector<Ray> rays;
-  auto aim = [&](const Vec3& target) {
-    const Vec3 o = to_f(to_d(target) + 8.0 * rng.unit_vector());
-    rays.push_back(Ray{o, target - o, kInfinity});
-  };
-  for (const TriangleMesh& m : scene.meshes) {
-    for (size_t v = 0; v < m.positions.size(); v += 3) aim(m.positions[v]);
-    for (size_t k = 0; k < m.triangles.size(); k += 2) {
-      const glm::uvec3& t = m.triangles[k];
-      const Vec3 a = m.positions[t.x], b = m.positions[t.y];
-      aim(0.5f * (a + b));
-      // Along the edge, from outside it: through both triangles sharing it.
-      rays.push_back(Ray{to_f(to_d(a) - 0.5 * (to_d(b) - to_d(a))), b - a, kInfinity});
-    }
-  }
+  rstest::add_mesh_rays(rng, scene, rays);
   const KdTree& kd = scene.accel().kdtree();
   const Bounds3 world = kd.bounds();
   for (size_t i = 0; i < kd.nodes.size() && rays.size() < 40000; i += 7) {
     const KdNode& n = kd.nodes[i];
     if (n.is_leaf()) continue;
-    const int a = n.axis();
-    for (int k = 0; k < 3; ++k) {
-      // In the plane: origin on it, no component along the axis.
-      Vec3 o = to_f(to_d(world.lo) +
-                    to_d(world.extent()) * DVec3(rng.uniform(), rng.uniform(), rng.uniform()));
-      o[a] = n.split();
-      Vec3 d = to_f(rng.unit_vector());
-      d[a] = rng.coin() ? 0.0f : -0.0f;
-      if (d == Vec3(0.0f)) d[(a + 1) % 3] = 1.0f;
-      rays.push_back(Ray{o, d, kInfinity});
-      // From the plane, leaving it, and axis-parallel across it.
-      rays.push_back(Ray{o, to_f(rng.unit_vector()), kInfinity});
-      Vec3 dp(0.0f);
-      dp[a] = rng.coin() ? 1.0f : -1.0f;
-      o[a] = world.lo[a] - 1.0f;
-      if (dp[a] < 0.0f) o[a] = world.hi[a] + 1.0f;
-      rays.push_back(Ray{o, dp, kInfinity});
-    }
+    for (int k = 0; k < 3; ++k) rstest::add_plane_rays(rng, world, n.axis(), n.split(), rays);
   }
-  for (int i = 0; i < 3000; ++i) {  // starting inside cells, short and long
-    const Vec3 o = to_f(to_d(world.lo) +
-                        to_d(world.extent()) * DVec3(rng.uniform(), rng.uniform(), rng.uniform()));
-    rays.push_back(Ray{o, to_f(rng.unit_vector()), i % 2 ? kInfinity : float(rng.uniform(0, 2))});
-  }
-  for (const rayscope::Sphere& s : scene.spheres)  // grazing: tangent to the sphere
-    for (int k = 0; k < 20; ++k) {
-      const DVec3 n = rng.unit_vector();
-      DVec3 t = glm::normalize(glm::cross(n, rng.unit_vector()));
-      const DVec3 p = to_d(s.center) + double(s.radius) * n;
-      rays.push_back(Ray{to_f(p - 5.0 * t), to_f(t), kInfinity});
-    }
+  rstest::add_inside_and_grazing_rays(rng, scene, world, 3000, rays);
   return rays;
 }
 

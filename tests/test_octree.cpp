@@ -291,19 +291,7 @@ TEST_P(OctreeStorage, RandomRaysMatchBruteForce) {
 // inside cells, and grazing spheres.
 std::vector<Ray> adversarial_rays(Rng& rng, const Scene& scene, const Octree& oc) {
   std::vector<Ray> rays;
-  auto aim = [&](const Vec3& target) {
-    const Vec3 o = to_f(to_d(target) + 8.0 * rng.unit_vector());
-    rays.push_back(Ray{o, target - o, kInfinity});
-  };
-  for (const TriangleMesh& m : scene.meshes) {
-    for (size_t v = 0; v < m.positions.size(); v += 3) aim(m.positions[v]);
-    for (size_t k = 0; k < m.triangles.size(); k += 2) {
-      const glm::uvec3& t = m.triangles[k];
-      const Vec3 a = m.positions[t.x], b = m.positions[t.y];
-      aim(0.5f * (a + b));
-      rays.push_back(Ray{to_f(to_d(a) - 0.5 * (to_d(b) - to_d(a))), b - a, kInfinity});
-    }
-  }
+  rstest::add_mesh_rays(rng, scene, rays);
   const Bounds3 world = oc.node_box(oc.bounds());
   const std::vector<Bounds3> cells = oc.cells();
   for (size_t i = 0; i < oc.nodes.size() && rays.size() < 40000; i += 5) {
@@ -311,34 +299,14 @@ std::vector<Ray> adversarial_rays(Rng& rng, const Scene& scene, const Octree& oc
     const Vec3 mid = 0.5f * cells[i].lo + 0.5f * cells[i].hi;
     const Bounds3 box = oc.node_box(cells[i]);
     for (int a = 0; a < 3; ++a) {
-      for (float plane : {mid[a], box.lo[a], box.hi[a]}) {
-        Vec3 o = to_f(to_d(world.lo) +
-                      to_d(world.extent()) * DVec3(rng.uniform(), rng.uniform(), rng.uniform()));
-        o[a] = plane;
-        Vec3 d = to_f(rng.unit_vector());
-        d[a] = rng.coin() ? 0.0f : -0.0f;
-        if (d == Vec3(0.0f)) d[(a + 1) % 3] = 1.0f;
-        rays.push_back(Ray{o, d, kInfinity});                        // in the plane
-        rays.push_back(Ray{o, to_f(rng.unit_vector()), kInfinity});  // leaving it
-      }
-      Vec3 o = mid, dp(0.0f);  // axis-parallel through the cell's middle
-      dp[a] = rng.coin() ? 1.0f : -1.0f;
-      o[a] = dp[a] > 0.0f ? world.lo[a] - 1.0f : world.hi[a] + 1.0f;
-      rays.push_back(Ray{o, dp, kInfinity});
+      // The cut through the middle (with an axis-parallel ray through the
+      // cell's middle) and the faces of the (loose) box.
+      rstest::add_plane_rays(rng, world, a, mid[a], rays, true, &mid);
+      rstest::add_plane_rays(rng, world, a, box.lo[a], rays, false);
+      rstest::add_plane_rays(rng, world, a, box.hi[a], rays, false);
     }
   }
-  for (int i = 0; i < 3000; ++i) {  // starting inside cells, short and long
-    const Vec3 o = to_f(to_d(world.lo) +
-                        to_d(world.extent()) * DVec3(rng.uniform(), rng.uniform(), rng.uniform()));
-    rays.push_back(Ray{o, to_f(rng.unit_vector()), i % 2 ? kInfinity : float(rng.uniform(0, 2))});
-  }
-  for (const rayscope::Sphere& s : scene.spheres)  // grazing
-    for (int k = 0; k < 20; ++k) {
-      const DVec3 n = rng.unit_vector();
-      DVec3 t = glm::normalize(glm::cross(n, rng.unit_vector()));
-      const DVec3 p = to_d(s.center) + double(s.radius) * n;
-      rays.push_back(Ray{to_f(p - 5.0 * t), to_f(t), kInfinity});
-    }
+  rstest::add_inside_and_grazing_rays(rng, scene, world, 3000, rays);
   return rays;
 }
 

@@ -76,9 +76,12 @@ void check_accepted_scene(rayscope::LoadedScene& loaded) {
   auto unit = [](const rayscope::Vec3& v) {
     return rayscope::all_finite(v) && std::abs(glm::length(v) - 1.0f) <= 1e-3f;
   };
-  for (const rayscope::Plane& p : scene.planes)
-    if (!unit(p.normal))
-      finding("commit", ("plane '" + p.name + "': normal is not a unit vector").c_str());
+  // (A plane keeps the normal it was given; the aggregate holds it normalized.)
+  const std::vector<rayscope::PlaneRecord>& planes = scene.accel().plane_records();
+  for (size_t k = 0; k < planes.size(); ++k)
+    if (!unit(planes[k].normal))
+      finding("commit",
+              ("plane '" + scene.planes[k].name + "': normal is not a unit vector").c_str());
   for (const rayscope::Light& l : scene.lights)
     if (l.type == rayscope::Light::Type::Directional && !unit(glm::normalize(l.direction)))
       finding("light", ("light '" + l.name + "': direction does not normalise").c_str());
