@@ -1,5 +1,7 @@
-// `rayscope view [SCENE] [--pixel X,Y]`: the interactive ray-tree and BVH
-// debugger, a thin client of vtkRayScopeViewer (vtkplugin/module).
+// `rayscope view [SCENE] [--pixel X,Y] [--accel ...]`: the interactive ray-tree
+// and acceleration-structure debugger, a thin client of vtkRayScopeViewer
+// (vtkplugin/module). The scene is built with the chosen structure, which the
+// viewer draws and whose walks it plays.
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -68,7 +70,8 @@ void add_view_command(CLI::App& app, int& exit_code) {
   CLI::App* cmd = app.add_subcommand(
       "view",
       std::string("Open the interactive debugger: the image, the scene in 3D, a picked pixel's "
-                  "ray tree and the BVH walk. Keys: ") +
+                  "ray tree, and the structure chosen by --accel with the selected ray's walk "
+                  "through it. Keys: ") +
           vtkRayScopeViewer::GetHelpText());
   opts->scene.add_to(cmd);
   cmd->add_option("--pixel", opts->pixel,

@@ -1,4 +1,4 @@
-"""The plugin's three filters in pvpython, on ParaView's own sources.
+"""The plugin's four filters in pvpython, on ParaView's own sources.
 
 The plugin is not loaded by this script: ParaView finds it through
 PV_PLUGIN_PATH, the folder it is installed in (ctest sets it), so the filters
@@ -15,6 +15,9 @@ must already be in paraview.simple. Then:
   primary ray, a reflection ray when the material reflects.
 - "BVH": boxes with Level, NodeId, PrimitiveCount, SAHCost, VisitCount; the
   leaves hold every triangle once; the level range limits the levels.
+- "Range Query": a box query through the kD-tree finds the same triangles as
+  through no structure, testing fewer; the range output is the box; the k
+  nearest come nearest first.
 - bad parameters (a pixel outside the image, samples 0): an empty output and
   an error in ParaView's output.
 """
@@ -27,7 +30,7 @@ from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.vtkConstants import VTK_STRING
 from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 
-for name in ("RayTrace", "RayTree", "BVH"):
+for name in ("RayTrace", "RayTree", "BVH", "RangeQuery"):
     assert name in globals(), f"{name} is missing: the plugin was not loaded from PV_PLUGIN_PATH"
 
 W, H = 120, 90
@@ -139,6 +142,34 @@ assert visits[1] > 0, visits
 print(f"BVH: {len(seen)} nodes, levels {levels}, leaves hold {leaf_prims} triangles; "
       f"visit counts {visits}")
 
+# ---- Range Query -------------------------------------------------------------
+query = RangeQuery(Input=[sphere], QueryType="Box", Box=[0.1, 0.6, -0.2, 0.2, -0.6, 0.6])
+
+
+def found_ids(proxy):
+    out = fetch(proxy)
+    ids = out.GetCellData().GetArray("PrimitiveId")
+    return [int(ids.GetValue(c)) for c in range(out.GetNumberOfCells())], out
+
+
+query.Accel = "None (test every primitive)"
+brute, out_none = found_ids(query)
+query.Accel = "kD-tree (SAH)"
+walked, out_kd = found_ids(query)
+assert brute and walked == brute, (len(brute), len(walked))
+tested = [int(o.GetFieldData().GetArray("PrimitivesTested").GetValue(0)) for o in (out_none, out_kd)]
+assert tested[0] == triangles and tested[1] < tested[0], tested
+range_box = sm.Fetch(query, idx=1).GetBounds()
+assert [round(v, 6) for v in range_box] == [0.1, 0.6, -0.2, 0.2, -0.6, 0.6], range_box
+query.QueryType = "Nearest"
+query.Center = [0.0, 0.0, 0.9]
+query.NumberOfNeighbors = 5
+near = fetch(query)
+dist = [near.GetCellData().GetArray("Distance").GetValue(c) for c in range(near.GetNumberOfCells())]
+assert len(dist) == 5 and dist == sorted(dist) and dist[0] > 0.3, dist
+print(f"Range Query: box finds {len(brute)} triangles, testing {tested[1]} through the kD-tree "
+      f"against {tested[0]} without; 5 nearest at {dist[0]:.3f} .. {dist[-1]:.3f}")
+
 # ---- bad parameters ------------------------------------------------------------
 messages = []
 
@@ -169,4 +200,7 @@ expect_error(rt, ["samples"], "0 samples per pixel")
 rt.Samples = 1
 rt.ViewAngle = 200.0
 expect_error(rt, ["ViewAngle"], "a view angle of 200 degrees")
+query.QueryType = "Box"
+query.Box = [1, -1, 0, 1, 0, 1]
+expect_error(query, ["range query"], "a box with xmin > xmax")
 print("OK")

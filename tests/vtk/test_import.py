@@ -4,7 +4,7 @@ import vtk  # noqa: F401
 import rayscope
 
 for name in ("vtkRayScopeImageAlgorithm", "vtkRayScopeRayTreeSource", "vtkRayScopeBVHSource",
-             "vtkRayScopeMeshConverter", "vtkRayScopeMaterial", "vtkRayScopePass"):
+             "vtkRayScopeRangeQuery", "vtkRayScopeMeshConverter", "vtkRayScopeMaterial", "vtkRayScopePass"):
     cls = getattr(rayscope, name)
     obj = cls()
     assert obj.GetClassName() == name, obj.GetClassName()

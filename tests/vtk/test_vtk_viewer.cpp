@@ -34,6 +34,7 @@
 #include <vtkUnsignedCharArray.h>
 #include <vtkXMLPolyDataReader.h>
 
+#include "rayscope/accel_view.h"
 #include "rayscope/render.h"
 #include "rayscope/replay.h"
 #include "rayscope/shapes.h"
@@ -421,6 +422,51 @@ TEST(Viewer, BvhLevelsImageModesScreenshotAndExport) {
     reader->SetFileName((prefix + suffix).c_str());
     reader->Update();
     EXPECT_GT(reader->GetOutput()->GetNumberOfCells(), 0) << suffix;
+  }
+}
+
+// rayscope view --accel: the viewer draws the structure the rays walk (every
+// node or cell), names it in its messages and legend, walks its levels, and
+// plays the selected ray's walk through its cells as through the BVH's nodes.
+TEST(Viewer, DrawsNamesAndPlaysTheChosenStructure) {
+  const std::pair<int, std::string> kinds[] = {{vtkRayScopeImageAlgorithm::ACCEL_KDTREE, "kdtree"},
+                                               {vtkRayScopeImageAlgorithm::ACCEL_GRID, "grid"},
+                                               {vtkRayScopeImageAlgorithm::ACCEL_OCTREE, "octree"}};
+  for (const auto& [accel, name] : kinds) {
+    SCOPED_TRACE(name);
+    Fixture f;
+    f.alg->SetAccel(accel);
+    ASSERT_TRUE(f.start_on_glass());
+    f.key("b");
+    EXPECT_NE(std::string(f.viewer->GetMessage()).find(name + " shown"), std::string::npos)
+        << f.viewer->GetMessage();
+    vtkPolyData* shown = f.viewer->GetShownBVH();
+    auto* structure =
+        vtkStringArray::SafeDownCast(shown->GetFieldData()->GetAbstractArray("Structure"));
+    ASSERT_NE(structure, nullptr);
+    EXPECT_EQ(structure->GetValue(0), name);
+    const rayscope::AccelView view = rayscope::make_accel_view(f.alg->GetCoreScene()->accel());
+    EXPECT_EQ(shown->GetNumberOfCells(), 12 * vtkIdType(view.nodes.size()));
+    EXPECT_TRUE(has_label(legend_labels(f.viewer), name + ": level 0 (root)"));
+    EXPECT_FALSE(has_label(legend_labels(f.viewer), "BVH: level 0 (root)"));
+    f.key("l");
+    EXPECT_NE(std::string(f.viewer->GetMessage()).find(name + ": level 0"), std::string::npos)
+        << f.viewer->GetMessage();
+    f.key("L");
+
+    const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
+    const std::vector<uint32_t> nodes = rec.rays[0].traversal.nodes();
+    ASSERT_GE(nodes.size(), 1u);
+    for (size_t n = 1; n <= nodes.size(); ++n) {
+      f.key("t");
+      std::map<int, std::set<int>> states = boxes_by_state(f.viewer->GetShownBVH());
+      std::set<int> entered = states[vtkRayScopeBVHSource::ENTERED];
+      entered.insert(states[vtkRayScopeBVHSource::HIT_LEAF].begin(),
+                     states[vtkRayScopeBVHSource::HIT_LEAF].end());
+      EXPECT_EQ(entered, std::set<int>(nodes.begin(), nodes.begin() + long(n))) << "step " << n;
+    }
+    EXPECT_TRUE(has_label(legend_labels(f.viewer), name + ": entered"))
+        << "the walk's legend names the structure";
   }
 }
 

@@ -1,7 +1,8 @@
 /**
  * @class   vtkRayScopeViewer
- * @brief   The interactive ray-tree and BVH debugger: a ray-traced image and
- *          the scene in 3D with the ray tree of a picked pixel, side by side.
+ * @brief   The interactive ray-tree and acceleration-structure debugger: a
+ *          ray-traced image and the scene in 3D with the ray tree of a
+ *          picked pixel, side by side.
  *
  * @code{.py}
  *   viewer = rayscope.vtkRayScopeViewer()
@@ -20,9 +21,12 @@
  * ">>", and drawn white and thick in 3D). The overlay is the output of a
  * vtkRayScopeRayTreeSource (a line per ray in its kind's color, gray for rays
  * the integrator skipped, hit points, shading normals, a red dot where a
- * shadow ray is blocked), and of a vtkRayScopeBVHSource (the BVH by level, or
- * the selected ray's walk played node by node: entered boxes, missed boxes,
- * culled boxes and the hit leaf in the colors of the legend).
+ * shadow ray is blocked), and of a vtkRayScopeBVHSource (the structure the
+ * rays walk, as the scene source's Accel chose it: the BVH, the kD-tree's,
+ * grid's or octree's cells, ...; by level, or the selected ray's walk played
+ * node by node: entered boxes, missed boxes, culled boxes and the hit leaf in
+ * the colors of the legend, which names the structure). Below, "BVH" stands
+ * for whichever structure is drawn.
  *
  * Interaction (an interactor style that extends trackball camera):
  * - a click in the image picks that pixel; a click (press and release

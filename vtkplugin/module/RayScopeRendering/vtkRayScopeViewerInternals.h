@@ -212,6 +212,16 @@ struct vtkRayScopeViewer::Internals {
   }
 
   rayscope::Scene* scene() { return this->Algorithm->GetCoreScene(); }
+  /// The structure the 3D view draws, as the window names it: "BVH" (also
+  /// for bvh2 and none, which show the binary BVH), else the --accel name of
+  /// the structure the rays walk ("kdtree", "grid", "octree", ...).
+  std::string StructureLabel() {
+    const rayscope::AccelKind k = this->scene()->accel().kind();
+    return k == rayscope::AccelKind::Bvh || k == rayscope::AccelKind::BinaryBvh ||
+                   k == rayscope::AccelKind::None
+               ? std::string("BVH")
+               : std::string(rayscope::to_string(k));
+  }
   void Build();
   void BuildSceneGeometry();
   void UpdateCameraGeometry();

@@ -1,4 +1,5 @@
 // vtkRayScopeViewer's keys, screenshots and .vtp export.
+#include "rayscope/accel_view.h"
 #include "vtkRayScopeViewerInternals.h"
 
 using namespace rayscope_vtk::viewer;
@@ -86,22 +87,25 @@ int vtkRayScopeViewer::HandleKey(const char* keysym) {
   }
   if (key == "b") {
     this->ShowBVH = !this->ShowBVH;
-    if (!picked) {  // without a pick the BVH is still worth seeing
+    const std::string m = in.StructureLabel() + (this->ShowBVH ? " shown" : " hidden");
+    if (!picked) {  // without a pick the structure is still worth seeing
       in.UpdateBVH();
-      return say(this->ShowBVH ? "BVH shown" : "BVH hidden");
+      return say(m);
     }
-    return refresh(this->ShowBVH ? "BVH shown" : "BVH hidden");
+    return refresh(m);
   }
   if (key == "l" || key == "L") {
-    const rayscope::Scene& s = *in.scene();
-    const int depth = int(s.bvh().quality().depth);
+    // The levels of the structure drawn (rayscope::AccelView: the binary BVH
+    // for the BVH kinds, else the structure the rays walk).
+    const int depth = rayscope::make_accel_view(in.scene()->accel()).depth;
+    const std::string name = in.StructureLabel();
     if (key == "l" && this->BVHLevel >= depth - 1)
-      return say("l: level " + std::to_string(this->BVHLevel) + " is the deepest of the BVH");
+      return say("l: level " + std::to_string(this->BVHLevel) + " is the deepest of the " + name);
     if (key == "L" && this->BVHLevel < 0) return say("L: every level is shown");
     this->BVHLevel += key == "l" ? 1 : -1;
     this->ShowBVH = true;
-    const std::string m =
-        this->BVHLevel < 0 ? "BVH: every level" : "BVH: level " + std::to_string(this->BVHLevel);
+    const std::string m = this->BVHLevel < 0 ? name + ": every level"
+                                             : name + ": level " + std::to_string(this->BVHLevel);
     if (picked) return refresh(m);
     in.UpdateBVH();
     return say(m);

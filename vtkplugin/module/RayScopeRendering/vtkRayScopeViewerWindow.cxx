@@ -499,7 +499,8 @@ void vtkRayScopeViewer::Internals::UpdateLegend() {
   add("shading normal", kNormalColor);
   add("shadow ray blocked here", kOccluderColor);
   if (this->Self->TraversalSteps >= 0) {
-    for (int k = 1; k < 6; ++k) add(std::string("BVH: ") + kWalkNames[k], kWalkColors[k]);
+    const std::string name = this->StructureLabel();
+    for (int k = 1; k < 6; ++k) add(name + ": " + kWalkNames[k], kWalkColors[k]);
   } else if (this->Self->ShowBVH) {
     vtkDataArray* depth = this->BVH->GetOutput()->GetFieldData()->GetArray("TreeDepth");
     const int deepest = depth ? std::max(0, int(depth->GetTuple1(0)) - 1) : 0;
@@ -507,8 +508,10 @@ void vtkRayScopeViewer::Internals::UpdateLegend() {
     double root[4], leaves[4];
     this->LevelTable->GetTableValue(0, root);
     this->LevelTable->GetTableValue(n - 1, leaves);
-    add("BVH: level 0 (root)", {root[0], root[1], root[2]});
-    add("BVH: level " + std::to_string(deepest) + " (deepest)", {leaves[0], leaves[1], leaves[2]});
+    const std::string name = this->StructureLabel();
+    add(name + ": level 0 (root)", {root[0], root[1], root[2]});
+    add(name + ": level " + std::to_string(deepest) + " (deepest)",
+        {leaves[0], leaves[1], leaves[2]});
   }
   // Rebuilt only when its entries change: each entry is text to rasterize.
   if (entries == this->LegendEntries) return;

@@ -1,0 +1,301 @@
+#include "vtkRayScopeRangeQuery.h"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <vector>
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSphereSource.h"
+#include "vtkStringArray.h"
+#include "vtkUnsignedCharArray.h"
+
+#include "RayScopeArrays.h"
+#include "RayScopeSceneInput.h"
+#include "rayscope/scene.h"
+#include "rayscope/stats.h"
+#include "vtkRayScopeImageAlgorithm.h"
+
+vtkStandardNewMacro(vtkRayScopeRangeQuery);
+vtkCxxSetObjectMacro(vtkRayScopeRangeQuery, SceneSource, vtkRayScopeImageAlgorithm);
+
+vtkRayScopeRangeQuery::vtkRayScopeRangeQuery()
+    : SceneSource(nullptr),
+      QueryType(QUERY_BOX),
+      Box{-0.5, 0.5, -0.5, 0.5, -0.5, 0.5},
+      Center{0.0, 0.0, 0.0},
+      Radius(1.0),
+      NumberOfNeighbors(1),
+      SphereResolution(24) {
+  this->SetNumberOfInputPorts(1);
+  this->SetNumberOfOutputPorts(2);
+}
+
+vtkRayScopeRangeQuery::~vtkRayScopeRangeQuery() {
+  this->SetSceneSource(nullptr);
+}
+
+vtkMTimeType vtkRayScopeRangeQuery::GetMTime() {
+  vtkMTimeType t = this->Superclass::GetMTime();
+  if (this->SceneSource) t = std::max(t, this->SceneSource->GetMTime());
+  return t;
+}
+
+int vtkRayScopeRangeQuery::FillInputPortInformation(int port, vtkInformation* info) {
+  if (port != 0) return 0;
+  rayscope_vtk::fill_scene_input_port(info);
+  return 1;
+}
+
+namespace {
+
+using rayscope::DVec3;
+
+// Polygons in world coordinates, one object at a time, with the objects'
+// cell data.
+struct PolyBuilder {
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkCellArray> polys;
+  std::vector<int> rank, kind, prim, plane, object;
+  std::vector<double> distance;
+
+  PolyBuilder() { points->SetDataTypeToDouble(); }
+
+  void polygon(const std::vector<DVec3>& corners) {
+    std::vector<vtkIdType> ids;
+    for (const DVec3& p : corners) ids.push_back(points->InsertNextPoint(p.x, p.y, p.z));
+    polys->InsertNextCell(vtkIdType(ids.size()), ids.data());
+  }
+  // The polygons of a polydata (a tessellated sphere), appended.
+  void polydata(vtkPolyData* pd) {
+    const vtkIdType base = points->GetNumberOfPoints();
+    for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i)
+      points->InsertNextPoint(pd->GetPoint(i));
+    vtkCellArray* src = pd->GetPolys();
+    vtkIdType n;
+    const vtkIdType* pts;
+    std::vector<vtkIdType> ids;
+    for (src->InitTraversal(); src->GetNextCell(n, pts);) {
+      ids.assign(pts, pts + n);
+      for (vtkIdType& id : ids) id += base;
+      polys->InsertNextCell(n, ids.data());
+    }
+  }
+  // Cell data for every cell added since `first_cell`.
+  void tag(vtkIdType first_cell, int r, int k, int p, int pl, int obj, double d) {
+    for (vtkIdType c = first_cell; c < polys->GetNumberOfCells(); ++c) {
+      rank.push_back(r);
+      kind.push_back(k);
+      prim.push_back(p);
+      plane.push_back(pl);
+      object.push_back(obj);
+      distance.push_back(d);
+    }
+  }
+  void output(vtkPolyData* out) const {
+    out->Initialize();
+    out->SetPoints(points);
+    out->SetPolys(polys);
+    const vtkIdType n = vtkIdType(rank.size());
+    auto add = [&](const auto& values, auto array) {
+      for (vtkIdType c = 0; c < n; ++c) array->SetValue(c, values[size_t(c)]);
+      out->GetCellData()->AddArray(array);
+    };
+    using rayscope_vtk::make_array;
+    add(rank, make_array<vtkIntArray>("Rank", 1, n));
+    add(kind, make_array<vtkIntArray>("ObjectKind", 1, n));
+    add(prim, make_array<vtkIntArray>("PrimitiveId", 1, n));
+    add(plane, make_array<vtkIntArray>("PlaneId", 1, n));
+    add(object, make_array<vtkIntArray>("ObjectId", 1, n));
+    add(distance, make_array<vtkDoubleArray>("Distance", 1, n));
+    out->GetCellData()->SetActiveScalars("Rank");
+  }
+};
+
+// A tessellated sphere in world coordinates.
+vtkSmartPointer<vtkPolyData> sphere_polys(const DVec3& center, double radius, int resolution) {
+  vtkNew<vtkSphereSource> s;
+  s->SetCenter(center.x, center.y, center.z);
+  s->SetRadius(radius);
+  s->SetThetaResolution(resolution);
+  s->SetPhiResolution(resolution);
+  s->Update();
+  return s->GetOutput();
+}
+
+// The polygon where the plane (point p, normal n) cuts the box [lo, hi]: the
+// points where it crosses the box's 12 edges, ordered around their centroid
+// (empty when it misses the box).
+std::vector<DVec3> plane_in_box(const DVec3& p, const DVec3& n, const DVec3& lo, const DVec3& hi) {
+  auto corner = [&](int c) {
+    return DVec3((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+  };
+  static const int kEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                                    {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  std::vector<DVec3> pts;
+  for (const auto& e : kEdges) {
+    const DVec3 a = corner(e[0]), b = corner(e[1]);
+    const double da = glm::dot(a - p, n), db = glm::dot(b - p, n);
+    if ((da < 0.0) == (db < 0.0) && da != 0.0 && db != 0.0) continue;
+    const double t = da == db ? 0.0 : da / (da - db);
+    const DVec3 q = a + (b - a) * t;
+    if (std::none_of(pts.begin(), pts.end(), [&](const DVec3& o) {
+          return glm::length(o - q) <= 1e-12 * glm::length(hi - lo);
+        }))
+      pts.push_back(q);
+  }
+  if (pts.size() < 3) return {};
+  DVec3 c(0.0);
+  for (const DVec3& q : pts) c += q;
+  c /= double(pts.size());
+  // Axes in the plane, and the points by angle around the centroid.
+  const DVec3 u = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, DVec3(1, 0, 0))
+                                                     : glm::cross(n, DVec3(0, 1, 0)));
+  const DVec3 v = glm::cross(n, u);
+  std::sort(pts.begin(), pts.end(), [&](const DVec3& a, const DVec3& b) {
+    return std::atan2(glm::dot(a - c, v), glm::dot(a - c, u)) <
+           std::atan2(glm::dot(b - c, v), glm::dot(b - c, u));
+  });
+  return pts;
+}
+
+// A box's 6 faces.
+void box_faces(PolyBuilder& out, const DVec3& lo, const DVec3& hi) {
+  auto corner = [&](int c) {
+    return DVec3((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+  };
+  static const int kFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                   {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (const auto& f : kFaces)
+    out.polygon({corner(f[0]), corner(f[1]), corner(f[2]), corner(f[3])});
+}
+
+}  // namespace
+
+int vtkRayScopeRangeQuery::RequestData(vtkInformation*, vtkInformationVector** inputVector,
+                                       vtkInformationVector* outputVector) {
+  vtkPolyData* found_out = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* range_out = vtkPolyData::GetData(outputVector, 1);
+  found_out->Initialize();
+  range_out->Initialize();
+  vtkRayScopeImageAlgorithm* source =
+      rayscope_vtk::update_scene(this, inputVector[0], this->SceneSource, this->DefaultScene);
+  if (!source) return 0;
+  const rayscope::Scene& scene = *source->GetCoreScene();
+  const rayscope::Aggregate& accel = scene.accel();
+
+  // The query, in the scene's local coordinates; the core checks the range.
+  rayscope::PixelCost cost;
+  rayscope::StatsRecorder::Observer obs(&cost);
+  std::vector<rayscope::RangeHit> found;
+  DVec3 lo(this->Box[0], this->Box[2], this->Box[4]), hi(this->Box[1], this->Box[3], this->Box[5]);
+  const DVec3 center(this->Center[0], this->Center[1], this->Center[2]);
+  try {
+    switch (this->QueryType) {
+      case QUERY_BOX: {
+        rayscope::Bounds3 box;
+        box.lo = scene.to_local(lo);
+        box.hi = scene.to_local(hi);
+        found = accel.query_box(box, obs);
+        break;
+      }
+      case QUERY_SPHERE:
+        found = accel.query_sphere(scene.to_local(center), float(this->Radius), obs);
+        break;
+      default:
+        if (this->NumberOfNeighbors < 1)
+          throw std::invalid_argument("NumberOfNeighbors must be at least 1, got " +
+                                      std::to_string(this->NumberOfNeighbors));
+        found = accel.nearest(scene.to_local(center), uint32_t(this->NumberOfNeighbors), obs);
+        break;
+    }
+  } catch (const std::exception& e) {
+    vtkErrorMacro(<< "the range query failed: " << e.what());
+    return 0;
+  }
+
+  // The range as drawn: the box, or the sphere (for the nearest query,
+  // through the farthest object found).
+  double radius = this->Radius;
+  if (this->QueryType == QUERY_NEAREST)
+    radius = found.empty() ? 0.0 : double(found.back().distance);
+  if (this->QueryType != QUERY_BOX) {
+    lo = center - DVec3(radius);
+    hi = center + DVec3(radius);
+  }
+
+  PolyBuilder objects;
+  const uint32_t num_meshes = uint32_t(scene.meshes.size());
+  const uint32_t num_bounded = num_meshes + uint32_t(scene.spheres.size());
+  for (size_t r = 0; r < found.size(); ++r) {
+    const rayscope::RangeHit& h = found[r];
+    const vtkIdType first = objects.polys->GetNumberOfCells();
+    if (h.plane >= 0) {
+      const rayscope::PlaneRecord& pl = accel.plane_records()[size_t(h.plane)];
+      const DVec3 p = scene.to_world(pl.point);
+      const std::vector<DVec3> poly = plane_in_box(p, DVec3(pl.normal), lo, hi);
+      if (!poly.empty()) objects.polygon(poly);
+      objects.tag(first, int(r), 2, -1, h.plane, int(num_bounded) + h.plane, h.distance);
+      continue;
+    }
+    const uint32_t obj = scene.prim_object(h.prim);
+    if (obj < num_meshes) {
+      const rayscope::TriangleMesh& m = scene.meshes[obj];
+      const glm::uvec3 t = m.triangles[scene.prim_in_object(h.prim)];
+      objects.polygon({scene.to_world(m.positions[t.x]), scene.to_world(m.positions[t.y]),
+                       scene.to_world(m.positions[t.z])});
+      objects.tag(first, int(r), 0, int(h.prim), -1, int(obj), h.distance);
+    } else {
+      const rayscope::Sphere& s = scene.spheres[obj - num_meshes];
+      objects.polydata(
+          sphere_polys(scene.to_world(s.center), double(s.radius), this->SphereResolution));
+      objects.tag(first, int(r), 1, int(h.prim), -1, int(obj), h.distance);
+    }
+  }
+  objects.output(found_out);
+
+  vtkFieldData* fd = found_out->GetFieldData();
+  vtkNew<vtkStringArray> structure;
+  structure->SetName("Structure");
+  structure->InsertNextValue(rayscope::to_string(accel.kind()));
+  fd->AddArray(structure);
+  using rayscope_vtk::add_field_tuple;
+  add_field_tuple<vtkIntArray>(fd, "StructureWalked", {accel.walks_structure() ? 1 : 0});
+  add_field_tuple<vtkIntArray>(fd, "ObjectsFound", {int(found.size())});
+  add_field_tuple<vtkIntArray>(fd, "NodesVisited", {int(cost.nodes)});
+  add_field_tuple<vtkIntArray>(fd, "BoxesTested", {int(cost.boxes)});
+  add_field_tuple<vtkIntArray>(fd, "NodesCulled", {int(cost.culled)});
+  add_field_tuple<vtkIntArray>(fd, "PrimitivesTested", {int(cost.prims)});
+
+  PolyBuilder range;
+  if (this->QueryType == QUERY_BOX)
+    box_faces(range, lo, hi);
+  else if (this->QueryType == QUERY_SPHERE || !found.empty())
+    range.polydata(sphere_polys(center, radius, this->SphereResolution));
+  range_out->SetPoints(range.points);
+  range_out->SetPolys(range.polys);
+  return 1;
+}
+
+void vtkRayScopeRangeQuery::PrintSelf(ostream& os, vtkIndent indent) {
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "SceneSource: " << this->SceneSource << "\n";
+  os << indent << "QueryType: " << this->QueryType << "\n";
+  os << indent << "Box: " << this->Box[0] << " " << this->Box[1] << " " << this->Box[2] << " "
+     << this->Box[3] << " " << this->Box[4] << " " << this->Box[5] << "\n";
+  os << indent << "Center: " << this->Center[0] << " " << this->Center[1] << " " << this->Center[2]
+     << "\n";
+  os << indent << "Radius: " << this->Radius << "\n";
+  os << indent << "NumberOfNeighbors: " << this->NumberOfNeighbors << "\n";
+  os << indent << "SphereResolution: " << this->SphereResolution << "\n";
+}

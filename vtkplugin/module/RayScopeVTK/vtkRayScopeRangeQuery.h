@@ -1,0 +1,132 @@
+/**
+ * @class   vtkRayScopeRangeQuery
+ * @brief   The objects of a scene within a range (a box, a sphere, or the k
+ *          nearest to a point) as vtkPolyData, found through the scene's
+ *          acceleration structure.
+ *
+ * The lecture's range query (rayscope/range_query.h): the walk of the
+ * structure the scene source chose (its Accel: BVH, kD-tree, grid, octree,
+ * ... or none), pruning every node whose bound the range misses, with exact
+ * object tests, so that every structure finds the same objects. The same
+ * query as `rayscope query`.
+ *
+ * The scene's datasets come through input port 0 (one or more vtkDataSets),
+ * as for vtkRayScopeBVHSource; SetSceneSource gives the structure choice
+ * (without one, a default scene over the inputs, walked by the BVH).
+ *
+ * Ranges are in world coordinates:
+ * - QueryTypeToBox: every object that shares a point with the closed box
+ *   Box = (xmin, xmax, ymin, ymax, zmin, zmax) (VTK's bounds order);
+ * - QueryTypeToSphere: every object within distance Radius of Center;
+ * - QueryTypeToNearest: the NumberOfNeighbors objects nearest to Center
+ *   (all of them when the scene has fewer).
+ *
+ * Output port 0, the objects found, in the order the query returns them
+ * (box: primitives by id, then planes; sphere and nearest: nearest first):
+ * a triangle as one triangle cell, an analytic sphere as a tessellated sphere
+ * (SphereResolution), an unbounded plane as the polygon where it cuts the
+ * range's box (for the sphere ranges, the box around the final sphere). Every
+ * cell of an object carries: "Rank" (its place in the result, from 0),
+ * "ObjectKind" (0 triangle, 1 sphere, 2 plane), "PrimitiveId" (global
+ * primitive id: triangles input by input, then spheres; -1 for a plane),
+ * "PlaneId" (-1 for a primitive), "ObjectId" (the scene's object id: the
+ * input's index for a dataset), "Distance" (0 for the box query).
+ * Field data: "Structure" (the walked structure's name), "ObjectsFound",
+ * and the query's cost: "NodesVisited", "BoxesTested", "NodesCulled",
+ * "PrimitivesTested" (as rayscope query reports them).
+ *
+ * Output port 1, the range itself: the box, or the sphere (for the nearest
+ * query the sphere through the k-th object found: the final, shrunk range).
+ *
+ * A range the query refuses (non-finite numbers, a box with min > max, a
+ * negative radius, NumberOfNeighbors < 1) is an error (vtkErrorMacro) with
+ * empty outputs.
+ */
+#ifndef vtkRayScopeRangeQuery_h
+#define vtkRayScopeRangeQuery_h
+
+#include "RayScopeVTKModule.h"  // export macro
+#include "vtkPolyDataAlgorithm.h"
+#include "vtkSmartPointer.h"  // DefaultScene
+
+class vtkRayScopeImageAlgorithm;
+
+class RAYSCOPEVTK_EXPORT vtkRayScopeRangeQuery : public vtkPolyDataAlgorithm {
+ public:
+  static vtkRayScopeRangeQuery* New();
+  vtkTypeMacro(vtkRayScopeRangeQuery, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// The image algorithm whose scene (and structure choice) is queried (its
+  /// inputs are replaced by this filter's, when it has any).
+  virtual void SetSceneSource(vtkRayScopeImageAlgorithm*);
+  vtkGetObjectMacro(SceneSource, vtkRayScopeImageAlgorithm);
+  ///@}
+
+  ///@{
+  /// Which range (default QUERY_BOX).
+  enum QueryTypes { QUERY_BOX = 0, QUERY_SPHERE = 1, QUERY_NEAREST = 2 };
+  vtkSetClampMacro(QueryType, int, QUERY_BOX, QUERY_NEAREST);
+  vtkGetMacro(QueryType, int);
+  void SetQueryTypeToBox() { this->SetQueryType(QUERY_BOX); }
+  void SetQueryTypeToSphere() { this->SetQueryType(QUERY_SPHERE); }
+  void SetQueryTypeToNearest() { this->SetQueryType(QUERY_NEAREST); }
+  ///@}
+
+  ///@{
+  /// The box of QUERY_BOX: (xmin, xmax, ymin, ymax, zmin, zmax), world
+  /// coordinates (default the unit cube around the origin, -0.5 .. 0.5).
+  vtkSetVector6Macro(Box, double);
+  vtkGetVector6Macro(Box, double);
+  ///@}
+
+  ///@{
+  /// The center of QUERY_SPHERE and the point of QUERY_NEAREST (default the
+  /// origin), and the sphere's radius (default 1).
+  vtkSetVector3Macro(Center, double);
+  vtkGetVector3Macro(Center, double);
+  vtkSetMacro(Radius, double);
+  vtkGetMacro(Radius, double);
+  ///@}
+
+  ///@{
+  /// k of QUERY_NEAREST (default 1).
+  vtkSetMacro(NumberOfNeighbors, int);
+  vtkGetMacro(NumberOfNeighbors, int);
+  ///@}
+
+  ///@{
+  /// Theta and phi resolution of the spheres drawn (found analytic spheres
+  /// and the range of port 1; default 24, at least 4).
+  vtkSetClampMacro(SphereResolution, int, 4, 512);
+  vtkGetMacro(SphereResolution, int);
+  ///@}
+
+  /// Includes the scene source's modification time.
+  vtkMTimeType GetMTime() override;
+
+ protected:
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  vtkRayScopeRangeQuery();
+  ~vtkRayScopeRangeQuery() override;
+
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+                  vtkInformationVector* outputVector) override;
+
+  vtkRayScopeImageAlgorithm* SceneSource;
+  int QueryType;
+  double Box[6];
+  double Center[3];
+  double Radius;
+  int NumberOfNeighbors;
+  int SphereResolution;
+
+ private:
+  // The scene without a scene source: inputs only, camera fitted to them.
+  vtkSmartPointer<vtkRayScopeImageAlgorithm> DefaultScene;
+  vtkRayScopeRangeQuery(const vtkRayScopeRangeQuery&) = delete;
+  void operator=(const vtkRayScopeRangeQuery&) = delete;
+};
+
+#endif
