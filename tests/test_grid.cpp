@@ -719,7 +719,11 @@ TEST_P(GridResolution, SmallestCellRaysMatchBruteForce) {
   Rng rng(63);
   Scene scene = rstest::soup_scene(rng);
   scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
-  for (float f : {0.0f, kDefaultLooseFactor, kMaxLooseFactor}) {
+  // One cell is brute force twice over: the lecture's factor only.
+  const std::vector<float> factors =
+      GetParam() == glm::uvec3(1u) ? std::vector<float>{kDefaultLooseFactor}
+                                   : std::vector<float>{0.0f, kDefaultLooseFactor, kMaxLooseFactor};
+  for (float f : factors) {
     commit_grid(scene, loose(f, GetParam()));
     const UniformGrid& g = scene.accel().grid();
     std::vector<Ray> rays = adversarial_rays(rng, scene);
@@ -732,7 +736,7 @@ TEST_P(GridResolution, SmallestCellRaysMatchBruteForce) {
       rstest::add_plane_rays(rng, g.bounds(), a, rng.coin() ? box.lo[a] : box.hi[a], rays, false);
     }
     const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
-    for (int i = 0; i < 10000; ++i) rays.push_back(rstest::random_ray(rng, g.bounds(), boxes));
+    for (int i = 0; i < 4000; ++i) rays.push_back(rstest::random_ray(rng, g.bounds(), boxes));
     rstest::check_queries(scene, rays, "loose grid", 20);
   }
 }
@@ -748,7 +752,8 @@ TEST_P(GridResolution, SmallestCellTestsEachPrimitiveOncePerRay) {
   rstest::mailbox_rays(scene, rng, n_rays, size_t(g.box_id()) + 1, t,
                        [&](const rstest::CountingObserver& obs, bool) {
                          ASSERT_EQ(obs.nodes[g.box_id()], 0);
-                         for (int v : obs.box_tests) ASSERT_LE(v, 1) << "a box tested twice";
+                         for (uint32_t n : obs.boxed())
+                           ASSERT_EQ(obs.box_tests[n], 1) << "a box tested twice";
                          ASSERT_LE(obs.culled, 1);
                        });
   if (HasFatalFailure()) return;

@@ -376,8 +376,8 @@ TEST_P(OctreeStorage, EachPrimitiveTestedOncePerRayAndTheObserverSeesTheWalk) {
                          // The root's box, then every child box of each inner
                          // node entered, once.
                          int want = 1;
-                         for (size_t n = 0; n < obs.nodes.size(); ++n)
-                           if (obs.nodes[n]) want += std::popcount(unsigned(oc.nodes[n].mask));
+                         for (uint32_t n : obs.order)
+                           want += std::popcount(unsigned(oc.nodes[n].mask));
                          EXPECT_EQ(obs.boxes, want);
                          for (size_t n = 0; n < obs.nodes.size(); ++n) {
                            ASSERT_LE(obs.box_tests[n], 1);

@@ -109,8 +109,9 @@ struct KdTreeBuildConfig {
   /// loose box (along the split axis; one fitting both is counted on both
   /// sides, a slight overestimate), straddlers the rest, which stay in the
   /// inner node and cost a test on every visit (probability 1), and P is a
-  /// child's loose box's surface area over the node's loose box's. The
-  /// empty-side bonus applies as for EveryCell.
+  /// child's loose box's surface area over the node's loose box's. No
+  /// empty-side bonus: a plane with every primitive on one side cuts off
+  /// hardly any space once the children are loose.
   PrimStorage storage = PrimStorage::EveryCell;
   /// SmallestCell only: the enlargement of each child cell on every side, as
   /// a fraction of the cell's extent on that axis; 0 .. kMaxLooseFactor
