@@ -712,19 +712,17 @@ TEST(Grid, BadStorageSettingsAreRefusedWithOneLine) {
 }
 
 // Random and adversarial rays (cell planes and corners, the loose boxes'
-// faces) through the loose grid == brute force: loose factors 0, 0.1, 0.5,
-// automatic, anisotropic and fine resolutions (where slivers reach far
-// beyond the neighbours and go to the big list).
-TEST_P(GridResolution, SmallestCellRaysMatchBruteForce) {
+// faces) through the loose grid == brute force: loose factors 0, 0.1, 0.5 at
+// the automatic resolution. (Coarse, anisotropic and fine resolutions, where
+// the soup's triangles go to the big list, are checked against the BVH bit
+// for bit in SameHitsAsTheBvhBitForBit: brute force twice over is too slow
+// for a unit test.)
+TEST(Grid, SmallestCellRaysMatchBruteForce) {
   Rng rng(63);
   Scene scene = rstest::soup_scene(rng);
   scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
-  // One cell is brute force twice over: the lecture's factor only.
-  const std::vector<float> factors =
-      GetParam() == glm::uvec3(1u) ? std::vector<float>{kDefaultLooseFactor}
-                                   : std::vector<float>{0.0f, kDefaultLooseFactor, kMaxLooseFactor};
-  for (float f : factors) {
-    commit_grid(scene, loose(f, GetParam()));
+  for (float f : {0.0f, kDefaultLooseFactor, kMaxLooseFactor}) {
+    commit_grid(scene, loose(f));
     const UniformGrid& g = scene.accel().grid();
     std::vector<Ray> rays = adversarial_rays(rng, scene);
     const glm::uvec3 r = g.resolution();
@@ -760,7 +758,11 @@ TEST_P(GridResolution, SmallestCellTestsEachPrimitiveOncePerRay) {
   std::printf("loose grid %ux%ux%u: %.1f of %zu primitives tested per ray, %zu big\n",
               g.resolution().x, g.resolution().y, g.resolution().z, double(t.tests) / n_rays, prims,
               g.big_refs.size());
-  if (g.cells() > 1) {
+  // At the automatic resolution most slivers fit a loose cell and the grid
+  // prunes; with one cell, slabs thinner than the slivers or a fine grid,
+  // they do not, and the big list makes the walk brute force (the lesson of
+  // docs/acceleration.md).
+  if (GetParam() == glm::uvec3(0u)) {
     EXPECT_LT(t.tests, uint64_t(n_rays) * prims / 2);
   }
 }
