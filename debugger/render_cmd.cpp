@@ -48,34 +48,39 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
       "BVH:       %u nodes, %u leaves, depth %u, %.1f prims/leaf, SAH cost %.2f, built in %.3f "
       "s\n",
       q.nodes, q.leaves, q.depth, q.mean_leaf_prims, q.sah_cost, build_s);
+  // "every-cell" or "smallest-cell (loose factor F)".
+  const std::string storage =
+      std::string(to_string(accel.storage())) +
+      (accel.storage() == PrimStorage::SmallestCell
+           ? " (loose factor " + shortest_text(accel.config().loose_factor) + ")"
+           : std::string());
   if (accel.walks_structure() && accel.kind() == AccelKind::KdTree) {
     const KdTreeQuality k = accel.kdtree().quality();
     std::printf(
-        "Walk:      kdtree: %u nodes, %u leaves (%u empty), depth %u (limit %d), %.2f references "
-        "per primitive, %.1f per non-empty leaf, SAH cost %.2f, %.2f MiB, built in %.3f s\n",
-        k.nodes, k.leaves, k.empty_leaves, k.depth, accel.kdtree().max_depth(), k.refs_per_prim,
-        k.mean_leaf_refs, k.sah_cost, double(k.memory_bytes) / (1024.0 * 1024.0), k.build_seconds);
+        "Walk:      kdtree, %s split, %s: %u nodes, %u leaves (%u empty), depth %u (limit %d), "
+        "%.2f references per primitive (%zu held by inner nodes), %.1f per non-empty leaf, SAH "
+        "cost %.2f, %.2f MiB, built in %.3f s\n",
+        to_string(accel.config().kdtree.rule), storage.c_str(), k.nodes, k.leaves, k.empty_leaves,
+        k.depth, accel.kdtree().max_depth(), k.refs_per_prim, k.inner_refs, k.mean_leaf_refs,
+        k.sah_cost, double(k.memory_bytes) / (1024.0 * 1024.0), k.build_seconds);
   } else if (accel.walks_structure() && accel.kind() == AccelKind::Octree) {
     const OctreeQuality k = accel.octree().quality();
     std::printf(
-        "Walk:      octree, %s%s: %u nodes, %u leaves (%u empty octants not stored), depth %u "
+        "Walk:      octree, %s: %u nodes, %u leaves (%u empty octants not stored), depth %u "
         "(limit %d), %.2f references per primitive (%zu held by inner nodes), %.1f per leaf (max "
         "%u), %.2f MiB, built in %.3f s\n",
-        to_string(accel.storage()),
-        accel.octree().loose()
-            ? (" (loose factor " + shortest_text(accel.octree().config.loose_factor) + ")").c_str()
-            : "",
-        k.nodes, k.leaves, k.empty_leaves, k.depth, accel.octree().max_depth(), k.refs_per_prim,
-        k.inner_refs, k.mean_leaf_refs, k.max_leaf_refs, double(k.memory_bytes) / (1024.0 * 1024.0),
-        k.build_seconds);
+        storage.c_str(), k.nodes, k.leaves, k.empty_leaves, k.depth, accel.octree().max_depth(),
+        k.refs_per_prim, k.inner_refs, k.mean_leaf_refs, k.max_leaf_refs,
+        double(k.memory_bytes) / (1024.0 * 1024.0), k.build_seconds);
   } else if (accel.walks_structure() && accel.kind() == AccelKind::Grid) {
     const GridQuality g = accel.grid().quality();
     std::printf(
-        "Walk:      grid: %u x %u x %u cells (%zu, %zu empty), %.2f references per primitive, "
-        "%.1f per non-empty cell (at most %u), %.2f MiB, built in %.3f s\n",
-        g.resolution.x, g.resolution.y, g.resolution.z, g.cells, g.empty_cells, g.refs_per_prim,
-        g.mean_cell_refs, g.max_cell_refs, double(g.memory_bytes) / (1024.0 * 1024.0),
-        g.build_seconds);
+        "Walk:      grid, %s: %u x %u x %u cells (%zu, %zu empty), %.2f references per "
+        "primitive (%zu in the grid's own list), %.1f per non-empty cell (at most %u), %.2f MiB, "
+        "built in %.3f s\n",
+        storage.c_str(), g.resolution.x, g.resolution.y, g.resolution.z, g.cells, g.empty_cells,
+        g.refs_per_prim, g.big_refs, g.mean_cell_refs, g.max_cell_refs,
+        double(g.memory_bytes) / (1024.0 * 1024.0), g.build_seconds);
   } else if (accel.walks_structure()) {
     std::printf("Walk:      %s: %zu %d-wide nodes, depth %u%s\n", to_string(accel.kind()),
                 accel.walk().nodes.size(), accel.walk().arity(), accel.walk().depth(),
@@ -231,9 +236,7 @@ int run_render(const RenderOptions& o) {
                      "rayscope: warning: pixel (%d, %d) is not finite; replay it with:\n  "
                      "rayscope inspect %s --pixel %d,%d\n",
                      x, y,
-                     SceneOptions::replay_args(o.scene.scene, rs, scene.accel().kind(),
-                                               scene.accel().storage())
-                         .c_str(),
+                     SceneOptions::replay_args(o.scene.scene, rs, scene.accel().config()).c_str(),
                      x, y);
         y = rs.height;
         break;
@@ -244,9 +247,7 @@ int run_render(const RenderOptions& o) {
     std::printf(
         "pixel (%d, %d) = (%s, %s, %s); its ray tree:\n  rayscope inspect %s --pixel %d,%d\n", px,
         py, shortest_text(c.r).c_str(), shortest_text(c.g).c_str(), shortest_text(c.b).c_str(),
-        SceneOptions::replay_args(o.scene.scene, rs, scene.accel().kind(), scene.accel().storage())
-            .c_str(),
-        px, py);
+        SceneOptions::replay_args(o.scene.scene, rs, scene.accel().config()).c_str(), px, py);
   }
   if (!o.quiet) std::fprintf(stderr, "wrote %s (%dx%d)\n", o.output.c_str(), rs.width, rs.height);
   return 0;

@@ -133,9 +133,10 @@ void SceneOptions::add_to(CLI::App* cmd, bool render_settings, bool walk_option)
   cmd->add_option("--storage", storage,
                   "How a spatial subdivision stores a primitive that straddles its cuts: "
                   "every-cell (a reference in every cell it overlaps, tested once per ray; "
-                  "default; kdtree, grid and octree), smallest-cell (the loose octree: cells "
-                  "enlarged by 10% on each side, each primitive once, in the deepest cell that "
-                  "holds it; octree), split (the BSP tree's; not available yet)")
+                  "default; kdtree, grid and octree), smallest-cell (loose cells: enlarged by "
+                  "--loose-factor on each side, each primitive once, in the smallest cell that "
+                  "holds it, else in an inner node or the grid's list; kdtree, grid and octree), "
+                  "split (the BSP tree's; not available yet)")
       ->check(CLI::Validator(
           [](std::string& name) {
             PrimStorage s;
@@ -144,6 +145,21 @@ void SceneOptions::add_to(CLI::App* cmd, bool render_settings, bool walk_option)
                        : "expected every-cell, smallest-cell or split, got '" + name + "'";
           },
           "every-cell|smallest-cell|split"));
+  cmd->add_option("--loose-factor", loose_factor,
+                  "--storage smallest-cell: each cell enlarged by this fraction of its size on "
+                  "every side (0.." +
+                      shortest_text(kMaxLooseFactor) + "; default " +
+                      shortest_text(kDefaultLooseFactor) + ", the lecture's 10%)");
+  cmd->add_option("--kd-split", kd_split,
+                  "How the kdtree chooses its split planes: sah (surface area heuristic; "
+                  "default) or median (the middle of the cell's longest axis)")
+      ->check(CLI::Validator(
+          [](std::string& name) {
+            KdSplitRule r;
+            return parse_kd_split_rule(name, r) ? std::string()
+                                                : "expected sah or median, got '" + name + "'";
+          },
+          "sah|median"));
 }
 
 void parse_pixel_option(const std::string& text, int xy[2]) {
@@ -205,6 +221,10 @@ LoadedScene SceneOptions::load() const {
   if (const std::string e = accel_storage_error(accel_config.kind, accel_config.storage);
       !e.empty())
     throw std::invalid_argument("--storage: " + e);
+  if (loose_factor) accel_config.loose_factor = *loose_factor;
+  if (const std::string e = loose_factor_error(accel_config.loose_factor); !e.empty())
+    throw std::invalid_argument("--loose-factor: " + e);
+  parse_kd_split_rule(kd_split, accel_config.kdtree.rule);  // checked by the option's validator
   try {
     loaded.scene.commit(accel_config);
     // The camera checks render() runs, here with the file's name (a framed
@@ -218,15 +238,20 @@ LoadedScene SceneOptions::load() const {
 }
 
 std::string SceneOptions::replay_args(const std::string& scene, const RenderSettings& s,
-                                      AccelKind accel, PrimStorage storage) {
+                                      const AccelConfig& accel) {
   std::string a = scene.empty() ? std::string() : "'" + scene + "' ";
   a += "--size " + std::to_string(s.width) + "x" + std::to_string(s.height);
   a += " --spp " + std::to_string(s.samples);
   a += " --max-depth " + std::to_string(s.max_depth);
   a += " --min-contribution " + shortest_text(s.min_contribution);
   a += " --seed " + std::to_string(s.seed);
-  if (accel != AccelKind::Bvh) a += std::string(" --accel ") + to_string(accel);
-  if (storage != PrimStorage::EveryCell) a += std::string(" --storage ") + to_string(storage);
+  if (accel.kind != AccelKind::Bvh) a += std::string(" --accel ") + to_string(accel.kind);
+  if (accel.storage != PrimStorage::EveryCell)
+    a += std::string(" --storage ") + to_string(accel.storage);
+  if (accel.loose_factor != kDefaultLooseFactor)
+    a += " --loose-factor " + shortest_text(accel.loose_factor);
+  if (accel.kdtree.rule != KdSplitRule::Sah)
+    a += std::string(" --kd-split ") + to_string(accel.kdtree.rule);
   return a;
 }
 

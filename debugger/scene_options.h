@@ -41,19 +41,26 @@ struct SceneOptions {
   /// "smallest-cell" or "split"; checked against the structure by
   /// rayscope::accel_storage_error.
   std::string storage = to_string(PrimStorage::EveryCell);
+  /// SmallestCell's loose factor (AccelConfig::loose_factor; unset: the
+  /// lecture's kDefaultLooseFactor), checked by rayscope::loose_factor_error.
+  std::optional<float> loose_factor;
+  /// The kD-tree's split rule (rayscope::parse_kd_split_rule names it):
+  /// "sah" (default) or "median".
+  std::string kd_split = to_string(KdSplitRule::Sah);
 
   /// Adds the scene argument, the render-setting options (unless
   /// `render_settings` is false: commands that render nothing) and, with
-  /// `walk_option`, --accel and --storage (a command that chooses the
+  /// `walk_option`, --accel, --storage, --loose-factor and --kd-split (a command that chooses the
   /// structures itself, such as accel compare, leaves them out).
   void add_to(CLI::App* cmd, bool render_settings = true, bool walk_option = true);
   /// Loads (and commits) the scene and applies the option overrides. Throws
   /// std::exception with a one-line message naming the file.
   LoadedScene load() const;
-  /// The options that reproduce `settings` and the scene's walk (`accel`,
-  /// `storage`) on another command line.
+  /// The options that reproduce `settings` and the scene's walk (the
+  /// structure, its storage, loose factor and kD-tree split rule, each only
+  /// when not the default) on another command line.
   static std::string replay_args(const std::string& scene, const RenderSettings& settings,
-                                 AccelKind accel, PrimStorage storage);
+                                 const AccelConfig& accel);
 };
 
 }  // namespace rayscope::cli

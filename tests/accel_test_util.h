@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <vector>
@@ -358,6 +359,206 @@ inline void add_inside_and_grazing_rays(Rng& rng, const rayscope::Scene& scene,
       const DVec3 p = to_d(s.center) + double(s.radius) * nrm;
       rays.push_back(Ray{to_f(p - 5.0 * t), to_f(t), kInfinity});
     }
+}
+
+// Counts what a walk reports (traversal.h), per node id and per primitive:
+// the structure tests share it for their mailbox checks. Ids are the
+// structure's node ids (the grid's cells and its box, box_id()).
+struct CountingObserver : rayscope::TraversalHooks {
+  static constexpr bool kActive = true;
+  std::vector<int> nodes;       ///< Times entered, per id.
+  std::vector<uint32_t> order;  ///< Ids entered, in order.
+  std::vector<int> box_tests;   ///< Box tests, per id.
+  std::vector<int> prim_tests;  ///< Tests, per primitive.
+  int boxes = 0, culled = 0;
+  CountingObserver(size_t ids, size_t prims) : nodes(ids), box_tests(ids), prim_tests(prims) {}
+  void on_node(uint32_t n) {
+    nodes.at(n)++;
+    order.push_back(n);
+  }
+  void on_box_test(uint32_t n, bool) {
+    box_tests.at(n)++;
+    boxed_.push_back(n);
+    ++boxes;
+  }
+  void on_cull(uint32_t n) {
+    ASSERT_LT(n, nodes.size());
+    ++culled;
+  }
+  void on_prim_test(uint32_t p) {
+    prim_tests.at(p)++;
+    tested_.push_back(p);
+  }
+  /// Zero again for the next query, touching only what this one counted (a
+  /// fine grid has millions of ids).
+  void reset() {
+    for (uint32_t n : order) nodes[n] = 0;
+    for (uint32_t n : boxed_) box_tests[n] = 0;
+    for (uint32_t p : tested_) prim_tests[p] = 0;
+    order.clear();
+    boxed_.clear();
+    tested_.clear();
+    boxes = culled = 0;
+  }
+  /// The primitives tested, each as often as it was.
+  const std::vector<uint32_t>& tested() const { return tested_; }
+  /// The ids whose box was tested, each as often as it was.
+  const std::vector<uint32_t>& boxed() const { return boxed_; }
+
+ private:
+  std::vector<uint32_t> boxed_, tested_;
+};
+
+// The mailbox tests' scene: an icosphere and 300 long thin triangles that
+// straddle many cells (stored several times by every-cell, held high up by
+// smallest-cell).
+inline rayscope::Scene sliver_scene(Rng& rng) {
+  using namespace rayscope;
+  Scene scene;
+  scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
+  TriangleMesh slivers;
+  for (uint32_t i = 0; i < 300; ++i) {
+    const DVec3 c(rng.uniform(-4, 4), rng.uniform(-4, 4), rng.uniform(-4, 4));
+    const DVec3 along = 3.0 * rng.unit_vector(), across = 0.01 * rng.unit_vector();
+    slivers.positions.push_back(to_f(c - along));
+    slivers.positions.push_back(to_f(c + along));
+    slivers.positions.push_back(to_f(c + across));
+    slivers.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+  }
+  scene.meshes.push_back(slivers);
+  return scene;
+}
+
+// Totals of mailbox_rays() over its closest-hit queries.
+struct MailboxTotals {
+  uint64_t tests = 0;            ///< Primitive tests.
+  uint64_t multi_node_rays = 0;  ///< Rays that entered more than 2 nodes.
+  uint64_t culls = 0;
+};
+
+// The shared mailbox check: n_rays random rays from a sphere of radius 6,
+// each as a closest-hit and an any-hit query with a CountingObserver over
+// `ids` node ids: every primitive tested at most once, every node entered at
+// at most once. `check(obs, any_hit)` adds the structure's own checks (it
+// may use gtest assertions). Callers stop on HasFatalFailure().
+template <class Check>
+void mailbox_rays(const rayscope::Scene& scene, Rng& rng, int n_rays, size_t ids,
+                  MailboxTotals& totals, Check&& check) {
+  using namespace rayscope;
+  const size_t prims = scene.accel().records().size();
+  CountingObserver obs(ids, prims);
+  for (int i = 0; i < n_rays; ++i) {
+    const Ray ray{to_f(6.0 * rng.unit_vector()), to_f(rng.unit_vector()), kInfinity};
+    for (int any = 0; any < 2; ++any) {
+      obs.reset();
+      PrimHit hit;
+      if (any)
+        scene.occluded(ray, obs);
+      else
+        scene.intersect(ray, hit, obs);
+      if (::testing::Test::HasFatalFailure()) return;
+      for (uint32_t p : obs.tested())
+        ASSERT_EQ(obs.prim_tests[p], 1) << "ray " << i << (any ? " (any hit)" : "");
+      for (uint32_t n : obs.order) ASSERT_EQ(obs.nodes[n], 1) << "a node entered twice, ray " << i;
+      check(obs, any != 0);
+      if (::testing::Test::HasFatalFailure()) return;
+      if (any) continue;
+      totals.tests += obs.tested().size();
+      totals.multi_node_rays += obs.order.size() > 2;
+      totals.culls += uint64_t(obs.culled);
+    }
+  }
+}
+
+// A box range: whatever overlaps the closed box.
+struct BoxRange {
+  rayscope::Bounds3 box;
+  rayscope::Bounds3 bounds() const { return box; }
+  bool overlaps(const rayscope::Bounds3& b) const {
+    return glm::all(glm::lessThanEqual(box.lo, b.hi)) && glm::all(glm::lessThanEqual(b.lo, box.hi));
+  }
+  float distance(const rayscope::Bounds3& b) const {
+    const rayscope::Vec3 c = box.center();
+    return glm::length(glm::max(glm::max(b.lo - c, c - b.hi), rayscope::Vec3(0.0f)));
+  }
+};
+
+// A sphere that shrinks to the nearest box found so far (the nearest
+// neighbor): a range that shrinks while it is walked.
+struct NearestRange {
+  rayscope::Vec3 center;
+  float radius = rayscope::kInfinity;
+  float distance(const rayscope::Bounds3& b) const {
+    return glm::length(glm::max(glm::max(b.lo - center, center - b.hi), rayscope::Vec3(0.0f)));
+  }
+  bool overlaps(const rayscope::Bounds3& b) const { return distance(b) <= radius; }
+  rayscope::Bounds3 bounds() const {
+    rayscope::Bounds3 b;
+    b.lo = center - radius;
+    b.hi = center + radius;
+    return b;
+  }
+};
+
+// What check_range_walk() saw.
+struct RangeTotals {
+  uint64_t entered = 0;  ///< Nodes entered by the box ranges.
+  uint64_t found = 0;    ///< Primitives the box ranges overlap.
+  int culled = 0;        ///< Nodes culled by the shrinking nearest ranges.
+};
+
+// The shared range check of a structure built over p.bounds (walk_range
+// with `ids` node ids): 300 random box ranges report every primitive they
+// overlap (== brute force), each at most once, enter each node at most once;
+// 300 nearest-box ranges find the brute-force nearest distance.
+template <class Structure>
+void check_range_walk(const Structure& s, const Prims& p, Rng& rng, const rayscope::Bounds3& world,
+                      size_t ids, RangeTotals& totals) {
+  using namespace rayscope;
+  for (int i = 0; i < 300; ++i) {
+    const Vec3 c = to_f(to_d(world.lo) +
+                        to_d(world.extent()) * DVec3(rng.uniform(), rng.uniform(), rng.uniform()));
+    const Vec3 h = to_f(rng.log_uniform(0.01, 0.3) * to_d(world.extent()) *
+                        DVec3(rng.uniform(), rng.uniform(), rng.uniform()));
+    BoxRange range{Bounds3(c - h, c + h)};
+    CountingObserver obs(ids, 0);
+    std::vector<int> reported(p.bounds.size(), 0);
+    std::vector<uint32_t> found, want;
+    s.walk_range(
+        range,
+        [&](uint32_t q) {
+          reported.at(q)++;
+          if (range.overlaps(p.bounds[q])) found.push_back(q);
+        },
+        obs);
+    for (uint32_t q = 0; q < p.bounds.size(); ++q)
+      if (range.overlaps(p.bounds[q])) want.push_back(q);
+    std::sort(found.begin(), found.end());
+    ASSERT_EQ(found, want) << "range " << i;
+    for (int v : reported) ASSERT_LE(v, 1) << "a primitive reported twice, range " << i;
+    for (size_t n = 0; n < ids; ++n) {
+      ASSERT_LE(obs.nodes[n], 1) << "a node entered twice, range " << i;
+      if (obs.nodes[n]) {
+        ASSERT_EQ(obs.box_tests[n], 1) << "node " << n << " entered untested";
+      }
+    }
+    for (int v : obs.nodes) totals.entered += uint64_t(v);
+    totals.found += want.size();
+  }
+  for (int i = 0; i < 300; ++i) {
+    NearestRange range{
+        to_f(to_d(world.lo) +
+             to_d(world.extent()) * DVec3(rng.uniform(), rng.uniform(), rng.uniform()))};
+    CountingObserver obs(ids, 0);
+    s.walk_range(
+        range,
+        [&](uint32_t q) { range.radius = std::min(range.radius, range.distance(p.bounds[q])); },
+        obs);
+    float want = kInfinity;
+    for (const Bounds3& b : p.bounds) want = std::min(want, range.distance(b));
+    ASSERT_EQ(range.radius, want) << "nearest, point " << i;
+    totals.culled += obs.culled;
+  }
 }
 
 }  // namespace rstest

@@ -30,6 +30,15 @@ const KdTreeBuildConfig kMedian = [] {
   return c;
 }();
 
+// SmallestCell storage with `rule` and loose factor f.
+KdTreeBuildConfig loose(KdSplitRule rule, float f) {
+  KdTreeBuildConfig c;
+  c.rule = rule;
+  c.storage = PrimStorage::SmallestCell;
+  c.loose_factor = f;
+  return c;
+}
+
 // Every primitive reachable: each primitive is referenced by every leaf whose
 // cell its bounds overlap (closed on the side goes_below/goes_above choose),
 // and at least once; leaves lie within the depth limit; references are valid.
@@ -129,7 +138,10 @@ void commit_kd(Scene& scene, const KdTreeBuildConfig& cfg) {
   AccelConfig ac;
   ac.kind = AccelKind::KdTree;
   ac.kdtree = cfg;
+  ac.storage = cfg.storage;
+  ac.loose_factor = cfg.loose_factor;
   scene.commit(ac);
+  ASSERT_EQ(scene.accel().kdtree().loose(), cfg.storage == PrimStorage::SmallestCell);
   ASSERT_EQ(scene.accel().kind(), AccelKind::KdTree);
   ASSERT_TRUE(scene.accel().walks_structure());
   ASSERT_FALSE(scene.accel().kdtree().empty());
@@ -196,89 +208,178 @@ TEST(KdTree, SameHitsAsTheBvhBitForBit) {
     scene.intersect(rays[i], bvh[i]);
     bvh_occluded[i] = scene.occluded(rays[i]);
   }
-  for (const KdTreeBuildConfig& cfg : {kSah, kMedian}) {
+  for (const KdTreeBuildConfig& cfg :
+       {kSah, kMedian, loose(KdSplitRule::Sah, 0.0f), loose(KdSplitRule::Sah, kDefaultLooseFactor),
+        loose(KdSplitRule::Median, kDefaultLooseFactor),
+        loose(KdSplitRule::Sah, kMaxLooseFactor)}) {
     commit_kd(scene, cfg);
     for (size_t i = 0; i < rays.size(); ++i) {
       PrimHit h;
       scene.intersect(rays[i], h);
-      ASSERT_TRUE(rstest::same_bits(h, bvh[i])) << "ray " << i;
+      ASSERT_TRUE(rstest::same_bits(h, bvh[i]))
+          << to_string(cfg.storage) << " " << cfg.loose_factor << ", ray " << i;
       ASSERT_EQ(scene.occluded(rays[i]), bool(bvh_occluded[i])) << "ray " << i;
     }
   }
 }
-
-// Counts what the walk reports, per kD-tree node and per primitive.
-struct CountingObserver : TraversalHooks {
-  static constexpr bool kActive = true;
-  std::vector<int> nodes, prim_tests;
-  int boxes = 0, culled = 0;
-  void on_node(uint32_t n) { nodes.at(n)++; }
-  void on_box_test(uint32_t n, bool) {
-    ASSERT_LT(n, nodes.size());
-    ++boxes;
-  }
-  void on_cull(uint32_t n) {
-    ASSERT_LT(n, nodes.size());
-    ++culled;
-  }
-  void on_prim_test(uint32_t p) { prim_tests.at(p)++; }
-};
 
 TEST_P(KdTreeRule, MailboxTestsEachPrimitiveOncePerRay) {
   // Long thin triangles that straddle many cells, so that most are stored
   // several times; every ray still tests each at most once (closest and any
   // hit), and the structure prunes far below brute force.
   Rng rng(45);
-  Scene scene;
-  scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
-  TriangleMesh slivers;
-  for (uint32_t i = 0; i < 300; ++i) {
-    const DVec3 c(rng.uniform(-4, 4), rng.uniform(-4, 4), rng.uniform(-4, 4));
-    const DVec3 along = 3.0 * rng.unit_vector(), across = 0.01 * rng.unit_vector();
-    slivers.positions.push_back(to_f(c - along));
-    slivers.positions.push_back(to_f(c + along));
-    slivers.positions.push_back(to_f(c + across));
-    slivers.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
-  }
-  scene.meshes.push_back(slivers);
+  Scene scene = rstest::sliver_scene(rng);
   commit_kd(scene, config());
-  const KdTreeQuality q = scene.accel().kdtree().quality();
-  EXPECT_GT(q.refs_per_prim, 1.5) << "the test needs primitives stored several times";
+  const KdTree& kd = scene.accel().kdtree();
+  EXPECT_GT(kd.quality().refs_per_prim, 1.5) << "the test needs primitives stored several times";
   const size_t prims = scene.accel().records().size();
-  uint64_t tests = 0, multi_cell_rays = 0, culls = 0;
   const int n_rays = 3000;
-  for (int i = 0; i < n_rays; ++i) {
-    const Ray ray{to_f(6.0 * rng.unit_vector()), to_f(rng.unit_vector()), kInfinity};
-    for (int any = 0; any < 2; ++any) {
-      CountingObserver obs;
-      obs.nodes.assign(scene.accel().kdtree().nodes.size(), 0);
-      obs.prim_tests.assign(prims, 0);
-      PrimHit hit;
-      if (any)
-        scene.occluded(ray, obs);
-      else
-        scene.intersect(ray, hit, obs);
-      for (int v : obs.prim_tests) ASSERT_LE(v, 1) << "ray " << i << (any ? " (any hit)" : "");
-      for (int v : obs.nodes) ASSERT_LE(v, 1) << "a node entered twice, ray " << i;
-      if (!any) {
-        for (int v : obs.prim_tests) tests += uint64_t(v);
-        multi_cell_rays +=
-            std::count_if(obs.nodes.begin(), obs.nodes.end(), [](int v) { return v > 0; }) > 2;
-        culls += uint64_t(obs.culled);
+  rstest::MailboxTotals t;
+  rstest::mailbox_rays(
+      scene, rng, n_rays, kd.nodes.size(), t, [&](const rstest::CountingObserver& obs, bool any) {
+        if (any) return;
         int inner = 0;
-        for (size_t n = 0; n < obs.nodes.size(); ++n)
-          inner += obs.nodes[n] && !scene.accel().kdtree().nodes[n].is_leaf();
+        for (uint32_t n : obs.order) inner += !kd.nodes[n].is_leaf();
         EXPECT_EQ(obs.boxes, 1 + 2 * inner) << "root box + two child cells per inner node";
-      }
-    }
-  }
+      });
+  if (HasFatalFailure()) return;
   // The spatial median cuts the slivers' space blindly, duplicating them until
   // KdTree::kMaxReferencesPerPrim stops it: it prunes far less (about half of
   // them tested per ray, against a few percent with the SAH).
   const uint64_t all = uint64_t(n_rays) * prims;
-  EXPECT_LT(tests, GetParam() == KdSplitRule::Sah ? all / 10 : all * 2 / 3);
-  EXPECT_GT(multi_cell_rays, uint64_t(n_rays) / 2);
-  EXPECT_GT(culls, 0u);
+  EXPECT_LT(t.tests, GetParam() == KdSplitRule::Sah ? all / 10 : all * 2 / 3);
+  EXPECT_GT(t.multi_node_rays, uint64_t(n_rays) / 2);
+  EXPECT_GT(t.culls, 0u);
+}
+
+// SmallestCell's invariants: each primitive stored exactly once; where it is
+// stored its bounds fit the node's loose box; one held by an inner node fits
+// neither child's loose box (a straddler), one in a leaf sits there because
+// the leaf was not split further. Loose factors 0 (a plain kD-tree where
+// straddlers stay up), the lecture's 0.1 and the largest, 0.5.
+TEST_P(KdTreeRule, SmallestCellStoresEachPrimitiveOnceInItsLooseCell) {
+  Rng rng(46);
+  for (auto layout : {rstest::BoxLayout::Uniform, rstest::BoxLayout::Clustered}) {
+    const Prims p = rstest::random_boxes(rng, 3000, layout);
+    size_t inner[3];
+    int k = 0;
+    for (float f : {0.0f, kDefaultLooseFactor, kMaxLooseFactor}) {
+      SCOPED_TRACE(::testing::Message() << "loose factor " << f);
+      KdTree kd;
+      kd.build(p.bounds, loose(GetParam(), f));
+      ASSERT_TRUE(kd.loose());
+      ASSERT_EQ(kd.offsets.size(), kd.nodes.size() + 1);
+      const std::vector<Bounds3> cells = kd.cells();
+      std::vector<int> seen(p.bounds.size(), 0);
+      for (uint32_t n = 0; n < kd.nodes.size(); ++n) {
+        const KdNode& node = kd.nodes[n];
+        Bounds3 below = cells[n], above = cells[n];
+        if (!node.is_leaf()) below.hi[node.axis()] = above.lo[node.axis()] = node.split();
+        for (uint32_t q : kd.node_refs(n)) {
+          seen.at(q)++;
+          ASSERT_TRUE(kd.node_box(cells[n]).contains(p.bounds[q])) << "node " << n;
+          if (!node.is_leaf()) {
+            ASSERT_FALSE(kd.node_box(below).contains(p.bounds[q])) << "inner node " << n;
+            ASSERT_FALSE(kd.node_box(above).contains(p.bounds[q])) << "inner node " << n;
+          }
+        }
+      }
+      for (int v : seen) ASSERT_EQ(v, 1);
+      const KdTreeQuality q = kd.quality();
+      EXPECT_EQ(q.references, p.bounds.size());
+      EXPECT_EQ(q.refs_per_prim, 1.0);
+      inner[k++] = q.inner_refs;
+    }
+    // With the median rule's fixed planes, the larger the factor, the fewer
+    // straddlers stay in inner nodes (the SAH moves its planes with the
+    // factor: no such order).
+    if (GetParam() == KdSplitRule::Median) {
+      EXPECT_GT(inner[0], inner[2]);
+    }
+    EXPECT_GT(inner[0], 0u);
+  }
+}
+
+TEST(KdTree, BadStorageSettingsAreRefusedWithOneLine) {
+  Prims p;
+  p.add(Bounds3(Vec3(-1), Vec3(1)));
+  for (float bad : {-0.1f, 0.51f, kInfinity, std::nanf("")}) {
+    KdTree kd;
+    try {
+      kd.build(p.bounds, loose(KdSplitRule::Sah, bad));
+      FAIL() << "no exception for " << bad;
+    } catch (const std::invalid_argument& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("loose factor must be a number from 0 to 0.5"), std::string::npos) << m;
+      EXPECT_EQ(m.find('\n'), std::string::npos);
+    }
+  }
+  KdTreeBuildConfig split;
+  split.storage = PrimStorage::Split;
+  KdTree kd;
+  EXPECT_THROW(kd.build(p.bounds, split), std::invalid_argument);
+}
+
+// Random and adversarial rays (the loose boxes' faces too) through the loose
+// kD-tree == brute force, for loose factors 0, 0.1, 0.5.
+TEST_P(KdTreeRule, SmallestCellRaysMatchBruteForce) {
+  Rng rng(47);
+  Scene scene = rstest::soup_scene(rng);
+  scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
+  for (float f : {0.0f, kDefaultLooseFactor, kMaxLooseFactor}) {
+    commit_kd(scene, loose(GetParam(), f));
+    const KdTree& kd = scene.accel().kdtree();
+    std::vector<Ray> rays = adversarial_rays(rng, scene);
+    const std::vector<Bounds3> cells = kd.cells();
+    for (size_t i = 0; i < cells.size(); i += 5) {
+      const Bounds3 box = kd.node_box(cells[i]);
+      const int a = rng.integer(0, 2);
+      rstest::add_plane_rays(rng, kd.bounds(), a, box.lo[a], rays, false);
+      rstest::add_plane_rays(rng, kd.bounds(), a, box.hi[a], rays, false);
+    }
+    const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
+    for (int i = 0; i < 4000; ++i) rays.push_back(rstest::random_ray(rng, kd.bounds(), boxes));
+    rstest::check_queries(scene, rays, "loose kD-tree", 20);
+  }
+}
+
+TEST_P(KdTreeRule, SmallestCellTestsEachPrimitiveOncePerRay) {
+  Rng rng(48);
+  Scene scene = rstest::sliver_scene(rng);
+  commit_kd(scene, loose(GetParam(), kDefaultLooseFactor));
+  const KdTree& kd = scene.accel().kdtree();
+  EXPECT_GT(kd.quality().inner_refs, 100u) << "the test needs straddlers in inner nodes";
+  const size_t prims = scene.accel().records().size();
+  const int n_rays = 3000;
+  rstest::MailboxTotals t;
+  rstest::mailbox_rays(
+      scene, rng, n_rays, kd.nodes.size(), t, [&](const rstest::CountingObserver& obs, bool any) {
+        if (any) return;
+        int inner = 0;
+        for (uint32_t n : obs.order) inner += !kd.nodes[n].is_leaf();
+        EXPECT_EQ(obs.boxes, 1 + 2 * inner) << "root box + two child boxes per inner node";
+      });
+  if (HasFatalFailure()) return;
+  std::printf("loose kD-tree (%s): %.1f of %zu primitives tested per ray\n",
+              GetParam() == KdSplitRule::Sah ? "sah" : "median", double(t.tests) / n_rays, prims);
+  EXPECT_LT(t.tests, uint64_t(n_rays) * prims / 2);
+  EXPECT_GT(t.culls, 0u);
+}
+
+TEST_P(KdTreeRule, RangeWalkFindsWhatBruteForceFinds) {
+  Rng rng(49);
+  for (const KdTreeBuildConfig& cfg :
+       {config(), loose(GetParam(), kDefaultLooseFactor), loose(GetParam(), kMaxLooseFactor)})
+    for (auto layout : {rstest::BoxLayout::Uniform, rstest::BoxLayout::Clustered}) {
+      const Prims p = rstest::random_boxes(rng, 3000, layout);
+      KdTree kd;
+      kd.build(p.bounds, cfg);
+      rstest::RangeTotals t;
+      rstest::check_range_walk(kd, p, rng, kd.bounds(), kd.nodes.size(), t);
+      if (HasFatalFailure()) return;
+      EXPECT_LT(t.entered, 300 * kd.nodes.size() / 4);
+      EXPECT_GT(t.found, 300u);
+    }
 }
 
 TEST(KdTree, KindNameAndMemory) {

@@ -190,18 +190,18 @@ TEST(Octree, LooseFactorZeroAndLarge) {
   const Prims p = rstest::random_boxes(rng, 2000, rstest::BoxLayout::Uniform);
   size_t inner[3];
   int k = 0;
-  for (float f : {0.0f, 0.1f, 4.0f}) {
+  for (float f : {0.0f, 0.1f, kMaxLooseFactor}) {
     Octree oc;
     oc.build(p.bounds, config_of(PrimStorage::SmallestCell, f));
     SCOPED_TRACE(::testing::Message() << "loose factor " << f);
     check_invariants(oc, p);
     inner[k++] = oc.quality().inner_refs;
   }
-  std::printf("references in inner nodes, loose factor 0, 0.1, 4: %zu, %zu, %zu\n", inner[0],
+  std::printf("references in inner nodes, loose factor 0, 0.1, 0.5: %zu, %zu, %zu\n", inner[0],
               inner[1], inner[2]);
   EXPECT_GT(inner[0], inner[1]);
   EXPECT_GT(inner[1], inner[2]);
-  for (float bad : {-0.1f, kInfinity, std::nanf("")}) {
+  for (float bad : {-0.1f, 0.51f, kInfinity, std::nanf("")}) {
     Octree oc;
     EXPECT_THROW(oc.build(p.bounds, config_of(PrimStorage::SmallestCell, bad)),
                  std::invalid_argument);
@@ -266,6 +266,7 @@ void commit_octree(Scene& scene, const OctreeBuildConfig& cfg) {
   ac.kind = AccelKind::Octree;
   ac.octree = cfg;
   ac.storage = cfg.storage;
+  ac.loose_factor = cfg.loose_factor;
   scene.commit(ac);
   ASSERT_EQ(scene.accel().kind(), AccelKind::Octree);
   ASSERT_EQ(scene.accel().storage(), cfg.storage);
@@ -338,7 +339,7 @@ TEST(Octree, SameHitsAsTheBvhBitForBit) {
     bvh_occluded[i] = scene.occluded(rays[i]);
   }
   for (const OctreeBuildConfig& cfg : {kEvery, kLoose, config_of(PrimStorage::SmallestCell, 0.0f),
-                                       config_of(PrimStorage::SmallestCell, 2.0f)}) {
+                                       config_of(PrimStorage::SmallestCell, kMaxLooseFactor)}) {
     commit_octree(scene, cfg);
     for (size_t i = 0; i < rays.size(); ++i) {
       PrimHit h;
@@ -350,23 +351,6 @@ TEST(Octree, SameHitsAsTheBvhBitForBit) {
   }
 }
 
-// Counts what the walk reports, per octree node and per primitive.
-struct CountingObserver : TraversalHooks {
-  static constexpr bool kActive = true;
-  std::vector<int> nodes, prim_tests, box_tests;
-  int boxes = 0, culled = 0;
-  void on_node(uint32_t n) { nodes.at(n)++; }
-  void on_box_test(uint32_t n, bool) {
-    box_tests.at(n)++;
-    ++boxes;
-  }
-  void on_cull(uint32_t n) {
-    ASSERT_LT(n, nodes.size());
-    ++culled;
-  }
-  void on_prim_test(uint32_t p) { prim_tests.at(p)++; }
-};
-
 TEST_P(OctreeStorage, EachPrimitiveTestedOncePerRayAndTheObserverSeesTheWalk) {
   // Long thin triangles across many cells: stored several times (every-cell)
   // or held by inner nodes (smallest-cell). Every ray still tests each at most
@@ -374,18 +358,7 @@ TEST_P(OctreeStorage, EachPrimitiveTestedOncePerRayAndTheObserverSeesTheWalk) {
   // every child of each inner node entered, and the tree prunes far below
   // brute force.
   Rng rng(56);
-  Scene scene;
-  scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
-  TriangleMesh slivers;
-  for (uint32_t i = 0; i < 300; ++i) {
-    const DVec3 c(rng.uniform(-4, 4), rng.uniform(-4, 4), rng.uniform(-4, 4));
-    const DVec3 along = 3.0 * rng.unit_vector(), across = 0.01 * rng.unit_vector();
-    slivers.positions.push_back(to_f(c - along));
-    slivers.positions.push_back(to_f(c + along));
-    slivers.positions.push_back(to_f(c + across));
-    slivers.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
-  }
-  scene.meshes.push_back(slivers);
+  Scene scene = rstest::sliver_scene(rng);
   commit_octree(scene, config());
   const Octree& oc = scene.accel().octree();
   const OctreeQuality q = oc.quality();
@@ -395,40 +368,25 @@ TEST_P(OctreeStorage, EachPrimitiveTestedOncePerRayAndTheObserverSeesTheWalk) {
     EXPECT_GT(q.inner_refs, 200u) << "the test needs primitives held by inner nodes";
   }
   const size_t prims = scene.accel().records().size();
-  uint64_t tests = 0, multi_node_rays = 0, culls = 0;
   const int n_rays = 3000;
-  for (int i = 0; i < n_rays; ++i) {
-    const Ray ray{to_f(6.0 * rng.unit_vector()), to_f(rng.unit_vector()), kInfinity};
-    for (int any = 0; any < 2; ++any) {
-      CountingObserver obs;
-      obs.nodes.assign(oc.nodes.size(), 0);
-      obs.box_tests.assign(oc.nodes.size(), 0);
-      obs.prim_tests.assign(prims, 0);
-      PrimHit hit;
-      if (any)
-        scene.occluded(ray, obs);
-      else
-        scene.intersect(ray, hit, obs);
-      for (int v : obs.prim_tests) ASSERT_LE(v, 1) << "ray " << i << (any ? " (any hit)" : "");
-      for (int v : obs.nodes) ASSERT_LE(v, 1) << "a node entered twice, ray " << i;
-      if (any) continue;
-      for (int v : obs.prim_tests) tests += uint64_t(v);
-      multi_node_rays +=
-          std::count_if(obs.nodes.begin(), obs.nodes.end(), [](int v) { return v > 0; }) > 2;
-      culls += uint64_t(obs.culled);
-      // The root's box, then every child box of each inner node entered, once.
-      int want = 1;
-      for (size_t n = 0; n < obs.nodes.size(); ++n)
-        if (obs.nodes[n]) want += std::popcount(unsigned(oc.nodes[n].mask));
-      EXPECT_EQ(obs.boxes, want);
-      for (size_t n = 0; n < obs.nodes.size(); ++n) {
-        ASSERT_LE(obs.box_tests[n], 1);
-        if (obs.nodes[n]) {
-          ASSERT_EQ(obs.box_tests[n], 1) << "node " << n << " entered untested";
-        }
-      }
-    }
-  }
+  rstest::MailboxTotals t;
+  rstest::mailbox_rays(scene, rng, n_rays, oc.nodes.size(), t,
+                       [&](const rstest::CountingObserver& obs, bool any) {
+                         if (any) return;
+                         // The root's box, then every child box of each inner
+                         // node entered, once.
+                         int want = 1;
+                         for (uint32_t n : obs.order)
+                           want += std::popcount(unsigned(oc.nodes[n].mask));
+                         EXPECT_EQ(obs.boxes, want);
+                         for (size_t n = 0; n < obs.nodes.size(); ++n) {
+                           ASSERT_LE(obs.box_tests[n], 1);
+                           if (obs.nodes[n]) {
+                             ASSERT_EQ(obs.box_tests[n], 1) << "node " << n << " entered untested";
+                           }
+                         }
+                       });
+  if (HasFatalFailure()) return;
   // A diagonal sliver's bounds span half the scene, and both storages file a
   // primitive by its bounds: every cell those reach holds it (every-cell), or
   // it stays high up in the tree (smallest-cell). Measured: every-cell tests
@@ -436,34 +394,11 @@ TEST_P(OctreeStorage, EachPrimitiveTestedOncePerRayAndTheObserverSeesTheWalk) {
   // kD-tree, whose planes adapt, a few percent).
   const uint64_t all = uint64_t(n_rays) * prims;
   std::printf("%s: %.1f of %zu primitives tested per ray, %llu culls\n", to_string(GetParam()),
-              double(tests) / n_rays, prims, (unsigned long long)culls);
-  EXPECT_LT(tests, all / 2);
-  EXPECT_GT(multi_node_rays, uint64_t(n_rays) / 2);
-  EXPECT_GT(culls, 0u);
+              double(t.tests) / n_rays, prims, (unsigned long long)t.culls);
+  EXPECT_LT(t.tests, all / 2);
+  EXPECT_GT(t.multi_node_rays, uint64_t(n_rays) / 2);
+  EXPECT_GT(t.culls, 0u);
 }
-
-// A box range (closed overlap) with its center as the range's center.
-struct BoxRange {
-  Bounds3 box;
-  bool overlaps(const Bounds3& b) const { return ::overlaps(box, b); }
-  float distance(const Bounds3& b) const {
-    const Vec3 c = box.center();
-    const Vec3 d = glm::max(glm::max(b.lo - c, c - b.hi), Vec3(0.0f));
-    return glm::length(d);
-  }
-};
-
-// A sphere that shrinks to the nearest box found so far (the nearest
-// neighbor).
-struct NearestRange {
-  Vec3 center;
-  float radius = kInfinity;
-  float distance(const Bounds3& b) const {
-    const Vec3 d = glm::max(glm::max(b.lo - center, center - b.hi), Vec3(0.0f));
-    return glm::length(d);
-  }
-  bool overlaps(const Bounds3& b) const { return distance(b) <= radius; }
-};
 
 TEST_P(OctreeStorage, RangeWalkFindsWhatBruteForceFinds) {
   Rng rng(57);
@@ -471,62 +406,13 @@ TEST_P(OctreeStorage, RangeWalkFindsWhatBruteForceFinds) {
     const Prims p = rstest::random_boxes(rng, 3000, layout);
     Octree oc;
     oc.build(p.bounds, config());
-    const Bounds3 world = oc.bounds();
-    uint64_t entered = 0, found_total = 0;
-    for (int i = 0; i < 300; ++i) {
-      const Vec3 c = to_f(to_d(world.lo) + to_d(world.extent()) *
-                                               DVec3(rng.uniform(), rng.uniform(), rng.uniform()));
-      const Vec3 h = to_f(rng.log_uniform(0.01, 0.3) * to_d(world.extent()) *
-                          DVec3(rng.uniform(), rng.uniform(), rng.uniform()));
-      BoxRange range{Bounds3(c - h, c + h)};
-      CountingObserver obs;
-      obs.nodes.assign(oc.nodes.size(), 0);
-      obs.box_tests.assign(oc.nodes.size(), 0);
-      std::vector<int> reported(p.bounds.size(), 0);
-      std::set<uint32_t> found;
-      oc.walk_range(
-          range,
-          [&](uint32_t q) {
-            reported.at(q)++;
-            if (overlaps(p.bounds[q], range.box)) found.insert(q);
-          },
-          obs);
-      std::set<uint32_t> want;
-      for (uint32_t q = 0; q < p.bounds.size(); ++q)
-        if (overlaps(p.bounds[q], range.box)) want.insert(q);
-      ASSERT_EQ(found, want) << "range " << i;
-      for (int v : reported) ASSERT_LE(v, 1) << "a primitive reported twice, range " << i;
-      for (int v : obs.nodes) ASSERT_LE(v, 1);
-      for (size_t n = 0; n < obs.nodes.size(); ++n) {
-        if (obs.nodes[n]) {
-          ASSERT_EQ(obs.box_tests[n], 1) << "node " << n << " entered untested";
-        }
-      }
-      for (int v : obs.nodes) entered += uint64_t(v);
-      found_total += want.size();
-    }
-    EXPECT_LT(entered, 300 * oc.nodes.size() / 4)
+    rstest::RangeTotals t;
+    rstest::check_range_walk(oc, p, rng, oc.bounds(), oc.nodes.size(), t);
+    if (HasFatalFailure()) return;
+    EXPECT_LT(t.entered, 300 * oc.nodes.size() / 4)
         << "the walk stops where the range does not reach";
-    EXPECT_GT(found_total, 300u);
-    // The nearest box to random points: the range shrinks as the walk goes.
-    int culled = 0;
-    for (int i = 0; i < 300; ++i) {
-      NearestRange range{
-          to_f(to_d(world.lo) +
-               to_d(world.extent()) * DVec3(rng.uniform(), rng.uniform(), rng.uniform()))};
-      CountingObserver obs;
-      obs.nodes.assign(oc.nodes.size(), 0);
-      obs.box_tests.assign(oc.nodes.size(), 0);
-      oc.walk_range(
-          range,
-          [&](uint32_t q) { range.radius = std::min(range.radius, range.distance(p.bounds[q])); },
-          obs);
-      float want = kInfinity;
-      for (const Bounds3& b : p.bounds) want = std::min(want, range.distance(b));
-      ASSERT_EQ(range.radius, want) << "nearest, point " << i;
-      culled += obs.culled;
-    }
-    EXPECT_GT(culled, 0) << "nodes pushed before the range shrank are skipped";
+    EXPECT_GT(t.found, 300u);
+    EXPECT_GT(t.culled, 0) << "nodes pushed before the range shrank are skipped";
   }
 }
 
@@ -558,24 +444,24 @@ TEST(Octree, KindStorageNamesAndMemory) {
 }
 
 TEST(Octree, OneCheckOfStructureAndStorage) {
-  // Every kind takes every-cell (the default); only the octree takes
-  // smallest-cell; nothing splits yet. The aggregate refuses what the check
-  // refuses, with its message.
-  for (AccelKind k : {AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::None, AccelKind::KdTree,
-                      AccelKind::Octree}) {
+  // Every kind takes every-cell (the default); the spatial subdivisions
+  // (kD-tree, grid, octree) take smallest-cell; nothing splits yet. The
+  // aggregate refuses what the check refuses, with its message.
+  for (AccelKind k : kAccelKinds) {
+    const bool spatial = k == AccelKind::KdTree || k == AccelKind::Grid || k == AccelKind::Octree;
     EXPECT_EQ(accel_storage_error(k, PrimStorage::EveryCell), "");
-    EXPECT_EQ(accel_storage_error(k, PrimStorage::SmallestCell).empty(), k == AccelKind::Octree);
+    EXPECT_EQ(accel_storage_error(k, PrimStorage::SmallestCell).empty(), spatial);
     EXPECT_NE(accel_storage_error(k, PrimStorage::Split), "");
   }
-  const std::string kd = accel_storage_error(AccelKind::KdTree, PrimStorage::SmallestCell);
-  EXPECT_NE(kd.find("smallest-cell"), std::string::npos) << kd;
+  const std::string kd = accel_storage_error(AccelKind::KdTree, PrimStorage::Split);
+  EXPECT_NE(kd.find("split"), std::string::npos) << kd;
   EXPECT_NE(kd.find("kdtree"), std::string::npos) << kd;
   EXPECT_EQ(kd.find('\n'), std::string::npos);
   Scene scene;
   scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 1));
   AccelConfig ac;
   ac.kind = AccelKind::KdTree;
-  ac.storage = PrimStorage::SmallestCell;
+  ac.storage = PrimStorage::Split;
   try {
     scene.commit(ac);
     FAIL() << "no exception";
@@ -619,7 +505,7 @@ TEST(Octree, BunnyStorageFigures) {
   const std::vector<Bounds3> boxes = rstest::triangle_boxes(ls.scene);
   ASSERT_GT(boxes.size(), 60000u);
   size_t last_inner = boxes.size();
-  for (float f : {0.1f, 0.25f, 0.5f, 1.0f}) {
+  for (float f : {0.1f, 0.25f, 0.5f}) {
     Octree oc;
     oc.build(boxes, config_of(PrimStorage::SmallestCell, f));
     const OctreeQuality q = oc.quality();

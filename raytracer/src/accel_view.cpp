@@ -50,22 +50,19 @@ AccelView kdtree_view(const Aggregate& a) {
   v.traversal_cost = kd.config.traversal_cost;
   v.intersection_cost = kd.config.intersection_cost;
   v.nodes.resize(kd.nodes.size());
-  if (!kd.nodes.empty()) v.nodes[0].box = kd.bounds();
+  const std::vector<Bounds3> cells = kd.cells();
   for (size_t i = 0; i < kd.nodes.size(); ++i) {
     const KdNode& n = kd.nodes[i];
     AccelViewNode& o = v.nodes[i];
-    if (n.is_leaf()) {
-      o.leaf = true;
-      o.first = n.first();
-      o.count = n.count();
-      continue;
-    }
+    o.box = kd.node_box(cells[i]);  // the loose box for smallest-cell storage
+    o.leaf = n.is_leaf();
+    // Inner nodes of a loose kD-tree hold primitives too.
+    const std::span<const uint32_t> held = kd.node_refs(uint32_t(i));
+    o.first = held.empty() ? 0u : uint32_t(held.data() - kd.refs.data());
+    o.count = uint32_t(held.size());
+    if (o.leaf) continue;
     // The cell below the plane is the next node, the one above at above().
-    AccelViewNode& below = v.nodes[i + 1];
-    AccelViewNode& above = v.nodes[n.above()];
-    below.box = above.box = o.box;
-    below.box.hi[n.axis()] = above.box.lo[n.axis()] = n.split();
-    below.parent = above.parent = int32_t(i);
+    v.nodes[i + 1].parent = v.nodes[n.above()].parent = int32_t(i);
   }
   v.refs.reserve(kd.refs.size());
   for (uint32_t r : kd.refs) v.refs.push_back(a.records()[r].id);
@@ -110,15 +107,20 @@ AccelView grid_view(const Aggregate& a) {
       for (uint32_t x = 0; x < res.x; ++x) {
         const uint32_t id = grid.cell_id(x, y, z);
         AccelViewNode& o = v.nodes[id];
-        o.box = grid.cell_box(x, y, z);
+        o.box = grid.node_box(x, y, z);  // the loose box for smallest-cell storage
         o.parent = int32_t(grid.box_id());
         o.leaf = true;
         o.first = grid.offsets[id];
         o.count = grid.offsets[id + 1] - grid.offsets[id];
       }
-  v.nodes[grid.box_id()].box = grid.bounds();
-  v.refs.reserve(grid.refs.size());
+  // The grid's box holds the loose grid's big list, after the cells' lists.
+  AccelViewNode& box = v.nodes[grid.box_id()];
+  box.box = grid.bounds();
+  box.first = uint32_t(grid.refs.size());
+  box.count = uint32_t(grid.big_refs.size());
+  v.refs.reserve(grid.refs.size() + grid.big_refs.size());
   for (uint32_t r : grid.refs) v.refs.push_back(a.records()[r].id);
+  for (uint32_t r : grid.big_refs) v.refs.push_back(a.records()[r].id);
   finish_levels(v);
   return v;
 }

@@ -43,17 +43,15 @@ std::string accel_storage_error(AccelKind kind, PrimStorage storage) {
     case AccelKind::BinaryBvh:
     case AccelKind::None:
       return what +
-             "the storage choice is for the spatial subdivisions (kdtree, octree); a BVH or no "
-             "structure holds each primitive once";
+             "the storage choice is for the spatial subdivisions (kdtree, grid, octree); a BVH or "
+             "no structure holds each primitive once";
     case AccelKind::KdTree:
-      return what + "the kD-tree stores a primitive in every cell it overlaps (every-cell)";
     case AccelKind::Grid:
-      return what + "the uniform grid stores a primitive in every cell it overlaps (every-cell)";
     case AccelKind::Octree:
       if (storage == PrimStorage::SmallestCell) return {};
       return what +
-             "the octree stores a primitive in every cell it overlaps (every-cell) or once in its "
-             "smallest loose cell (smallest-cell); splitting is the BSP tree's";
+             "the spatial subdivisions store a primitive in every cell it overlaps (every-cell) "
+             "or once in its smallest loose cell (smallest-cell); splitting is the BSP tree's";
   }
   return what + "unknown structure";
 }
@@ -64,6 +62,8 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
   if (bounds.size() != records.size() || centroids.size() != records.size())
     throw std::invalid_argument("Aggregate::build: bounds, centroids and records differ in size");
   if (const std::string e = accel_storage_error(config.kind, config.storage); !e.empty())
+    throw std::invalid_argument(e);
+  if (const std::string e = loose_factor_error(config.loose_factor); !e.empty())
     throw std::invalid_argument(e);
   config_ = config;
   num_triangles_ = num_triangles;
@@ -86,15 +86,23 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
     std::vector<Bounds3> leaf_order_bounds(records_.size());
     for (size_t i = 0; i < leaf_order_bounds.size(); ++i)
       leaf_order_bounds[i] = bounds[bvh_.prim_indices[i]];
+    // The one storage setting replaces the builder configs' own.
     if (config.kind == AccelKind::KdTree) {
-      kdtree_.build(leaf_order_bounds, config.kdtree);
+      KdTreeBuildConfig kdtree = config.kdtree;
+      kdtree.storage = config.storage;
+      kdtree.loose_factor = config.loose_factor;
+      kdtree_.build(leaf_order_bounds, kdtree);
       build_seconds_ = kdtree_.quality().build_seconds;
     } else if (config.kind == AccelKind::Grid) {
-      grid_.build(leaf_order_bounds, config.grid);
+      GridBuildConfig grid = config.grid;
+      grid.storage = config.storage;
+      grid.loose_factor = config.loose_factor;
+      grid_.build(leaf_order_bounds, grid);
       build_seconds_ = grid_.quality().build_seconds;
     } else {
       OctreeBuildConfig octree = config.octree;
       octree.storage = config.storage;
+      octree.loose_factor = config.loose_factor;
       octree_.build(leaf_order_bounds, octree);
       build_seconds_ = octree_.quality().build_seconds;
     }

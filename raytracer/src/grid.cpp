@@ -3,6 +3,10 @@
 // references per cell, then fill them in (CSR). A primitive goes to every
 // cell whose closed box its closed bounds overlap, so one touching a plane is
 // stored on both sides (grid.h's walk relies on it for rays lying in a plane).
+//
+// SmallestCell (the loose grid): the same resolution (no reference budget:
+// each primitive is stored once), then one pass: the cell of each primitive's
+// center if its loose box holds the bounds, else the big list.
 #include "rayscope/grid.h"
 
 #include <chrono>
@@ -86,9 +90,18 @@ bool UniformGrid::cell_range(const Bounds3& b, glm::uvec3& first, glm::uvec3& la
 
 void UniformGrid::build(std::span<const Bounds3> bounds, const GridBuildConfig& cfg) {
   const auto start = std::chrono::steady_clock::now();
+  if (cfg.storage == PrimStorage::Split)
+    throw std::invalid_argument(
+        "the uniform grid does not split primitives (storage split is the BSP tree's): use "
+        "every-cell or smallest-cell");
+  if (const std::string e = loose_factor_error(cfg.loose_factor); !e.empty())
+    throw std::invalid_argument("uniform grid: " + e);
   config = cfg;
+  loose_ = cfg.storage == PrimStorage::SmallestCell;
+  loose_factor_ = loose_ ? cfg.loose_factor : 0.0f;
   offsets.clear();
   refs.clear();
+  big_refs.clear();
   for (std::vector<float>& pl : planes) pl.clear();
   bounds_ = Bounds3();
   res_ = glm::uvec3(0u);
@@ -130,6 +143,7 @@ void UniformGrid::build(std::span<const Bounds3> bounds, const GridBuildConfig& 
     }
     offsets.assign(1, 0u);  // non-empty: cell_range() works
     size_t total = 0;
+    if (loose_) return n;  // stored once each
     for (size_t i = 0; i < n; ++i) {
       cell_range(bounds[i], first[i], last[i]);
       total += cell_count(last[i] - first[i] + 1u);
@@ -164,8 +178,29 @@ void UniformGrid::build(std::span<const Bounds3> bounds, const GridBuildConfig& 
                             std::to_string(kMaxReferences) + ")");
   }
 
-  // Count per cell, prefix sums, fill (primitives in index order).
   const size_t cells = cell_count(res_);
+  if (loose_) {
+    // The cell of each primitive's center, or the big list; then CSR.
+    std::vector<uint32_t> home(n);
+    for (size_t i = 0; i < n; ++i) {
+      const Vec3 c = bounds[i].center();
+      const uint32_t x = cell_of(0, c.x), y = cell_of(1, c.y), z = cell_of(2, c.z);
+      home[i] = node_box(x, y, z).contains(bounds[i]) ? cell_id(x, y, z) : ~0u;
+      if (home[i] == ~0u) big_refs.push_back(uint32_t(i));
+    }
+    offsets.assign(cells + 1, 0u);
+    for (size_t i = 0; i < n; ++i)
+      if (home[i] != ~0u) offsets[home[i] + 1]++;
+    for (size_t c = 0; c < cells; ++c) offsets[c + 1] += offsets[c];
+    refs.resize(n - big_refs.size());
+    std::vector<uint32_t> fill(offsets.begin(), offsets.end() - 1);
+    for (size_t i = 0; i < n; ++i)
+      if (home[i] != ~0u) refs[fill[home[i]]++] = uint32_t(i);
+    build_seconds_ =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return;
+  }
+  // Count per cell, prefix sums, fill (primitives in index order).
   offsets.assign(cells + 1, 0u);
   auto for_cells = [&](size_t i, auto&& f) {
     for (uint32_t z = first[i].z; z <= last[i].z; ++z)
@@ -188,8 +223,9 @@ GridQuality UniformGrid::quality() const {
   if (offsets.empty()) return q;
   q.resolution = res_;
   q.cells = cells();
-  q.references = refs.size();
-  q.refs_per_prim = num_prims_ ? double(refs.size()) / num_prims_ : 0.0;
+  q.references = refs.size() + big_refs.size();
+  q.big_refs = big_refs.size();
+  q.refs_per_prim = num_prims_ ? double(q.references) / num_prims_ : 0.0;
   q.memory_bytes = memory_bytes();
   for (size_t c = 0; c < q.cells; ++c) {
     const uint32_t k = offsets[c + 1] - offsets[c];

@@ -120,9 +120,8 @@ void Octree::build(std::span<const Bounds3> bounds, const OctreeBuildConfig& cfg
     throw std::invalid_argument(
         "the octree does not split primitives (storage split is the BSP tree's): use every-cell "
         "or smallest-cell");
-  if (!(cfg.loose_factor >= 0.0f) || !std::isfinite(cfg.loose_factor))
-    throw std::invalid_argument("octree loose factor must be finite and >= 0, got " +
-                                std::to_string(cfg.loose_factor));
+  if (const std::string e = loose_factor_error(cfg.loose_factor); !e.empty())
+    throw std::invalid_argument("octree: " + e);
   config = cfg;
   nodes.clear();
   refs.clear();

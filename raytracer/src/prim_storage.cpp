@@ -1,5 +1,8 @@
 #include "rayscope/prim_storage.h"
 
+#include <cmath>
+#include <sstream>
+
 namespace rayscope {
 
 const char* to_string(PrimStorage storage) {
@@ -21,6 +24,14 @@ bool parse_prim_storage(std::string_view name, PrimStorage& storage) {
       return true;
     }
   return false;
+}
+
+std::string loose_factor_error(float factor) {
+  if (std::isfinite(factor) && factor >= 0.0f && factor <= kMaxLooseFactor) return {};
+  std::ostringstream o;
+  o << "loose factor must be a number from 0 to " << kMaxLooseFactor << " (a fraction of a cell's "
+    << "size added on every side; the lecture's " << kDefaultLooseFactor << "), got " << factor;
+  return o.str();
 }
 
 }  // namespace rayscope

@@ -2,8 +2,9 @@
 # Usage: accel_same_image.sh RAYSCOPE RENDER_OPTIONS...
 #
 # The structure the rays walk (--accel bvh|bvh2|kdtree|grid|octree|none, the
-# octree with either --storage) changes how much work a render does, never the
-# image: the seven renders must be the same file, byte
+# kD-tree, grid and octree with either --storage, any --loose-factor and
+# --kd-split) changes how much work a render does, never the image: the
+# renders must be the same file, byte
 # for byte (PNG of identical pixels), and --stats must report more nodes
 # entered by the binary walk (bvh2) than by the 4-wide one (bvh), and none
 # without a structure; the kD-tree and grid walks enter nodes (cells) and name
@@ -16,7 +17,11 @@ for a in bvh bvh2 kdtree grid octree none; do
   "$rs" render -q --stats --accel "$a" "$@" -o "$out/$a.png" > "$out/$a.txt"
 done
 "$rs" render -q --stats --accel octree --storage smallest-cell "$@" -o "$out/loose.png" > "$out/loose.txt"
-for a in bvh2 kdtree grid octree loose none; do
+"$rs" render -q --stats --accel kdtree --storage smallest-cell "$@" -o "$out/kdloose.png" > "$out/kdloose.txt"
+"$rs" render -q --stats --accel kdtree --kd-split median --storage smallest-cell --loose-factor 0.5 "$@" -o "$out/kdmedian.png" > "$out/kdmedian.txt"
+"$rs" render -q --stats --accel grid --storage smallest-cell "$@" -o "$out/gridloose.png" > "$out/gridloose.txt"
+"$rs" render -q --stats --accel grid --storage smallest-cell --loose-factor 0 "$@" -o "$out/gridloose0.png" > "$out/gridloose0.txt"
+for a in bvh2 kdtree grid octree loose kdloose kdmedian gridloose gridloose0 none; do
   cmp "$out/bvh.png" "$out/$a.png" || { echo "FAIL: --accel $a changed the image"; exit 1; }
 done
 nodes() { sed -n 's/^ *nodes visited *\([0-9]*\).*/\1/p' "$out/$1.txt"; }
@@ -30,6 +35,8 @@ echo "nodes visited: bvh $n4, bvh2 $n2, kdtree $nk, grid $ng, none $n0"
 grep -q "^Walk: *bvh2: .* 2-wide nodes" "$out/bvh2.txt" || { echo "FAIL: --stats does not name the binary walk"; cat "$out/bvh2.txt"; exit 1; }
 grep -q "^Walk: *octree, every-cell: " "$out/octree.txt" || { echo "FAIL: --stats does not name the octree walk"; cat "$out/octree.txt"; exit 1; }
 grep -q "^Walk: *octree, smallest-cell (loose factor 0.1): " "$out/loose.txt" || { echo "FAIL: --stats does not name the loose octree walk"; cat "$out/loose.txt"; exit 1; }
-grep -q "^Walk: *kdtree: " "$out/kdtree.txt" || { echo "FAIL: --stats does not name the kD-tree walk"; cat "$out/kdtree.txt"; exit 1; }
-grep -q "^Walk: *grid: [0-9]* x [0-9]* x [0-9]* cells" "$out/grid.txt" || { echo "FAIL: --stats does not name the grid walk"; cat "$out/grid.txt"; exit 1; }
+grep -q "^Walk: *kdtree, sah split, every-cell: " "$out/kdtree.txt" || { echo "FAIL: --stats does not name the kD-tree walk"; cat "$out/kdtree.txt"; exit 1; }
+grep -q "^Walk: *kdtree, median split, smallest-cell (loose factor 0.5): " "$out/kdmedian.txt" || { echo "FAIL: --stats does not name the loose median kD-tree walk"; cat "$out/kdmedian.txt"; exit 1; }
+grep -q "^Walk: *grid, every-cell: [0-9]* x [0-9]* x [0-9]* cells" "$out/grid.txt" || { echo "FAIL: --stats does not name the grid walk"; cat "$out/grid.txt"; exit 1; }
+grep -q "^Walk: *grid, smallest-cell (loose factor 0.1): .* 1.00 references per primitive" "$out/gridloose.txt" || { echo "FAIL: --stats does not name the loose grid walk"; cat "$out/gridloose.txt"; exit 1; }
 echo "PASS"

@@ -22,7 +22,7 @@ echo "printed: rayscope inspect $cmd"
 args=("$@")
 for ((i = 0; i + 1 < ${#args[@]}; i++)); do
   case "${args[i]}" in
-    --size|--spp|--max-depth|--min-contribution|--seed|--accel|--storage)
+    --size|--spp|--max-depth|--min-contribution|--seed|--accel|--storage|--loose-factor|--kd-split)
       case " $cmd " in
         *" ${args[i]} ${args[i+1]} "*) ;;
         *) echo "FAIL: the command does not repeat '${args[i]} ${args[i+1]}' as typed"; exit 1 ;;

@@ -74,12 +74,20 @@ struct AccelConfig {
   KdTreeBuildConfig kdtree;  ///< Settings of the kD-tree builder (kdtree.h), for AccelKind::KdTree.
   GridBuildConfig grid;      ///< Settings of the grid builder (grid.h), for AccelKind::Grid.
   /// Settings of the octree builder (octree.h), for AccelKind::Octree; its
-  /// `storage` is replaced by the one below.
+  /// `storage` and `loose_factor` are replaced by the ones below (as the
+  /// kD-tree's and the grid's are).
   OctreeBuildConfig octree;
   /// How a spatial subdivision stores a primitive that straddles its cuts: the
   /// one setting for every structure, checked by accel_storage_error() (the
-  /// BVH kinds and the kD-tree take only the default, every-cell).
+  /// BVH kinds take only the default, every-cell). Replaces the builder
+  /// configs' own `storage`.
   PrimStorage storage = PrimStorage::EveryCell;
+  /// SmallestCell's loose factor, the one setting for the kD-tree, grid and
+  /// octree (replaces their builder configs' own `loose_factor`): each cell
+  /// enlarged by this fraction of its extent on every side, 0 ..
+  /// kMaxLooseFactor, checked by loose_factor_error() (Aggregate::build throws
+  /// std::invalid_argument with it).
+  float loose_factor = kDefaultLooseFactor;
   /// Let scenes with at most Aggregate::kBruteForceMax bounded primitives skip
   /// the structure and test them all. Off only to measure what the skip saves.
   bool allow_brute_force = true;
@@ -208,6 +216,8 @@ class Aggregate {
   const WideBvh& walk() const { return walk_; }
   /// The storage choice the structure was built with (AccelConfig::storage).
   PrimStorage storage() const { return config_.storage; }
+  /// The whole configuration the aggregate was built with.
+  const AccelConfig& config() const { return config_; }
   /// The kD-tree, over records() (its references are record indices); empty
   /// unless the kind is AccelKind::KdTree.
   const KdTree& kdtree() const { return kdtree_; }

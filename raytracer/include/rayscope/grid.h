@@ -12,6 +12,17 @@
 // Cells are named by their linear index c = x + nx * (y + ny * z), 0 <= c <
 // cells(); the grid's own box (the only box a ray is tested against) is named
 // by box_id() = cells(), one past the last cell.
+//
+// PrimStorage::SmallestCell ("overlapping regions", a loose grid): every cell
+// is enlarged by loose_factor times its size on every side (at most
+// kMaxLooseFactor = 0.5, so a loose cell reaches into its 26 neighbours and no
+// further), and each primitive is stored once: in the cell holding its
+// bounds' center if its bounds fit that cell's loose box, else in the grid's
+// list of big primitives (big_refs), which every ray that enters the grid
+// tests: the grid is the loose grid's only inner node. A primitive stored in
+// cell c can then only be hit in c or a neighbour, so the walk, at each cell
+// it enters, tests the lists of the cell and its neighbours whose loose boxes
+// the ray hits, each list once per ray (mailboxed by cell).
 #pragma once
 
 #include <algorithm>
@@ -24,6 +35,7 @@
 #include "rayscope/intersect.h"
 #include "rayscope/mailbox.h"
 #include "rayscope/math.h"
+#include "rayscope/prim_storage.h"
 #include "rayscope/ray.h"
 #include "rayscope/traversal.h"
 
@@ -41,13 +53,22 @@ struct GridBuildConfig {
   /// Cells per axis (x, y, z) given explicitly; 0 on an axis: chosen by the
   /// automatic rule (from the density and the axes given).
   glm::uvec3 resolution{0u};
+  /// EveryCell (default) or SmallestCell (the loose grid); Split throws.
+  /// (AccelConfig::storage replaces it when the aggregate builds the grid.)
+  PrimStorage storage = PrimStorage::EveryCell;
+  /// SmallestCell only: each cell enlarged by this fraction of its size on
+  /// every side; 0 .. kMaxLooseFactor (loose_factor_error()).
+  /// (AccelConfig::loose_factor replaces it.)
+  float loose_factor = kDefaultLooseFactor;
 };
 
 /// Quality figures of a built grid (see UniformGrid::quality()).
 struct GridQuality {
   glm::uvec3 resolution{0u};
   size_t cells = 0, empty_cells = 0;
-  size_t references = 0;       ///< Primitive references in all cells.
+  size_t references = 0;  ///< Primitive references in all cells and the big list.
+  /// SmallestCell: primitives in the grid's big list (fit no loose cell).
+  size_t big_refs = 0;
   double refs_per_prim = 0.0;  ///< references / primitives: how often one is stored.
   uint32_t max_cell_refs = 0;
   double mean_cell_refs = 0.0;  ///< Over the non-empty cells.
@@ -73,8 +94,8 @@ class UniformGrid {
   /// Builds the grid over bounds.size() primitives (finite bounds, lo <= hi;
   /// zero-size boxes are fine). An empty input gives an empty grid that every
   /// ray misses. Throws std::invalid_argument for non-finite or inverted
-  /// bounds, std::length_error for an explicit resolution beyond
-  /// kMaxResolution, kMaxCells or kMaxReferences.
+  /// bounds, PrimStorage::Split or a bad loose factor, std::length_error for an explicit resolution
+  /// beyond kMaxResolution, kMaxCells or kMaxReferences.
   void build(std::span<const Bounds3> bounds, const GridBuildConfig& config = {});
 
   bool empty() const { return offsets.empty(); }
@@ -95,6 +116,13 @@ class UniformGrid {
     return Bounds3(Vec3(planes[0][x], planes[1][y], planes[2][z]),
                    Vec3(planes[0][x + 1], planes[1][y + 1], planes[2][z + 1]));
   }
+  /// Whether the cells are loose (PrimStorage::SmallestCell).
+  bool loose() const { return loose_; }
+  /// The box the walks test for cell (x, y, z): cell_box(), enlarged by the
+  /// loose factor for SmallestCell (loose_box()).
+  Bounds3 node_box(uint32_t x, uint32_t y, uint32_t z) const {
+    return loose_ ? loose_box(cell_box(x, y, z), loose_factor_) : cell_box(x, y, z);
+  }
   /// The cells (first, last per axis) whose closed boxes overlap the closed
   /// box b, clipped to the grid; false if b misses the grid.
   bool cell_range(const Bounds3& b, glm::uvec3& first, glm::uvec3& last) const;
@@ -104,7 +132,7 @@ class UniformGrid {
   }
   GridQuality quality() const;
   size_t memory_bytes() const {
-    return (offsets.size() + refs.size()) * sizeof(uint32_t) +
+    return (offsets.size() + refs.size() + big_refs.size()) * sizeof(uint32_t) +
            (planes[0].size() + planes[1].size() + planes[2].size()) * sizeof(float);
   }
 
@@ -130,13 +158,22 @@ class UniformGrid {
   ///   goes on until the cell holding the hit point is passed.
   /// - Mailboxing (mailbox.h): each primitive is tested at most once per ray,
   ///   however many of the cells visited hold it.
+  /// - SmallestCell: the big list first, then the same DDA; entering a cell
+  ///   tests the lists of the cell and of each non-empty neighbour whose
+  ///   loose box the ray hits (box_interval() up to tmax; a cell list is
+  ///   looked at once per ray: the mailbox stamps cells, not primitives,
+  ///   since each primitive is stored once). Early termination is unchanged:
+  ///   a hit at a point in the cells entered so far is in the list of one of
+  ///   them or their neighbours, so once the closest hit lies before the next
+  ///   cell's entry, nothing after it can be closer.
   ///
   /// Observer hooks (traversal.h): on_box_test(box_id(), hit) for the grid's
   /// box; on_node(cell) for every cell entered, each at most once per ray;
   /// on_cull(cell) for the cell the walk would have entered next when a hit
   /// found meanwhile stops it (early termination; at most one per ray, none
   /// when the ray leaves the grid or ends). Cells have no child boxes: boxes
-  /// tested = 1 per ray. Primitive tests are the caller's (`prim`), after
+  /// tested = 1 per ray (SmallestCell: plus on_box_test(cell, hit) for every
+  /// neighbour's loose box tested). Primitive tests are the caller's (`prim`), after
   /// the mailbox: a primitive is reported at most once per ray.
   ///
   /// Not inlined, as the kD-tree's walk (kdtree.h): one direct call per ray
@@ -155,12 +192,18 @@ class UniformGrid {
   /// and on_node(cell) for those it overlaps, whose primitives it passes to
   /// `prim(index)`, each once per query (mailboxed). `prim` tests the
   /// primitive itself: a cell holds every primitive whose bounds touch it.
+  /// SmallestCell: the big list is reported first (when the range overlaps
+  /// the grid's box), then the cells one further on every side than the
+  /// range's bounds, tested (and reported) with their loose boxes.
   template <class Range, class Observer, class PrimFn>
   void walk_range(Range& range, PrimFn&& prim, Observer& obs) const;
 
   /// CSR storage: cell c's references are refs[offsets[c] .. offsets[c + 1]).
   std::vector<uint32_t> offsets;
   std::vector<uint32_t> refs;  ///< Primitive indices, ascending within a cell.
+  /// SmallestCell: the primitives that fit no loose cell (the grid's own
+  /// list, tested by every ray that enters the grid). Ascending.
+  std::vector<uint32_t> big_refs;
   /// The cell planes per axis: res + 1 positions from bounds().lo to
   /// bounds().hi (equal spacing, rounded to float once); cell k along an axis
   /// lies between planes[axis][k] and planes[axis][k + 1].
@@ -176,6 +219,8 @@ class UniformGrid {
   glm::uvec3 res_{0u};
   Vec3 inv_width_{0.0f};  ///< res / extent per axis (0 for a flat axis): first guesses only.
   uint32_t num_prims_ = 0;
+  bool loose_ = false;
+  float loose_factor_ = 0.0f;
   double build_seconds_ = 0.0;
 };
 
@@ -234,13 +279,47 @@ bool UniformGrid::traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer&
     idx[a] = k;
   }
 
-  MailboxQuery mailbox(num_prims_);
   bool hit = false;
-  const int nx = int(res_.x), ny = int(res_.y);
+  // The loose grid's big list: the grid is its only inner node.
+  for (const uint32_t p : big_refs)
+    if (prim(p, tmax)) {
+      hit = true;
+      if constexpr (AnyHit) return true;
+    }
+  // Stamps primitives (EveryCell) or cell lists (SmallestCell).
+  MailboxQuery mailbox(loose_ ? uint32_t(cells()) : num_prims_);
+  const int nx = int(res_.x), ny = int(res_.y), nz = int(res_.z);
+  auto inside = [&](int a, int k) { return k >= 0 && k < int(res_[a]); };
+  // Tests the list of cell c (SmallestCell, each list once per ray): true
+  // when an any-hit query is done.
+  auto test_list = [&](uint32_t c) {
+    const uint32_t* r = refs.data() + offsets[c];
+    for (const uint32_t* end = refs.data() + offsets[c + 1]; r != end; ++r)
+      if (prim(*r, tmax)) {
+        hit = true;
+        if constexpr (AnyHit) return true;
+      }
+    return false;
+  };
   // Enters cell c: true when an any-hit query is done.
   auto enter = [&](int x, int y, int z) {
     const uint32_t c = uint32_t(x + nx * (y + ny * z));
     if constexpr (Observer::kActive) obs.on_node(c);
+    if (loose_) {
+      // The cell's and its neighbours' lists, where their loose boxes are hit.
+      for (int z1 = std::max(z - 1, 0); z1 <= std::min(z + 1, nz - 1); ++z1)
+        for (int y1 = std::max(y - 1, 0); y1 <= std::min(y + 1, ny - 1); ++y1)
+          for (int x1 = std::max(x - 1, 0); x1 <= std::min(x + 1, nx - 1); ++x1) {
+            const uint32_t n = uint32_t(x1 + nx * (y1 + ny * z1));
+            if (offsets[n] == offsets[n + 1] || !mailbox.first_visit(n)) continue;
+            const Bounds3 b = node_box(uint32_t(x1), uint32_t(y1), uint32_t(z1));
+            float b0, b1;
+            box_interval(b.lo, b.hi, ray.origin, inv_dir, tmax, b0, b1);
+            if constexpr (Observer::kActive) obs.on_box_test(n, b0 <= b1);
+            if (b0 <= b1 && test_list(n)) return true;
+          }
+      return false;
+    }
     const uint32_t* r = refs.data() + offsets[c];
     for (const uint32_t* end = refs.data() + offsets[c + 1]; r != end; ++r) {
       if (!mailbox.first_visit(*r)) continue;
@@ -251,7 +330,6 @@ bool UniformGrid::traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer&
     }
     return false;
   };
-  auto inside = [&](int a, int k) { return k >= 0 && k < int(res_[a]); };
   const float* pl[3] = {planes[0].data(), planes[1].data(), planes[2].data()};
   if (enter(idx[0], idx[1], idx[2])) return true;
   for (;;) {
@@ -327,21 +405,32 @@ void UniformGrid::walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
   const bool box_hit = range.overlaps(bounds_);
   if constexpr (Observer::kActive) obs.on_box_test(box_id(), box_hit);
   if (!box_hit) return;
+  for (const uint32_t p : big_refs) prim(p);  // SmallestCell: the grid's own list
+  // The cells whose (loose) boxes can overlap the range: one further on every
+  // side for loose cells, which reach half a cell at most into a neighbour.
+  auto cells_near = [&](glm::uvec3& first, glm::uvec3& last) {
+    if (!cell_range(range.bounds(), first, last)) return false;
+    if (loose_) {
+      first = glm::max(first, glm::uvec3(1u)) - 1u;
+      last = glm::min(last + 1u, res_ - 1u);
+    }
+    return true;
+  };
   glm::uvec3 lo, hi;
-  if (!cell_range(range.bounds(), lo, hi)) return;
-  MailboxQuery mailbox(num_prims_);
+  if (!cells_near(lo, hi)) return;
+  MailboxQuery mailbox(loose_ ? 0u : num_prims_);
   for (uint32_t z = lo.z; z <= hi.z; ++z)
     for (uint32_t y = lo.y; y <= hi.y; ++y)
       for (uint32_t x = lo.x; x <= hi.x; ++x) {
         if (x < lo.x || y < lo.y || z < lo.z) continue;  // the range shrank away
         const uint32_t c = cell_id(x, y, z);
-        const bool overlaps = range.overlaps(cell_box(x, y, z));
+        const bool overlaps = range.overlaps(node_box(x, y, z));
         if constexpr (Observer::kActive) obs.on_box_test(c, overlaps);
         if (!overlaps) continue;
         if constexpr (Observer::kActive) obs.on_node(c);
         bool called = false;
         for (uint32_t r : cell_refs(c))
-          if (mailbox.first_visit(r)) {
+          if (loose_ || mailbox.first_visit(r)) {
             prim(r);
             called = true;
           }
@@ -349,7 +438,7 @@ void UniformGrid::walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
         // The range may have shrunk: the remaining cells are those inside
         // both the old and the new bounds.
         glm::uvec3 nlo, nhi;
-        if (!cell_range(range.bounds(), nlo, nhi)) return;
+        if (!cells_near(nlo, nhi)) return;
         lo = glm::max(lo, nlo);
         hi = glm::min(hi, nhi);
         if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) return;

@@ -1,7 +1,23 @@
 // kD-tree (lecture: "Spatial data structures"): space cut by axis-aligned
-// planes into cells, each primitive stored in every leaf cell its bounds
-// overlap (the lecture's "store it multiple times"), and the front-to-back
-// walk with early termination and mailboxing.
+// planes into cells, and the front-to-back walk with early termination. A
+// primitive that straddles a plane is stored one of the lecture's two common
+// ways (prim_storage.h):
+//
+// - PrimStorage::EveryCell ("store it multiple times", the default): in every
+//   leaf cell its bounds overlap; inner nodes hold nothing; the walk orders
+//   the two children by the plane and tests each primitive once per ray
+//   (mailboxing).
+// - PrimStorage::SmallestCell ("overlapping regions", a loose kD-tree): every
+//   child cell is enlarged by loose_factor times its own extent on every side
+//   (along the split axis the child's thickness, across it the parent's
+//   extent, so a child's loose box always lies in its parent's), and each
+//   primitive is stored once: in a child whose loose box holds its bounds
+//   (the one on its center's side when both do), else in the inner node's own
+//   list. The walk tests an inner node's list when it enters the node and
+//   visits the children whose loose boxes the ray hits nearest entry first
+//   (the octree's loose walk, cell_walk.h: the boxes overlap, the plane no
+//   longer orders them).
+// - PrimStorage::Split is the BSP tree's: build() refuses it.
 //
 // Like the BVH builder (bvh.h), the builder knows nothing about geometry: it
 // takes one bounding box per primitive and a KdTreeBuildConfig. Primitives are
@@ -16,11 +32,14 @@
 #include <cassert>
 #include <cstdint>
 #include <span>
+#include <string_view>
 #include <vector>
 
+#include "rayscope/cell_walk.h"
 #include "rayscope/intersect.h"
 #include "rayscope/mailbox.h"
 #include "rayscope/math.h"
+#include "rayscope/prim_storage.h"
 #include "rayscope/ray.h"
 #include "rayscope/traversal.h"
 
@@ -58,6 +77,11 @@ enum class KdSplitRule : uint8_t {
   Median,
 };
 
+/// "sah", "median".
+const char* to_string(KdSplitRule rule);
+/// Parses the names to_string() gives; false for anything else.
+bool parse_kd_split_rule(std::string_view name, KdSplitRule& rule);
+
 /// Settings of the kD-tree builder, with the defaults used by RayScope.
 struct KdTreeBuildConfig {
   KdSplitRule rule = KdSplitRule::Sah;
@@ -74,6 +98,25 @@ struct KdTreeBuildConfig {
   /// split would not pay (a median split stops there); bigger ones are split
   /// anyway, up to KdTree::kMaxBadRefines times on one path.
   uint32_t max_leaf_size = 4;
+  /// How a primitive that straddles a plane is stored: EveryCell (default) or
+  /// SmallestCell; Split throws. (AccelConfig::storage replaces it when the
+  /// aggregate builds the tree.)
+  ///
+  /// SmallestCell's split choice: the SAH (or median) plane is chosen with
+  /// the loose children. For a candidate plane the cost is
+  ///   traversal + intersection * (straddlers + P_below * below + P_above * above)
+  /// where below / above count the primitives whose bounds fit that child's
+  /// loose box (along the split axis; one fitting both is counted on both
+  /// sides, a slight overestimate), straddlers the rest, which stay in the
+  /// inner node and cost a test on every visit (probability 1), and P is a
+  /// child's loose box's surface area over the node's loose box's. No
+  /// empty-side bonus: a plane with every primitive on one side cuts off
+  /// hardly any space once the children are loose.
+  PrimStorage storage = PrimStorage::EveryCell;
+  /// SmallestCell only: the enlargement of each child cell on every side, as
+  /// a fraction of the cell's extent on that axis; 0 .. kMaxLooseFactor
+  /// (loose_factor_error()). (AccelConfig::loose_factor replaces it.)
+  float loose_factor = kDefaultLooseFactor;
 };
 
 /// Quality figures of a built tree (see KdTree::quality()).
@@ -81,8 +124,11 @@ struct KdTreeQuality {
   uint32_t nodes = 0, leaves = 0, empty_leaves = 0, depth = 0;
   uint32_t max_leaf_refs = 0;
   double mean_leaf_refs = 0.0;  ///< Over the non-empty leaves.
-  size_t references = 0;        ///< Primitive references in all leaves.
-  double refs_per_prim = 0.0;   ///< references / primitives: how often one is stored.
+  size_t references = 0;        ///< Primitive references in all nodes.
+  /// References held by inner nodes (SmallestCell: primitives that fit no
+  /// child's loose box; always 0 for EveryCell).
+  size_t inner_refs = 0;
+  double refs_per_prim = 0.0;  ///< references / primitives: how often one is stored.
   /// Expected cost of a random ray hitting the root cell, with the build's
   /// cost constants (cell areas relative to the root's).
   double sah_cost = 0.0;
@@ -104,7 +150,8 @@ class KdTree {
 
   /// Builds the tree over bounds.size() primitives (finite bounds; zero-size
   /// boxes are fine). An empty input gives an empty tree that every ray misses.
-  /// Throws std::length_error if the tree would not fit KdNode's indices.
+  /// Throws std::invalid_argument for PrimStorage::Split or a bad loose
+  /// factor, std::length_error if the tree would not fit KdNode's indices.
   void build(std::span<const Bounds3> bounds, const KdTreeBuildConfig& config = {});
 
   bool empty() const { return nodes.empty(); }
@@ -114,8 +161,24 @@ class KdTree {
   int max_depth() const { return max_depth_; }
   KdTreeQuality quality() const;
   size_t memory_bytes() const {
-    return nodes.size() * sizeof(KdNode) + refs.size() * sizeof(uint32_t);
+    return nodes.size() * sizeof(KdNode) + (refs.size() + offsets.size()) * sizeof(uint32_t);
   }
+  /// Whether the cells are loose (PrimStorage::SmallestCell).
+  bool loose() const { return loose_; }
+  /// The box the walks test for a node of cell `cell`: the cell itself, or its
+  /// loose box (SmallestCell).
+  Bounds3 node_box(const Bounds3& cell) const {
+    return loose_ ? loose_box(cell, loose_factor_) : cell;
+  }
+  /// The primitives node `node` holds: a leaf's list, or (SmallestCell) an
+  /// inner node's straddlers.
+  std::span<const uint32_t> node_refs(uint32_t node) const {
+    if (loose_) return {refs.data() + offsets[node], offsets[node + 1] - offsets[node]};
+    if (!nodes[node].is_leaf()) return {};
+    return {refs.data() + nodes[node].first(), nodes[node].count()};
+  }
+  /// The (tight) cell of every node, by node index (for tests and drawings).
+  std::vector<Bounds3> cells() const;
 
   /// Walks the cells the ray [origin, origin + tmax * dir] crosses, nearest
   /// first. `prim(index, tmax)` tests primitive `index` and returns true on a
@@ -166,18 +229,38 @@ class KdTree {
   /// leaf); on_box_test(child, overlaps) for both child cells of an inner node
   /// entered; on_cull(id) for a pushed cell the range no longer overlaps when
   /// it is popped. Primitive tests are the caller's (`prim`), after the
-  /// mailbox.
+  /// mailbox. SmallestCell: walk_cells_range() (cell_walk.h) over the loose
+  /// boxes: every node entered, inner ones too, reports its own list; no
+  /// mailbox; children nearer first.
   template <class Range, class Observer, class PrimFn>
   void walk_range(Range& range, PrimFn&& prim, Observer& obs) const;
 
   std::vector<KdNode> nodes;   ///< nodes[0] is the root.
-  std::vector<uint32_t> refs;  ///< Leaf reference lists: primitive indices.
+  std::vector<uint32_t> refs;  ///< Reference lists of the nodes: primitive indices.
+  /// SmallestCell only (else empty): node i holds refs[offsets[i] ..
+  /// offsets[i + 1]) (inner nodes and leaves alike; nodes are numbered in the
+  /// order their lists are written).
+  std::vector<uint32_t> offsets;
   KdTreeBuildConfig config;
 
  private:
+  /// emit(child, cell) for the two children of inner node `node` of cell
+  /// `cell`, below first.
+  template <class Emit>
+  void for_children(uint32_t node, const Bounds3& cell, Emit&& emit) const {
+    const KdNode& n = nodes[node];
+    if (n.is_leaf()) return;
+    Bounds3 below = cell, above = cell;
+    below.hi[n.axis()] = above.lo[n.axis()] = n.split();
+    emit(node + 1, below);
+    emit(n.above(), above);
+  }
+
   Bounds3 bounds_;
   uint32_t num_prims_ = 0;
   int max_depth_ = 0;
+  bool loose_ = false;
+  float loose_factor_ = 0.0f;
   double build_seconds_ = 0.0;
 };
 
@@ -186,6 +269,12 @@ class KdTree {
 template <bool AnyHit, class Observer, class PrimFn>
 bool KdTree::traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const {
   if (nodes.empty()) return false;
+  if (loose_)
+    return walk_cells<AnyHit, 2, kMaxDepth + 1>(
+        ray, tmax, bounds_, true, nullptr, [&](const Bounds3& cell) { return node_box(cell); },
+        [&](uint32_t node) { return node_refs(node); },
+        [&](uint32_t node, const Bounds3& cell, auto&& emit) { for_children(node, cell, emit); },
+        prim, obs);
   const Vec3 inv_dir = 1.0f / ray.dir;
   // The ray's interval [t0, t1] in the current cell, first the root's.
   float t0, t1;
@@ -274,6 +363,12 @@ bool KdTree::traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs)
 template <class Range, class Observer, class PrimFn>
 void KdTree::walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
   if (nodes.empty()) return;
+  if (loose_)
+    return walk_cells_range<2, kMaxDepth + 1>(
+        range, bounds_, nullptr, [&](const Bounds3& cell) { return node_box(cell); },
+        [&](uint32_t node) { return node_refs(node); },
+        [&](uint32_t node, const Bounds3& cell, auto&& emit) { for_children(node, cell, emit); },
+        prim, obs);
   const bool root_overlaps = range.overlaps(bounds_);
   if constexpr (Observer::kActive) obs.on_box_test(0, root_overlaps);
   if (!root_overlaps) return;

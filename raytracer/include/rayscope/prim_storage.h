@@ -4,7 +4,10 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <string_view>
+
+#include "rayscope/math.h"
 
 namespace rayscope {
 
@@ -28,5 +31,30 @@ inline constexpr PrimStorage kPrimStorages[] = {PrimStorage::EveryCell, PrimStor
 const char* to_string(PrimStorage storage);
 /// Parses the names to_string() gives; false for anything else.
 bool parse_prim_storage(std::string_view name, PrimStorage& storage);
+
+/// SmallestCell's loose factor: every cell's box is enlarged by this fraction
+/// of its extent on every side. The lecture's 10%: a loose cell 1.2 times the
+/// side, 1.2^3 = 1.73 times the volume of a cube.
+inline constexpr float kDefaultLooseFactor = 0.1f;
+/// The largest loose factor any structure takes (one range for all): a loose
+/// grid cell then reaches half a cell into its 26 neighbours and no further,
+/// so a ray that reaches a cell need only look at the lists of the cell and
+/// its neighbours (grid.h).
+inline constexpr float kMaxLooseFactor = 0.5f;
+/// Why `factor` is no loose factor, in one line (no trailing period); empty
+/// when it is one (finite, 0 <= factor <= kMaxLooseFactor). The one check:
+/// the builders throw std::invalid_argument with it, the CLI prints it.
+std::string loose_factor_error(float factor);
+
+/// `cell` enlarged by `factor` times its extent on every side: the loose box
+/// of SmallestCell storage. The builders and the walks compute loose boxes
+/// only this way, so they agree bit for bit.
+inline Bounds3 loose_box(const Bounds3& cell, float factor) {
+  const Vec3 e = factor * cell.extent();
+  Bounds3 b;
+  b.lo = cell.lo - e;
+  b.hi = cell.hi + e;
+  return b;
+}
 
 }  // namespace rayscope
