@@ -121,7 +121,9 @@ void SceneOptions::add_to(CLI::App* cmd, bool render_settings, bool walk_option)
                   "primitive stored in each cell it overlaps; same image), grid (the uniform "
                   "grid, cells chosen from the object count, every primitive stored in each "
                   "cell it overlaps; same image), octree (cubes cut into 8 octants, see "
-                  "--storage; same image), none (every primitive tested)")
+                  "--storage; same image), bsp (the BSP tree: planes of any orientation "
+                  "through the triangles, see --storage; same image), none (every primitive "
+                  "tested)")
       ->check(CLI::Validator(
           [](std::string& name) {
             AccelKind k;
@@ -133,9 +135,10 @@ void SceneOptions::add_to(CLI::App* cmd, bool render_settings, bool walk_option)
   cmd->add_option("--storage", storage,
                   "How a spatial subdivision stores a primitive that straddles its cuts: "
                   "every-cell (a reference in every cell it overlaps, tested once per ray; "
-                  "default; kdtree, grid and octree), smallest-cell (the loose octree: cells "
-                  "enlarged by 10% on each side, each primitive once, in the deepest cell that "
-                  "holds it; octree), split (the BSP tree's; not available yet)")
+                  "default; kdtree, grid, octree and bsp), smallest-cell (each primitive once: "
+                  "the loose octree's cells enlarged by 10% on each side, the deepest that holds "
+                  "it; the BSP node whose plane it straddles; octree and bsp), split (a "
+                  "straddling triangle cut into fragments, one per side; bsp)")
       ->check(CLI::Validator(
           [](std::string& name) {
             PrimStorage s;

@@ -340,6 +340,12 @@ std::vector<Structure> structures() {
     c.storage = PrimStorage::SmallestCell;
     out.push_back({"octree-loose", c});
   }
+  for (PrimStorage st : kPrimStorages) {  // the BSP tree takes all three
+    AccelConfig c;
+    c.kind = AccelKind::Bsp;
+    c.storage = st;
+    out.push_back({std::string("bsp-") + to_string(st), c});
+  }
   return out;
 }
 
