@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Usage: accel_same_image.sh RAYSCOPE RENDER_OPTIONS...
 #
-# The structure the rays walk (--accel bvh|bvh2|kdtree|grid|octree|none, the
-# octree with either --storage) changes how much work a render does, never the
-# image: the seven renders must be the same file, byte
+# The structure the rays walk (--accel bvh|bvh2|kdtree|grid|octree|bsp|none,
+# the octree with either --storage, the BSP tree with each of the three)
+# changes how much work a render does, never the image: the ten renders must be
+# the same file, byte
 # for byte (PNG of identical pixels), and --stats must report more nodes
 # entered by the binary walk (bvh2) than by the 4-wide one (bvh), and none
 # without a structure; the kD-tree and grid walks enter nodes (cells) and name
@@ -16,7 +17,10 @@ for a in bvh bvh2 kdtree grid octree none; do
   "$rs" render -q --stats --accel "$a" "$@" -o "$out/$a.png" > "$out/$a.txt"
 done
 "$rs" render -q --stats --accel octree --storage smallest-cell "$@" -o "$out/loose.png" > "$out/loose.txt"
-for a in bvh2 kdtree grid octree loose none; do
+for st in every-cell smallest-cell split; do
+  "$rs" render -q --stats --accel bsp --storage "$st" "$@" -o "$out/bsp-$st.png" > "$out/bsp-$st.txt"
+done
+for a in bvh2 kdtree grid octree loose bsp-every-cell bsp-smallest-cell bsp-split none; do
   cmp "$out/bvh.png" "$out/$a.png" || { echo "FAIL: --accel $a changed the image"; exit 1; }
 done
 nodes() { sed -n 's/^ *nodes visited *\([0-9]*\).*/\1/p' "$out/$1.txt"; }
@@ -30,6 +34,10 @@ echo "nodes visited: bvh $n4, bvh2 $n2, kdtree $nk, grid $ng, none $n0"
 grep -q "^Walk: *bvh2: .* 2-wide nodes" "$out/bvh2.txt" || { echo "FAIL: --stats does not name the binary walk"; cat "$out/bvh2.txt"; exit 1; }
 grep -q "^Walk: *octree, every-cell: " "$out/octree.txt" || { echo "FAIL: --stats does not name the octree walk"; cat "$out/octree.txt"; exit 1; }
 grep -q "^Walk: *octree, smallest-cell (loose factor 0.1): " "$out/loose.txt" || { echo "FAIL: --stats does not name the loose octree walk"; cat "$out/loose.txt"; exit 1; }
+for st in every-cell smallest-cell split; do
+  grep -q "^Walk: *bsp, $st: [0-9]* nodes" "$out/bsp-$st.txt" || { echo "FAIL: --stats does not name the BSP walk ($st)"; cat "$out/bsp-$st.txt"; exit 1; }
+done
+grep -q "^Walk: *bsp, split: .* [0-9]* fragments" "$out/bsp-split.txt" || { echo "FAIL: --stats does not count the BSP fragments"; exit 1; }
 grep -q "^Walk: *kdtree: " "$out/kdtree.txt" || { echo "FAIL: --stats does not name the kD-tree walk"; cat "$out/kdtree.txt"; exit 1; }
 grep -q "^Walk: *grid: [0-9]* x [0-9]* x [0-9]* cells" "$out/grid.txt" || { echo "FAIL: --stats does not name the grid walk"; cat "$out/grid.txt"; exit 1; }
 echo "PASS"
