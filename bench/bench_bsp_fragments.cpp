@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "rayscope/bsp.h"
+#include "rayscope/scene_io.h"
 #include "rayscope_vtk/mesh_files.h"
 
 namespace {
@@ -59,7 +60,10 @@ int main(int argc, char** argv) {
     std::printf("mesh: %s not found, skipped\n", mesh_file.c_str());
     return 0;
   }
-  const TriangleMesh mesh = rayscope_vtk::load_mesh(mesh_file);
+  MeshOptions options;
+  options.file = mesh_file;
+  options.smooth = false;
+  const TriangleMesh mesh = rayscope_vtk::load_mesh(options);
   for (size_t n : {250u, 1000u, 4000u, 16000u, 64000u}) {
     if (n > mesh.triangles.size()) break;
     std::vector<BspPrim> prims;
