@@ -93,7 +93,7 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
     std::printf("Walk:      none: every primitive is tested against every ray\n");
   }
   std::printf(
-      "Memory:    %.2f MiB for the BVH, its walk or the kD-tree, grid or octree, and the "
+      "Memory:    %.2f MiB for the BVH, its walk or the kD-tree, grid, octree or BSP tree, and the "
       "primitive records\n",
       double(accel.memory_bytes()) / (1024.0 * 1024.0));
   std::printf("%-22s %14s\n", "Rays", "count");

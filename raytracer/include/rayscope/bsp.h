@@ -11,12 +11,14 @@
 // list) each propose their plane; each plane is scored by
 //   cost = split_weight x straddlers + |front - back|
 // (the lecture's "aim at few splits", with balance so that the tree stays
-// O(log n) deep) and the cheapest one is taken. Spheres never give a plane
-// (they have none); a node with no usable triangle plane is cut by the
-// axis-aligned plane through the median of its primitives' centers on their
-// widest axis. A cut that leaves a side with every primitive is refused (a
-// leaf), so coplanar triangles, which lie on every plane they propose, end in
-// one leaf.
+// O(log n) deep) and the cheapest one is taken. A plane that does not cut the
+// node's cell is skipped (with EveryCell a node's primitives reach out of its
+// cell, where a plane could separate them without dividing the cell). Spheres
+// never give a plane (they have none); a node with no usable triangle plane is
+// cut by the axis-aligned plane through the median of its primitives' centers
+// on their widest axis. A plane that leaves every primitive on one side (as
+// the plane of coplanar triangles does for all of them) is refused; with none
+// left the node is a leaf, so the recursion always ends.
 //
 // Classification: a primitive's signed distances to the plane (triangle:
 // its three vertices; sphere: its center -/+ its radius) are computed in
@@ -64,6 +66,7 @@
 // drawing ("BSP planes as clipped polygons").
 #pragma once
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <cstdint>
@@ -214,11 +217,13 @@ class BspTree {
   template <bool AnyHit, class Observer, class PrimFn>
   [[gnu::noinline]] bool traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const;
 
-  /// The lecture's range query over the cells' bounding boxes (range_query.h,
-  /// as Octree::walk_range): a node whose cell box the range overlaps is
-  /// entered, its references reported with `prim(index)` (each primitive once
-  /// per query), its children tested, nearer first; a pushed child is checked
-  /// again when popped (the range may shrink) and culled if missed.
+  /// The lecture's range query over the cells (range_query.h, as
+  /// Octree::walk_range): a node is entered if the range's bounds reach its
+  /// side of the parent's plane (within the tolerance) and the range overlaps
+  /// its cell's bounding box; its references are reported with `prim(index)`
+  /// (each primitive once per query), its children tested, nearer first; a
+  /// pushed child is checked again when popped (the range may shrink) and
+  /// culled if missed.
   template <class Range, class Observer, class PrimFn>
   void walk_range(Range& range, PrimFn&& prim, Observer& obs) const;
 
@@ -356,12 +361,29 @@ void BspTree::walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
     }
     if constexpr (Observer::kActive) obs.on_node(id);
     const BspNode& n = nodes[id];
+    const Bounds3 rb = range.bounds();  // it may have shrunk
     for (uint32_t i = n.first; i < n.first + n.count; ++i)
       if (config.storage == PrimStorage::SmallestCell || mailbox.first_visit(refs[i]))
         prim(refs[i]);
     if (n.is_leaf()) continue;
     const uint32_t back = id + 1, front = n.front;
-    const bool ob = range.overlaps(cell_boxes[back]), of = range.overlaps(cell_boxes[front]);
+    // A child is reached if the range's bounds reach its side of the plane
+    // (within the tolerance) and the range overlaps its cell's box.
+    bool reach_back = true, reach_front = true;
+    if (all_finite(rb.lo) && all_finite(rb.hi)) {
+      // The lowest and highest signed distance over the bounds' corners, in
+      // double (products of floats are exact there).
+      double lo = -n.offset, hi = -n.offset;
+      for (int a = 0; a < 3; ++a) {
+        const double p = double(n.normal[a]) * rb.lo[a], q = double(n.normal[a]) * rb.hi[a];
+        lo += std::min(p, q);
+        hi += std::max(p, q);
+      }
+      reach_back = lo <= tolerance_;
+      reach_front = hi >= -tolerance_;
+    }
+    const bool ob = reach_back && range.overlaps(cell_boxes[back]);
+    const bool of = reach_front && range.overlaps(cell_boxes[front]);
     if constexpr (Observer::kActive) {
       obs.on_box_test(back, ob);
       obs.on_box_test(front, of);
