@@ -72,6 +72,15 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
         storage.c_str(), k.nodes, k.leaves, k.empty_leaves, k.depth, accel.octree().max_depth(),
         k.refs_per_prim, k.inner_refs, k.mean_leaf_refs, k.max_leaf_refs,
         double(k.memory_bytes) / (1024.0 * 1024.0), k.build_seconds);
+  } else if (accel.walks_structure() && accel.kind() == AccelKind::Bsp) {
+    const BspQuality k = accel.bsp().quality();
+    std::printf(
+        "Walk:      bsp, %s: %u nodes, %u leaves, depth %u (limit %d), %.2f references per "
+        "primitive (%zu held by inner nodes), %zu fragments (%zu triangles cut), %.1f per leaf "
+        "(max %u), %.2f MiB, built in %.3f s\n",
+        to_string(accel.storage()), k.nodes, k.leaves, k.depth, accel.bsp().config.max_depth,
+        k.refs_per_prim, k.inner_refs, k.fragments, k.split_prims, k.mean_leaf_refs,
+        k.max_leaf_refs, double(k.memory_bytes) / (1024.0 * 1024.0), k.build_seconds);
   } else if (accel.walks_structure() && accel.kind() == AccelKind::Grid) {
     const GridQuality g = accel.grid().quality();
     std::printf(
@@ -89,7 +98,7 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
     std::printf("Walk:      none: every primitive is tested against every ray\n");
   }
   std::printf(
-      "Memory:    %.2f MiB for the BVH, its walk or the kD-tree, grid or octree, and the "
+      "Memory:    %.2f MiB for the BVH, its walk or the kD-tree, grid, octree or BSP tree, and the "
       "primitive records\n",
       double(accel.memory_bytes()) / (1024.0 * 1024.0));
   std::printf("%-22s %14s\n", "Rays", "count");

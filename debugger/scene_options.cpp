@@ -121,7 +121,9 @@ void SceneOptions::add_to(CLI::App* cmd, bool render_settings, bool walk_option)
                   "primitive stored in each cell it overlaps; same image), grid (the uniform "
                   "grid, cells chosen from the object count, every primitive stored in each "
                   "cell it overlaps; same image), octree (cubes cut into 8 octants, see "
-                  "--storage; same image), none (every primitive tested)")
+                  "--storage; same image), bsp (the BSP tree: planes of any orientation "
+                  "through the triangles, see --storage; same image), none (every primitive "
+                  "tested)")
       ->check(CLI::Validator(
           [](std::string& name) {
             AccelKind k;
@@ -133,10 +135,11 @@ void SceneOptions::add_to(CLI::App* cmd, bool render_settings, bool walk_option)
   cmd->add_option("--storage", storage,
                   "How a spatial subdivision stores a primitive that straddles its cuts: "
                   "every-cell (a reference in every cell it overlaps, tested once per ray; "
-                  "default; kdtree, grid and octree), smallest-cell (loose cells: enlarged by "
-                  "--loose-factor on each side, each primitive once, in the smallest cell that "
-                  "holds it, else in an inner node or the grid's list; kdtree, grid and octree), "
-                  "split (the BSP tree's; not available yet)")
+                  "default; kdtree, grid, octree and bsp), smallest-cell (each primitive once: "
+                  "kdtree, grid and octree cells enlarged by --loose-factor on each side, the "
+                  "smallest that holds it, else an inner node or the grid's list; the BSP node "
+                  "whose plane it straddles), split (a straddling triangle cut into fragments, "
+                  "one per side; bsp)")
       ->check(CLI::Validator(
           [](std::string& name) {
             PrimStorage s;

@@ -189,7 +189,7 @@ TEST(Aggregate, KindNamesRoundTrip) {
     EXPECT_EQ(parsed, k);
   }
   AccelKind k = AccelKind::Bvh;
-  EXPECT_FALSE(parse_accel_kind("bsp", k));
+  EXPECT_FALSE(parse_accel_kind("bsp2", k));
   EXPECT_FALSE(parse_accel_kind("", k));
   EXPECT_EQ(k, AccelKind::Bvh);
 }

@@ -340,6 +340,12 @@ std::vector<Structure> structures() {
     c.storage = PrimStorage::SmallestCell;
     out.push_back({"octree-loose", c});
   }
+  for (PrimStorage st : kPrimStorages) {  // the BSP tree takes all three
+    AccelConfig c;
+    c.kind = AccelKind::Bsp;
+    c.storage = st;
+    out.push_back({std::string("bsp-") + to_string(st), c});
+  }
   return out;
 }
 
@@ -625,7 +631,13 @@ TEST(RangeQuery, WalksPruneOnTheBunny) {
     const std::vector<RangeHit> in_box = a.query_box(Bounds3(v - Vec3(s), v + Vec3(s)), o_small);
     EXPECT_GE(in_box.size(), 3u) << st.name;
     EXPECT_LT(small.nodes, nodes / 100) << st.name;
-    EXPECT_LT(small.prims, a.records().size() / 100) << st.name;
+    // The BSP tree's every-cell and smallest-cell storage hold whole
+    // triangles that straddle planes far from their cell (every-cell: 1,058
+    // tested for this box in leaves at the depth limit; smallest-cell: the
+    // node lists near the root, 2,398); only split storage prunes them (113).
+    const bool whole_straddlers =
+        st.config.kind == AccelKind::Bsp && st.config.storage != PrimStorage::Split;
+    EXPECT_LT(small.prims, a.records().size() / (whole_straddlers ? 20 : 100)) << st.name;
     EXPECT_EQ(small.culled, 0u);
     const std::vector<RangeHit> k1 = a.nearest(v + Vec3(0, 0.05f, 0), 1, o_knn);
     const std::vector<RangeHit> everything = a.query_sphere(v, 1e6f, o_all);
@@ -633,7 +645,7 @@ TEST(RangeQuery, WalksPruneOnTheBunny) {
     EXPECT_EQ(all.nodes, nodes) << st.name;
     ASSERT_EQ(k1.size(), 1u);
     EXPECT_LT(knn.nodes * 20, all.nodes) << st.name;
-    EXPECT_LT(knn.prims * 20, all.prims) << st.name;
+    EXPECT_LT(knn.prims * (whole_straddlers ? 10 : 20), all.prims) << st.name;
     // Both child boxes (cells) of every inner node entered are tested: with
     // every node entered, the root's box and every other box once.
     EXPECT_EQ(all.boxes, nodes) << st.name;

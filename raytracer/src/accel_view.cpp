@@ -92,6 +92,29 @@ AccelView octree_view(const Aggregate& a) {
   return v;
 }
 
+AccelView bsp_view(const Aggregate& a) {
+  AccelView v;
+  const BspTree& bsp = a.bsp();
+  v.structure = "bsp";
+  v.nodes.resize(bsp.nodes.size());
+  for (size_t i = 0; i < bsp.nodes.size(); ++i) {
+    const BspNode& n = bsp.nodes[i];
+    AccelViewNode& o = v.nodes[i];
+    o.box = bsp.cell_boxes[i];
+    o.leaf = n.is_leaf();
+    o.first = n.first;  // inner nodes hold primitives with smallest-cell storage
+    o.count = n.count;
+    o.polygon_first = bsp.plane_polygons[i].first;
+    o.polygon_count = bsp.plane_polygons[i].count;
+    if (!n.is_leaf()) v.nodes[i + 1].parent = v.nodes[n.front].parent = int32_t(i);
+  }
+  v.polygon_vertices = bsp.plane_vertices;
+  v.refs.reserve(bsp.refs.size());
+  for (uint32_t r : bsp.refs) v.refs.push_back(a.records()[r].id);
+  finish_levels(v);
+  return v;
+}
+
 AccelView grid_view(const Aggregate& a) {
   AccelView v;
   const UniformGrid& grid = a.grid();
@@ -135,6 +158,8 @@ AccelView make_accel_view(const Aggregate& accel) {
       return grid_view(accel);
     case AccelKind::Octree:
       return octree_view(accel);
+    case AccelKind::Bsp:
+      return bsp_view(accel);
     case AccelKind::Bvh:
     case AccelKind::BinaryBvh:
     case AccelKind::None:

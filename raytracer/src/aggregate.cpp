@@ -21,6 +21,8 @@ const char* to_string(AccelKind kind) {
       return "grid";
     case AccelKind::Octree:
       return "octree";
+    case AccelKind::Bsp:
+      return "bsp";
   }
   return "?";
 }
@@ -43,15 +45,17 @@ std::string accel_storage_error(AccelKind kind, PrimStorage storage) {
     case AccelKind::BinaryBvh:
     case AccelKind::None:
       return what +
-             "the storage choice is for the spatial subdivisions (kdtree, grid, octree); a BVH or "
-             "no structure holds each primitive once";
+             "the storage choice is for the spatial subdivisions (kdtree, grid, octree, bsp); a "
+             "BVH or no structure holds each primitive once";
     case AccelKind::KdTree:
     case AccelKind::Grid:
     case AccelKind::Octree:
       if (storage == PrimStorage::SmallestCell) return {};
       return what +
-             "the spatial subdivisions store a primitive in every cell it overlaps (every-cell) "
+             "the kD-tree, grid and octree store a primitive in every cell it overlaps (every-cell) "
              "or once in its smallest loose cell (smallest-cell); splitting is the BSP tree's";
+    case AccelKind::Bsp:
+      return {};  // every-cell, smallest-cell (node lists) and split (fragments)
   }
   return what + "unknown structure";
 }
@@ -79,8 +83,22 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
   kdtree_ = KdTree{};
   octree_ = Octree{};
   grid_ = UniformGrid{};
-  if (config.kind == AccelKind::KdTree || config.kind == AccelKind::Grid ||
-      config.kind == AccelKind::Octree) {
+  bsp_ = BspTree{};
+  if (config.kind == AccelKind::Bsp) {
+    // Over the records (leaf order), with their geometry: the BSP tree's
+    // planes go through the triangles.
+    std::vector<BspPrim> prims(records_.size());
+    for (size_t i = 0; i < prims.size(); ++i) {
+      const PrimRecord& r = records_[i];
+      prims[i] = r.id < num_triangles ? BspPrim::triangle(r.a, r.b, r.c)
+                                      : BspPrim::make_sphere(r.a, r.b.x);
+    }
+    BspBuildConfig bsp = config.bsp;
+    bsp.storage = config.storage;
+    bsp_.build(prims, bsp);
+    build_seconds_ = bsp_.quality().build_seconds;
+  } else if (config.kind == AccelKind::KdTree || config.kind == AccelKind::Grid ||
+             config.kind == AccelKind::Octree) {
     // Over the records (leaf order), so that its references are record
     // indices.
     std::vector<Bounds3> leaf_order_bounds(records_.size());
@@ -149,6 +167,16 @@ AccelFigures Aggregate::figures() const {
       f.refs_per_prim = double(q.references) / prims;
       break;
     }
+    case AccelKind::Bsp: {
+      const BspQuality q = bsp_.quality();
+      f.memory_bytes = bsp_.memory_bytes() + records;
+      f.nodes = q.nodes;
+      f.leaves = q.leaves;
+      f.depth = q.depth;
+      f.refs_per_prim = double(q.references) / prims;
+      f.fragments = q.fragments;
+      break;
+    }
     case AccelKind::Grid: {
       const GridQuality q = grid_.quality();
       f.memory_bytes = grid_.memory_bytes() + records;
@@ -169,7 +197,7 @@ AccelFigures Aggregate::figures() const {
 size_t Aggregate::memory_bytes() const {
   return bvh_.nodes.size() * sizeof(BvhNode) + bvh_.prim_indices.size() * sizeof(uint32_t) +
          walk_.memory_bytes() + kdtree_.memory_bytes() + grid_.memory_bytes() +
-         octree_.memory_bytes() + records_.size() * sizeof(PrimRecord) +
+         octree_.memory_bytes() + bsp_.memory_bytes() + records_.size() * sizeof(PrimRecord) +
          planes_.size() * sizeof(PlaneRecord);
 }
 

@@ -138,6 +138,20 @@ std::string walk_legend(const Scene& s) {
                  : "the octree (--accel octree --storage every-cell); nodes are named by their "
                    "octree ids, a node's child boxes are its non-empty octants, and a primitive "
                    "stored in several cells is tested once")
+      : a.kind() == AccelKind::Bsp
+          ? (a.storage() == PrimStorage::SmallestCell
+                 ? "the BSP tree (--accel bsp --storage smallest-cell); nodes are named by their "
+                   "BSP ids, a node's two child boxes are the half-spaces of its split plane "
+                   "the ray reaches, and a primitive that straddles a plane is held (and "
+                   "tested) by that plane's node"
+             : a.storage() == PrimStorage::Split
+                 ? "the BSP tree (--accel bsp --storage split); nodes are named by their BSP "
+                   "ids, a node's two child boxes are the half-spaces of its split plane the "
+                   "ray reaches, and a triangle cut into fragments is tested once per fragment "
+                   "reached (no mailbox)"
+                 : "the BSP tree (--accel bsp --storage every-cell); nodes are named by their "
+                   "BSP ids, a node's two child boxes are the half-spaces of its split plane "
+                   "the ray reaches, and a primitive stored in several cells is tested once")
           : "the 4-wide BVH, as renders walk it (--accel bvh); nodes are named by their binary "
             "BVH ids";
   return std::string("walk: ") + walk +

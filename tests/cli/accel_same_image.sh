@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Usage: accel_same_image.sh RAYSCOPE RENDER_OPTIONS...
 #
-# The structure the rays walk (--accel bvh|bvh2|kdtree|grid|octree|none, the
-# kD-tree, grid and octree with either --storage, any --loose-factor and
-# --kd-split) changes how much work a render does, never the image: the
-# renders must be the same file, byte
+# The structure the rays walk (--accel bvh|bvh2|kdtree|grid|octree|bsp|none,
+# the kD-tree, grid and octree with either --storage, any --loose-factor and
+# --kd-split, the BSP tree with each of the three storages) changes how much
+# work a render does, never the image: the renders must be the same file, byte
 # for byte (PNG of identical pixels), and --stats must report more nodes
 # entered by the binary walk (bvh2) than by the 4-wide one (bvh), and none
 # without a structure; the kD-tree and grid walks enter nodes (cells) and name
@@ -21,7 +21,10 @@ done
 "$rs" render -q --stats --accel kdtree --kd-split median --storage smallest-cell --loose-factor 0.5 "$@" -o "$out/kdmedian.png" > "$out/kdmedian.txt"
 "$rs" render -q --stats --accel grid --storage smallest-cell "$@" -o "$out/gridloose.png" > "$out/gridloose.txt"
 "$rs" render -q --stats --accel grid --storage smallest-cell --loose-factor 0 "$@" -o "$out/gridloose0.png" > "$out/gridloose0.txt"
-for a in bvh2 kdtree grid octree loose kdloose kdmedian gridloose gridloose0 none; do
+for st in every-cell smallest-cell split; do
+  "$rs" render -q --stats --accel bsp --storage "$st" "$@" -o "$out/bsp-$st.png" > "$out/bsp-$st.txt"
+done
+for a in bvh2 kdtree grid octree loose kdloose kdmedian gridloose gridloose0 bsp-every-cell bsp-smallest-cell bsp-split none; do
   cmp "$out/bvh.png" "$out/$a.png" || { echo "FAIL: --accel $a changed the image"; exit 1; }
 done
 nodes() { sed -n 's/^ *nodes visited *\([0-9]*\).*/\1/p' "$out/$1.txt"; }
@@ -39,4 +42,8 @@ grep -q "^Walk: *kdtree, sah split, every-cell: " "$out/kdtree.txt" || { echo "F
 grep -q "^Walk: *kdtree, median split, smallest-cell (loose factor 0.5): " "$out/kdmedian.txt" || { echo "FAIL: --stats does not name the loose median kD-tree walk"; cat "$out/kdmedian.txt"; exit 1; }
 grep -q "^Walk: *grid, every-cell: [0-9]* x [0-9]* x [0-9]* cells" "$out/grid.txt" || { echo "FAIL: --stats does not name the grid walk"; cat "$out/grid.txt"; exit 1; }
 grep -q "^Walk: *grid, smallest-cell (loose factor 0.1): .* 1.00 references per primitive" "$out/gridloose.txt" || { echo "FAIL: --stats does not name the loose grid walk"; cat "$out/gridloose.txt"; exit 1; }
+for st in every-cell smallest-cell split; do
+  grep -q "^Walk: *bsp, $st: [0-9]* nodes" "$out/bsp-$st.txt" || { echo "FAIL: --stats does not name the BSP walk ($st)"; cat "$out/bsp-$st.txt"; exit 1; }
+done
+grep -q "^Walk: *bsp, split: .* [0-9]* fragments" "$out/bsp-split.txt" || { echo "FAIL: --stats does not count the BSP fragments"; exit 1; }
 echo "PASS"

@@ -7,6 +7,7 @@
 #include <set>
 #include <vector>
 
+#include <vtkCell.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -320,6 +321,66 @@ TEST(VtkBVH, VisitCounts) {
     EXPECT_NEAR(lo[0] - origin_x, root.lo.x, 1e-5 * (1.0 + std::abs(root.lo.x)));
   }
 
+  // The BSP tree, with each storage: the same image; the source draws its
+  // cells' boxes and, after them, one polygon per inner node (its split plane
+  // clipped to its cell, on that plane), with the node's data; the frame's
+  // visits are the image's Cost of the BSP walk.
+  for (int storage : {vtkRayScopeImageAlgorithm::STORAGE_EVERY_CELL,
+                      vtkRayScopeImageAlgorithm::STORAGE_SMALLEST_CELL,
+                      vtkRayScopeImageAlgorithm::STORAGE_SPLIT}) {
+    s.alg->SetAccelToBsp();
+    s.alg->SetStorage(storage);
+    s.alg->Update();
+    const rayscope::Aggregate& acc = s.alg->GetCoreScene()->accel();
+    ASSERT_EQ(acc.kind(), rayscope::AccelKind::Bsp);
+    vtkDataArray* bsp_rgb = s.alg->GetOutput()->GetPointData()->GetScalars();
+    ASSERT_EQ(wide_rgb->GetNumberOfTuples(), bsp_rgb->GetNumberOfTuples());
+    for (vtkIdType k = 0; k < wide_rgb->GetNumberOfTuples(); ++k)
+      for (int j = 0; j < wide_rgb->GetNumberOfComponents(); ++j)
+        ASSERT_EQ(wide_rgb->GetComponent(k, j), bsp_rgb->GetComponent(k, j)) << "pixel " << k;
+    double bsp_cost = 0.0;
+    c = s.alg->GetOutput()->GetPointData()->GetArray("Cost");
+    for (vtkIdType k = 0; k < c->GetNumberOfTuples(); ++k) bsp_cost += c->GetTuple1(k);
+    ASSERT_EQ(update(bvh), 1);
+    EXPECT_GT(bsp_cost, 0.0);
+    vtkPolyData* o = bvh->GetOutput();
+    // The boxes' visits (one cell in 12 per box; the polygons come after).
+    double box_visits = 0.0;
+    vtkDataArray* va = o->GetCellData()->GetArray("VisitCount");
+    for (vtkIdType k = 0; k < o->GetNumberOfLines(); k += 12) box_visits += va->GetTuple1(k);
+    EXPECT_EQ(box_visits, bsp_cost);
+    EXPECT_EQ(o->GetFieldData()->GetAbstractArray("Structure")->GetVariantValue(0).ToString(),
+              "bsp");
+    const rayscope::BspTree& tree = acc.bsp();
+    size_t inner = 0;
+    for (const rayscope::BspNode& n : tree.nodes) inner += !n.is_leaf();
+    ASSERT_GT(inner, 0u);
+    ASSERT_EQ(o->GetNumberOfLines(), vtkIdType(12 * tree.nodes.size()));
+    ASSERT_EQ(o->GetNumberOfPolys(), vtkIdType(inner));
+    ASSERT_EQ(o->GetNumberOfCells(), vtkIdType(12 * tree.nodes.size() + inner));
+    const double origin_x = s.alg->GetCoreScene()->origin.x;
+    const double origin_y = s.alg->GetCoreScene()->origin.y;
+    const double origin_z = s.alg->GetCoreScene()->origin.z;
+    vtkDataArray* node_ids = o->GetCellData()->GetArray("NodeId");
+    vtkDataArray* leaf = o->GetCellData()->GetArray("IsLeaf");
+    for (vtkIdType k = vtkIdType(12 * tree.nodes.size()); k < o->GetNumberOfCells(); ++k) {
+      const rayscope::BspNode& n = tree.nodes.at(size_t(node_ids->GetTuple1(k)));
+      EXPECT_EQ(leaf->GetTuple1(k), 0.0);
+      vtkCell* cell = o->GetCell(k);
+      // vtkPolyData names a polygon of 3 or 4 points a triangle or a quad.
+      ASSERT_TRUE(cell->GetCellType() == VTK_POLYGON || cell->GetCellType() == VTK_QUAD ||
+                  cell->GetCellType() == VTK_TRIANGLE);
+      ASSERT_GE(cell->GetNumberOfPoints(), 3);
+      for (vtkIdType j = 0; j < cell->GetNumberOfPoints(); ++j) {
+        double p[3];
+        o->GetPoint(cell->GetPointId(j), p);
+        const rayscope::Vec3 q(float(p[0] - origin_x), float(p[1] - origin_y),
+                               float(p[2] - origin_z));
+        EXPECT_LT(std::abs(n.distance(q)), 1e-3) << "a polygon point off its plane";
+      }
+    }
+  }
+
   // The uniform grid likewise: the same image; the source draws the grid's
   // box (level 0) and its cells (level 1), and the frame's visits are the
   // image's Cost of the grid walk.
@@ -344,7 +405,7 @@ TEST(VtkBVH, VisitCounts) {
   EXPECT_EQ(g->GetNumberOfCells(),
             vtkIdType(12 * (s.alg->GetCoreScene()->accel().grid().cells() + 1)));
   s.alg->SetAccel(99);  // clamped to the last kind
-  EXPECT_EQ(s.alg->GetAccel(), vtkRayScopeImageAlgorithm::ACCEL_OCTREE);
+  EXPECT_EQ(s.alg->GetAccel(), vtkRayScopeImageAlgorithm::ACCEL_BSP);
 }
 
 // The datasets through input port 0, without a scene source: the same boxes

@@ -23,6 +23,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "rayscope/bsp.h"
 #include "rayscope/bvh.h"
 #include "rayscope/grid.h"
 #include "rayscope/intersect.h"
@@ -57,12 +58,17 @@ enum class AccelKind : uint8_t {
   /// primitive stored in every leaf cell it overlaps (PrimStorage::EveryCell)
   /// or once, in its smallest loose cell (SmallestCell). Same hits as the BVH.
   Octree,
+  /// The BSP tree (bsp.h): space cut by planes of any orientation, through
+  /// the triangles (autopartition); a straddler stored on both sides
+  /// (EveryCell), in the node whose plane it straddles (SmallestCell) or cut
+  /// into fragments (Split). Same hits as the BVH.
+  Bsp,
 };
 /// Every kind, in the order the tools list them.
-inline constexpr AccelKind kAccelKinds[] = {AccelKind::Bvh,    AccelKind::BinaryBvh,
-                                            AccelKind::KdTree, AccelKind::Grid,
-                                            AccelKind::Octree, AccelKind::None};
-/// "bvh", "bvh2", "none", "kdtree", "grid", "octree".
+inline constexpr AccelKind kAccelKinds[] = {
+    AccelKind::Bvh,    AccelKind::BinaryBvh, AccelKind::KdTree, AccelKind::Grid,
+    AccelKind::Octree, AccelKind::Bsp,       AccelKind::None};
+/// "bvh", "bvh2", "none", "kdtree", "grid", "octree", "bsp".
 const char* to_string(AccelKind kind);
 /// Parses the names to_string() gives; false for anything else.
 bool parse_accel_kind(std::string_view name, AccelKind& kind);
@@ -77,10 +83,13 @@ struct AccelConfig {
   /// `storage` and `loose_factor` are replaced by the ones below (as the
   /// kD-tree's and the grid's are).
   OctreeBuildConfig octree;
+  /// Settings of the BSP builder (bsp.h), for AccelKind::Bsp; its `storage`
+  /// is replaced by the one below.
+  BspBuildConfig bsp;
   /// How a spatial subdivision stores a primitive that straddles its cuts: the
   /// one setting for every structure, checked by accel_storage_error() (the
-  /// BVH kinds take only the default, every-cell). Replaces the builder
-  /// configs' own `storage`.
+  /// BVH kinds take only the default, every-cell; the BSP tree also takes
+  /// split). Replaces the builder configs' own `storage`.
   PrimStorage storage = PrimStorage::EveryCell;
   /// SmallestCell's loose factor, the one setting for the kD-tree, grid and
   /// octree (replaces their builder configs' own `loose_factor`): each cell
@@ -114,8 +123,12 @@ struct AccelFigures {
   size_t leaves = 0;  ///< Leaves or cells that hold primitives (0 for none).
   uint32_t depth = 0;
   /// References stored per bounded primitive: 1 when each is stored once (the
-  /// BVH, none), more when a primitive is stored in every cell it overlaps.
+  /// BVH, none), more when a primitive is stored in every cell it overlaps
+  /// (for the BSP tree with split storage: fragments per primitive).
   double refs_per_prim = 0.0;
+  /// BSP tree with split storage: the pieces in its leaves (see
+  /// BspQuality::fragments); 0 otherwise.
+  size_t fragments = 0;
 };
 
 /// The closest hit of a ray without any shading data: what tracing needs to
@@ -212,7 +225,7 @@ class Aggregate {
   /// The binary hierarchy: built for every kind (the tools show it).
   const Bvh& bvh() const { return bvh_; }
   /// The walked collapse of bvh() (arity 4 for AccelKind::Bvh, 2 for BinaryBvh;
-  /// empty for None, KdTree, Grid and Octree).
+  /// empty for None, KdTree, Grid, Octree and Bsp).
   const WideBvh& walk() const { return walk_; }
   /// The storage choice the structure was built with (AccelConfig::storage).
   PrimStorage storage() const { return config_.storage; }
@@ -227,6 +240,9 @@ class Aggregate {
   /// The uniform grid, over records() (its references are record indices);
   /// empty unless the kind is AccelKind::Grid.
   const UniformGrid& grid() const { return grid_; }
+  /// The BSP tree, over records() (its references are record indices); empty
+  /// unless the kind is AccelKind::Bsp.
+  const BspTree& bsp() const { return bsp_; }
   const std::vector<PrimRecord>& records() const { return records_; }
   /// The unbounded planes, with unit normals, in the scene's order.
   const std::vector<PlaneRecord>& plane_records() const { return planes_; }
@@ -264,9 +280,9 @@ class Aggregate {
 
   /// Tests the primitives the ray can hit with `prim(record, tmax)`, which
   /// returns true on a hit (lowering tmax, or ending an any-hit query): the
-  /// BVH's leaves (contiguous record ranges), the kD-tree's, grid's or
-  /// octree's cells (reference lists, each record once per ray), or all records
-  /// without a structure.
+  /// BVH's leaves (contiguous record ranges), the kD-tree's, grid's, octree's
+  /// or BSP tree's cells (reference lists, each record once per ray except for
+  /// the BSP tree's fragments), or all records without a structure.
   /// The lambdas are forced inline so that the BVH's leaf loop compiles as
   /// one loop, as when it was written as one.
   template <bool AnyHit, class Observer, class PrimFn>
@@ -284,6 +300,7 @@ class Aggregate {
     if (config_.kind == AccelKind::KdTree) return kdtree_.traverse<AnyHit>(ray, tmax, prim, obs);
     if (config_.kind == AccelKind::Octree) return octree_.traverse<AnyHit>(ray, tmax, prim, obs);
     if (config_.kind == AccelKind::Grid) return grid_.traverse<AnyHit>(ray, tmax, prim, obs);
+    if (config_.kind == AccelKind::Bsp) return bsp_.traverse<AnyHit>(ray, tmax, prim, obs);
     return walk_.traverse<AnyHit>(ray, tmax, range, obs);
   }
 
@@ -313,6 +330,8 @@ class Aggregate {
       grid_.walk_range(range, prim, obs);
     } else if (config_.kind == AccelKind::Octree) {
       octree_.walk_range(range, prim, obs);
+    } else if (config_.kind == AccelKind::Bsp) {
+      bsp_.walk_range(range, prim, obs);
     } else {  // Bvh and BinaryBvh: the binary tree
       bvh_.walk_range(range, prim, obs);
     }
@@ -324,6 +343,7 @@ class Aggregate {
   KdTree kdtree_;
   Octree octree_;
   UniformGrid grid_;
+  BspTree bsp_;
   std::vector<PrimRecord> records_;  ///< Leaf order.
   std::vector<PlaneRecord> planes_;
   uint32_t num_triangles_ = 0;

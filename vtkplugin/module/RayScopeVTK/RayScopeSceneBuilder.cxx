@@ -192,6 +192,9 @@ bool accel_kind_of(int accel, rayscope::AccelKind& kind) {
     case vtkRayScopeImageAlgorithm::ACCEL_OCTREE:
       kind = rayscope::AccelKind::Octree;
       return true;
+    case vtkRayScopeImageAlgorithm::ACCEL_BSP:
+      kind = rayscope::AccelKind::Bsp;
+      return true;
     default:
       return false;
   }
@@ -211,6 +214,8 @@ int accel_of(rayscope::AccelKind kind) {
       return vtkRayScopeImageAlgorithm::ACCEL_GRID;
     case rayscope::AccelKind::Octree:
       return vtkRayScopeImageAlgorithm::ACCEL_OCTREE;
+    case rayscope::AccelKind::Bsp:
+      return vtkRayScopeImageAlgorithm::ACCEL_BSP;
   }
   return vtkRayScopeImageAlgorithm::ACCEL_BVH;
 }
@@ -218,13 +223,15 @@ int accel_of(rayscope::AccelKind kind) {
 rayscope::PrimStorage storage_of(int storage) {
   return storage == vtkRayScopeImageAlgorithm::STORAGE_SMALLEST_CELL
              ? rayscope::PrimStorage::SmallestCell
-             : rayscope::PrimStorage::EveryCell;
+         : storage == vtkRayScopeImageAlgorithm::STORAGE_SPLIT ? rayscope::PrimStorage::Split
+                                                               : rayscope::PrimStorage::EveryCell;
 }
 
 int storage_value_of(rayscope::PrimStorage storage) {
   return storage == rayscope::PrimStorage::SmallestCell
              ? vtkRayScopeImageAlgorithm::STORAGE_SMALLEST_CELL
-             : vtkRayScopeImageAlgorithm::STORAGE_EVERY_CELL;
+         : storage == rayscope::PrimStorage::Split ? vtkRayScopeImageAlgorithm::STORAGE_SPLIT
+                                                   : vtkRayScopeImageAlgorithm::STORAGE_EVERY_CELL;
 }
 
 rayscope::AccelConfig accel_config_of(vtkRayScopeImageAlgorithm* alg) {

@@ -231,10 +231,20 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
                                    {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
   const int per_box = this->GenerateFaces ? 6 : 12;
   const vtkIdType nboxes = vtkIdType(shown.size());
-  const vtkIdType ncells = nboxes * per_box;
-  vtkSmartPointer<vtkPoints> points = make_world_points(scene, 8 * nboxes);
-  vtkNew<vtkCellArray> cells;
-  cells->AllocateExact(ncells, ncells * (this->GenerateFaces ? 4 : 2));
+  // The BSP tree's split planes, clipped to their cells: one polygon per
+  // inner node shown, after all boxes.
+  std::vector<uint32_t> planes;
+  vtkIdType plane_points = 0;
+  for (uint32_t i : shown)
+    if (nodes[i].polygon_count >= 3) {
+      planes.push_back(i);
+      plane_points += vtkIdType(nodes[i].polygon_count);
+    }
+  const vtkIdType ncells = nboxes * per_box + vtkIdType(planes.size());
+  vtkSmartPointer<vtkPoints> points = make_world_points(scene, 8 * nboxes + plane_points);
+  vtkNew<vtkCellArray> cells, plane_cells;
+  cells->AllocateExact(nboxes * per_box, nboxes * per_box * (this->GenerateFaces ? 4 : 2));
+  plane_cells->AllocateExact(vtkIdType(planes.size()), plane_points);
   auto a_level = make_array<vtkIntArray>("Level", 1, ncells);
   auto a_node = make_array<vtkIntArray>("NodeId", 1, ncells);
   auto a_parent = make_array<vtkIntArray>("ParentId", 1, ncells);
@@ -249,6 +259,21 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
     a_entry = make_array<vtkIntArray>("EntryOrder", 1, ncells);
   }
   vtkIdType cell = 0;
+  auto set_data = [&](vtkIdType c, uint32_t i) {
+    const rayscope::AccelViewNode& n = nodes[i];
+    a_level->SetValue(c, n.level);
+    a_node->SetValue(c, int(i));
+    a_parent->SetValue(c, n.parent);
+    a_leaf->SetValue(c, n.leaf ? 1 : 0);
+    a_count->SetValue(c, int(subtree[i]));
+    a_offset->SetValue(c, n.count > 0 ? int(n.first) : -1);
+    a_sah->SetValue(c, sah[i]);
+    a_visits->SetValue(c, int(visits[i]));
+    if (play) {
+      a_state->SetValue(c, state[i]);
+      a_entry->SetValue(c, entry[i]);
+    }
+  };
   for (vtkIdType b = 0; b < nboxes; ++b) {
     const uint32_t i = shown[size_t(b)];
     const rayscope::AccelViewNode& n = nodes[i];
@@ -266,27 +291,33 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
         vtkIdType e[2] = {8 * b + kEdges[k][0], 8 * b + kEdges[k][1]};
         cells->InsertNextCell(2, e);
       }
-      a_level->SetValue(cell, n.level);
-      a_node->SetValue(cell, int(i));
-      a_parent->SetValue(cell, n.parent);
-      a_leaf->SetValue(cell, n.leaf ? 1 : 0);
-      a_count->SetValue(cell, int(subtree[i]));
-      a_offset->SetValue(cell, n.count > 0 ? int(n.first) : -1);
-      a_sah->SetValue(cell, sah[i]);
-      a_visits->SetValue(cell, int(visits[i]));
-      if (play) {
-        a_state->SetValue(cell, state[i]);
-        a_entry->SetValue(cell, entry[i]);
-      }
+      set_data(cell, i);
     }
+  }
+  vtkIdType point = 8 * nboxes;
+  std::vector<vtkIdType> ids;
+  for (uint32_t i : planes) {
+    const rayscope::AccelViewNode& n = nodes[i];
+    ids.clear();
+    for (uint32_t k = 0; k < n.polygon_count; ++k, ++point) {
+      set_world_point(points, point, scene, view.polygon_vertices[n.polygon_first + k]);
+      ids.push_back(point);
+    }
+    (this->GenerateFaces ? cells.Get() : plane_cells.Get())
+        ->InsertNextCell(vtkIdType(ids.size()), ids.data());
+    set_data(cell++, i);
   }
 
   output->Initialize();
   output->SetPoints(points);
-  if (this->GenerateFaces)
+  if (this->GenerateFaces) {
     output->SetPolys(cells);
-  else
+  } else {
+    // Lines come before polygons in a vtkPolyData's cells: the boxes' edges,
+    // then the split polygons, as the cell data above.
     output->SetLines(cells);
+    if (!planes.empty()) output->SetPolys(plane_cells);
+  }
   vtkCellData* cd = output->GetCellData();
   for (vtkAbstractArray* a : std::initializer_list<vtkAbstractArray*>{
            a_level, a_node, a_parent, a_leaf, a_count, a_offset, a_sah, a_visits})

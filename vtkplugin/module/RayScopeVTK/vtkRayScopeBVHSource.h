@@ -6,9 +6,13 @@
  * It draws the structure the scene's rays walk (the scene source's Accel):
  * the binary BVH for ACCEL_BVH, ACCEL_BINARY_BVH and ACCEL_NONE (whose rays
  * walk nothing), the kD-tree's cells for ACCEL_KDTREE, the octree's nodes
- * (their loose boxes with smallest-cell storage) for ACCEL_OCTREE; node ids
+ * (their loose boxes with smallest-cell storage) for ACCEL_OCTREE, the BSP
+ * tree's cells (their bounding boxes) and split planes for ACCEL_BSP; node ids
  * are the ones its walk reports, so visit counts and played walks work for
- * each. Field data "Structure" names it ("bvh", "kdtree", "octree"). What
+ * each. Field data "Structure" names it ("bvh", "kdtree", "grid", "octree",
+ * "bsp"). For the BSP tree, each inner node shown also gets its split plane
+ * clipped to its cell, a convex polygon cell with the node's data, after all
+ * boxes (the lecture's "BSP planes as clipped polygons"). What
  * follows says "node" for a BVH node or a cell.
  *
  * The scene's datasets come through input port 0 (one or more vtkDataSets),

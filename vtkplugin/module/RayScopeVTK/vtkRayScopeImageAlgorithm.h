@@ -133,7 +133,8 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// so that ray trees, the "Cost" arrays and vtkRayScopeBVHSource's visit
   /// counts show every binary node a ray enters; ACCEL_NONE, every primitive
   /// tested against every ray; ACCEL_KDTREE, the SAH kD-tree; ACCEL_GRID, the
-  /// uniform grid; ACCEL_OCTREE, the octree, stored as Storage says. Each walk
+  /// uniform grid; ACCEL_OCTREE, the octree, and ACCEL_BSP, the BSP tree
+  /// (planes through the triangles), both stored as Storage says. Each walk
   /// names its own nodes or cells, and vtkRayScopeBVHSource draws the
   /// structure walked. The image is the same for all.
   enum AccelKinds {
@@ -142,9 +143,10 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
     ACCEL_NONE = 2,
     ACCEL_KDTREE = 3,
     ACCEL_GRID = 4,
-    ACCEL_OCTREE = 5
+    ACCEL_OCTREE = 5,
+    ACCEL_BSP = 6
   };
-  vtkSetClampMacro(Accel, int, ACCEL_BVH, ACCEL_OCTREE);
+  vtkSetClampMacro(Accel, int, ACCEL_BVH, ACCEL_BSP);
   vtkGetMacro(Accel, int);
   void SetAccelToBvh() { this->SetAccel(ACCEL_BVH); }
   void SetAccelToBinaryBvh() { this->SetAccel(ACCEL_BINARY_BVH); }
@@ -152,20 +154,24 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   void SetAccelToKdTree() { this->SetAccel(ACCEL_KDTREE); }
   void SetAccelToGrid() { this->SetAccel(ACCEL_GRID); }
   void SetAccelToOctree() { this->SetAccel(ACCEL_OCTREE); }
+  void SetAccelToBsp() { this->SetAccel(ACCEL_BSP); }
   ///@}
 
   ///@{
   /// How a spatial subdivision stores a primitive that straddles its cuts
   /// (rayscope::PrimStorage, docs/acceleration.md): STORAGE_EVERY_CELL, a
   /// reference in every cell it overlaps (default; every Accel takes it);
-  /// STORAGE_SMALLEST_CELL, once, in its smallest loose cell (ACCEL_OCTREE
-  /// only). A pair the structure cannot build is an error, with the core's
-  /// message (rayscope::accel_storage_error, as the CLI's --storage).
-  enum StorageKinds { STORAGE_EVERY_CELL = 0, STORAGE_SMALLEST_CELL = 1 };
-  vtkSetClampMacro(Storage, int, STORAGE_EVERY_CELL, STORAGE_SMALLEST_CELL);
+  /// STORAGE_SMALLEST_CELL, once, in its smallest loose cell (ACCEL_OCTREE)
+  /// or in the node whose plane it straddles (ACCEL_BSP); STORAGE_SPLIT, cut
+  /// into fragments (ACCEL_BSP only). A pair the structure cannot build is an
+  /// error, with the core's message (rayscope::accel_storage_error, as the
+  /// CLI's --storage).
+  enum StorageKinds { STORAGE_EVERY_CELL = 0, STORAGE_SMALLEST_CELL = 1, STORAGE_SPLIT = 2 };
+  vtkSetClampMacro(Storage, int, STORAGE_EVERY_CELL, STORAGE_SPLIT);
   vtkGetMacro(Storage, int);
   void SetStorageToEveryCell() { this->SetStorage(STORAGE_EVERY_CELL); }
   void SetStorageToSmallestCell() { this->SetStorage(STORAGE_SMALLEST_CELL); }
+  void SetStorageToSplit() { this->SetStorage(STORAGE_SPLIT); }
   ///@}
 
   ///@{
