@@ -121,7 +121,8 @@ void SceneOptions::add_to(CLI::App* cmd, bool render_settings, bool walk_option)
                   "primitive stored in each cell it overlaps; same image), grid (the uniform "
                   "grid, cells chosen from the object count, every primitive stored in each "
                   "cell it overlaps; same image), octree (cubes cut into 8 octants, see "
-                  "--storage; same image), none (every primitive tested)")
+                  "--storage; same image), spheres (the hierarchy of bounding spheres, each "
+                  "primitive once; same image), none (every primitive tested)")
       ->check(CLI::Validator(
           [](std::string& name) {
             AccelKind k;

@@ -34,7 +34,7 @@ struct SceneOptions {
   std::optional<float> min_contribution;
   int threads = 0;
   /// The structure rays walk (rayscope::parse_accel_kind names it): "bvh",
-  /// "bvh2" (the binary teaching walk), "kdtree", "grid", "octree" or "none".
+  /// "bvh2" (the binary teaching walk), "kdtree", "grid", "octree", "spheres" or "none".
   std::string accel = to_string(AccelKind::Bvh);
   /// How a spatial subdivision stores a straddling primitive
   /// (rayscope::parse_prim_storage names it): "every-cell" (default),

@@ -21,6 +21,8 @@ const char* to_string(AccelKind kind) {
       return "grid";
     case AccelKind::Octree:
       return "octree";
+    case AccelKind::Spheres:
+      return "spheres";
   }
   return "?";
 }
@@ -42,9 +44,10 @@ std::string accel_storage_error(AccelKind kind, PrimStorage storage) {
     case AccelKind::Bvh:
     case AccelKind::BinaryBvh:
     case AccelKind::None:
+    case AccelKind::Spheres:
       return what +
-             "the storage choice is for the spatial subdivisions (kdtree, octree); a BVH or no "
-             "structure holds each primitive once";
+             "the storage choice is for the spatial subdivisions (kdtree, octree); a BVH, a "
+             "sphere tree or no structure holds each primitive once";
     case AccelKind::KdTree:
       return what + "the kD-tree stores a primitive in every cell it overlaps (every-cell)";
     case AccelKind::Grid:
@@ -79,8 +82,20 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
   kdtree_ = KdTree{};
   octree_ = Octree{};
   grid_ = UniformGrid{};
-  if (config.kind == AccelKind::KdTree || config.kind == AccelKind::Grid ||
-      config.kind == AccelKind::Octree) {
+  sphere_tree_ = SphereTree{};
+  if (config.kind == AccelKind::Spheres) {
+    // Over the records (leaf order), so that its prim_indices are record
+    // indices: a triangle's smallest enclosing sphere, a sphere itself.
+    std::vector<BoundingSphere> spheres(records_.size());
+    for (size_t i = 0; i < spheres.size(); ++i) {
+      const PrimRecord& r = records_[i];
+      spheres[i] =
+          r.id < num_triangles ? min_triangle_sphere(r.a, r.b, r.c) : BoundingSphere{r.a, r.b.x};
+    }
+    sphere_tree_.build(spheres, config.spheres);
+    build_seconds_ = sphere_tree_.quality().build_seconds;
+  } else if (config.kind == AccelKind::KdTree || config.kind == AccelKind::Grid ||
+             config.kind == AccelKind::Octree) {
     // Over the records (leaf order), so that its references are record
     // indices.
     std::vector<Bounds3> leaf_order_bounds(records_.size());
@@ -141,6 +156,15 @@ AccelFigures Aggregate::figures() const {
       f.refs_per_prim = double(q.references) / prims;
       break;
     }
+    case AccelKind::Spheres: {
+      const SphereTreeQuality q = sphere_tree_.quality();
+      f.memory_bytes = sphere_tree_.memory_bytes() + records;
+      f.nodes = q.nodes;
+      f.leaves = q.leaves;
+      f.depth = q.depth;
+      f.refs_per_prim = records_.empty() ? 0.0 : 1.0;
+      break;
+    }
     case AccelKind::Grid: {
       const GridQuality q = grid_.quality();
       f.memory_bytes = grid_.memory_bytes() + records;
@@ -161,8 +185,8 @@ AccelFigures Aggregate::figures() const {
 size_t Aggregate::memory_bytes() const {
   return bvh_.nodes.size() * sizeof(BvhNode) + bvh_.prim_indices.size() * sizeof(uint32_t) +
          walk_.memory_bytes() + kdtree_.memory_bytes() + grid_.memory_bytes() +
-         octree_.memory_bytes() + records_.size() * sizeof(PrimRecord) +
-         planes_.size() * sizeof(PlaneRecord);
+         octree_.memory_bytes() + sphere_tree_.memory_bytes() +
+         records_.size() * sizeof(PrimRecord) + planes_.size() * sizeof(PlaneRecord);
 }
 
 }  // namespace rayscope

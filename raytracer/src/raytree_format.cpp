@@ -138,6 +138,10 @@ std::string walk_legend(const Scene& s) {
                  : "the octree (--accel octree --storage every-cell); nodes are named by their "
                    "octree ids, a node's child boxes are its non-empty octants, and a primitive "
                    "stored in several cells is tested once")
+      : a.kind() == AccelKind::Spheres
+          ? "the sphere tree (--accel spheres); nodes are named by their sphere tree ids, a "
+            "node's two child \"boxes\" are its children's bounding spheres (entered nearer "
+            "entry first), and every primitive is stored once"
           : "the 4-wide BVH, as renders walk it (--accel bvh); nodes are named by their binary "
             "BVH ids";
   return std::string("walk: ") + walk +

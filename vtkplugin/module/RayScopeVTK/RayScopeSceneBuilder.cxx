@@ -192,6 +192,9 @@ bool accel_kind_of(int accel, rayscope::AccelKind& kind) {
     case vtkRayScopeImageAlgorithm::ACCEL_OCTREE:
       kind = rayscope::AccelKind::Octree;
       return true;
+    case vtkRayScopeImageAlgorithm::ACCEL_SPHERES:
+      kind = rayscope::AccelKind::Spheres;
+      return true;
     default:
       return false;
   }
@@ -211,6 +214,8 @@ int accel_of(rayscope::AccelKind kind) {
       return vtkRayScopeImageAlgorithm::ACCEL_GRID;
     case rayscope::AccelKind::Octree:
       return vtkRayScopeImageAlgorithm::ACCEL_OCTREE;
+    case rayscope::AccelKind::Spheres:
+      return vtkRayScopeImageAlgorithm::ACCEL_SPHERES;
   }
   return vtkRayScopeImageAlgorithm::ACCEL_BVH;
 }

@@ -133,7 +133,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// so that ray trees, the "Cost" arrays and vtkRayScopeBVHSource's visit
   /// counts show every binary node a ray enters; ACCEL_NONE, every primitive
   /// tested against every ray; ACCEL_KDTREE, the SAH kD-tree; ACCEL_GRID, the
-  /// uniform grid; ACCEL_OCTREE, the octree, stored as Storage says. Each walk
+  /// uniform grid; ACCEL_OCTREE, the octree, stored as Storage says;
+  /// ACCEL_SPHERES, the hierarchy of bounding spheres (6 is reserved for the
+  /// BSP tree: a value no structure of this build has is refused). Each walk
   /// names its own nodes or cells, and vtkRayScopeBVHSource draws the
   /// structure walked. The image is the same for all.
   enum AccelKinds {
@@ -142,9 +144,10 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
     ACCEL_NONE = 2,
     ACCEL_KDTREE = 3,
     ACCEL_GRID = 4,
-    ACCEL_OCTREE = 5
+    ACCEL_OCTREE = 5,
+    ACCEL_SPHERES = 7
   };
-  vtkSetClampMacro(Accel, int, ACCEL_BVH, ACCEL_OCTREE);
+  vtkSetClampMacro(Accel, int, ACCEL_BVH, ACCEL_SPHERES);
   vtkGetMacro(Accel, int);
   void SetAccelToBvh() { this->SetAccel(ACCEL_BVH); }
   void SetAccelToBinaryBvh() { this->SetAccel(ACCEL_BINARY_BVH); }
@@ -152,6 +155,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   void SetAccelToKdTree() { this->SetAccel(ACCEL_KDTREE); }
   void SetAccelToGrid() { this->SetAccel(ACCEL_GRID); }
   void SetAccelToOctree() { this->SetAccel(ACCEL_OCTREE); }
+  void SetAccelToSpheres() { this->SetAccel(ACCEL_SPHERES); }
   ///@}
 
   ///@{
