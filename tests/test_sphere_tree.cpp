@@ -23,6 +23,7 @@ namespace {
 
 using namespace rayscope;
 using rstest::DVec3;
+using rstest::max_abs;
 using rstest::Rng;
 using rstest::to_d;
 using rstest::to_f;
@@ -111,6 +112,7 @@ TEST(SphereTree, ExactMergeOfTwoSpheres) {
   // One inside the other: the larger one, unchanged.
   const BoundingSphere big{Vec3(1, 1, 1), 5.0f}, small{Vec3(2, 1, 1), 0.5f};
   EXPECT_EQ(enclosing_sphere(big, small).radius, 5.0f);
+  EXPECT_EQ(enclosing_sphere(big, big).radius, 5.0f);
   EXPECT_EQ(enclosing_sphere(small, big).center, big.center);
   Rng rng(62);
   for (int i = 0; i < 20000; ++i) {
@@ -166,7 +168,10 @@ void check_invariants(const SphereTree& t, const std::vector<BoundingSphere>& s)
       ASSERT_LT(size_t(n.index) + 1, t.nodes.size());
       for (uint32_t c : {n.index, n.index + 1}) {
         reached[c]++;
-        ASSERT_TRUE(contains(n.sphere(), t.nodes[c].sphere())) << "node " << i << ", child " << c;
+        ASSERT_TRUE(contains(n.sphere(), t.nodes[c].sphere()))
+            << "node " << i << " (" << ::testing::PrintToString(n.center) << ", " << n.radius
+            << "), child " << c << " (" << ::testing::PrintToString(t.nodes[c].center) << ", "
+            << t.nodes[c].radius << ")";
       }
     }
   }
@@ -371,8 +376,11 @@ TEST(SphereTree, EachPrimitiveTestedOncePerRayAndTheObserverSeesTheWalk) {
   uint64_t tests = 0, culls = 0, bvh_tests = 0;
   const int n_rays = 3000;
   std::vector<Ray> rays;
-  for (int i = 0; i < n_rays; ++i)
-    rays.push_back(Ray{to_f(6.0 * rng.unit_vector()), to_f(rng.unit_vector()), kInfinity});
+  for (int i = 0; i < n_rays; ++i) {
+    // From 6 away toward a point near the objects: most rays hit.
+    const DVec3 o = 6.0 * rng.unit_vector(), target = DVec3(1.2, 0, 0) + 1.5 * rng.in_unit_ball();
+    rays.push_back(Ray{to_f(o), to_f(target - o), kInfinity});
+  }
   for (int i = 0; i < n_rays; ++i) {
     for (int any = 0; any < 2; ++any) {
       CountingObserver obs;

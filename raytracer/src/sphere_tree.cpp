@@ -51,10 +51,12 @@ BoundingSphere round_out(const DVec3& center, const Parts& parts) {
   const DVec3 cf(s.center);
   double reach = 0.0;
   for (const DSphere& p : parts) {
+    // Exact for a sphere centered on the rounded center; else raised by the
+    // double evaluation's own rounding.
     const DVec3 d = p.c - cf;
-    reach = std::max(reach, std::sqrt(glm::dot(d, d)) + p.r);
+    reach = std::max(reach,
+                     d == DVec3(0.0) ? p.r : (std::sqrt(glm::dot(d, d)) + p.r) * (1.0 + 0x1p-50));
   }
-  reach *= 1.0 + 0x1p-50;  // the double evaluation's own rounding
   float r = float(reach);
   if (double(r) < reach) r = next_float_up(r);
   s.radius = r;
@@ -227,11 +229,10 @@ BoundingSphere min_triangle_sphere(const Vec3& af, const Vec3& bf, const Vec3& c
 
 BoundingSphere enclosing_sphere(const BoundingSphere& a, const BoundingSphere& b) {
   const DSphere parts[2] = {to_d(a), to_d(b)};
-  const DSphere m = merge(parts[0], parts[1]);
-  // The larger one when it contains the other: returned as it is.
-  if (m.c == parts[0].c && m.r == parts[0].r) return a;
-  if (m.c == parts[1].c && m.r == parts[1].r) return b;
-  return round_out(m.c, parts);
+  // Also when one contains the other, the result is rounded out again: the
+  // double test of containment may round in its favor. Two equal spheres
+  // give that sphere exactly.
+  return round_out(merge(parts[0], parts[1]).c, parts);
 }
 
 void SphereTree::build(std::span<const BoundingSphere> spheres, const SphereTreeBuildConfig& cfg) {

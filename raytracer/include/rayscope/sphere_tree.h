@@ -141,7 +141,8 @@ class SphereTree {
 
   /// The lecture's ray-sphere test for a node, made conservative: the ray
   /// (origin + t dir) against the node's sphere with its radius enlarged by
-  /// kRaySlack x (|origin - center| + radius), in double. Returns whether the
+  /// kRaySlack x (|origin - center| + radius) (the distance bounded by its
+  /// 1-norm), in double. Returns whether the
   /// ray meets it within [0, tmax], and then its entry distance in `t_entry`,
   /// rounded down (0 when the origin lies inside the sphere: the ray starts
   /// within it). Roots are taken as c/q with q = -b + sqrt(...), which never
@@ -206,7 +207,10 @@ inline bool SphereTree::ray_entry(const SphereNode& n, const RayD& ray, float tm
                                   float& t_entry) {
   const DVec3 f = ray.origin - DVec3(n.center);
   const double ff = glm::dot(f, f);
-  const double r = double(n.radius) * (1.0 + kRaySlack) + kRaySlack * std::sqrt(ff);
+  // The slack's scale |f| + radius, with |f| bounded by its 1-norm (no
+  // square root; at most sqrt(3) times larger).
+  const double f1 = std::abs(f.x) + std::abs(f.y) + std::abs(f.z);
+  const double r = double(n.radius) * (1.0 + kRaySlack) + kRaySlack * f1;
   const double c = ff - r * r;
   if (c <= 0.0) {  // the origin lies inside: the ray starts within the sphere
     t_entry = 0.0f;
