@@ -139,19 +139,20 @@ class SphereTree {
   /// The depth of every node, by node index (root: 0).
   std::vector<uint32_t> depths() const;
 
-  /// The lecture's ray-sphere test for a node, made conservative: the ray
-  /// (origin + t dir) against the node's sphere with its radius enlarged by
-  /// kRaySlack x (|origin - center| + radius) (the distance bounded by its
-  /// 1-norm), in double. Returns whether the
-  /// ray meets it within [0, tmax], and then its entry distance in `t_entry`,
-  /// rounded down (0 when the origin lies inside the sphere: the ray starts
-  /// within it). Roots are taken as c/q with q = -b + sqrt(...), which never
-  /// subtracts nearly equal numbers.
+  /// A ray in double, for ray_entry() (converted once per walk).
   struct RayD {
     DVec3 origin, dir;
     double dd;  ///< dir . dir
     explicit RayD(const Ray& r) : origin(r.origin), dir(r.dir), dd(glm::dot(dir, dir)) {}
   };
+  /// The lecture's ray-sphere test for a node, made conservative: the ray
+  /// (origin + t dir) against the node's sphere with its radius enlarged by
+  /// kRaySlack x (|origin - center| + radius) (the distance bounded by its
+  /// 1-norm), in double. Returns whether the ray meets it within [0, tmax],
+  /// and then its entry distance in `t_entry`, rounded down (0 when the
+  /// origin lies inside the sphere: the ray starts within it). Roots are taken
+  /// as c/q with q = -b + sqrt(...), which never subtracts nearly equal
+  /// numbers.
   static bool ray_entry(const SphereNode& n, const RayD& ray, float tmax, float& t_entry);
 
   /// Walks the nodes whose sphere the ray [origin, origin + tmax * dir]
