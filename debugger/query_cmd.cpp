@@ -182,7 +182,8 @@ StructureFigures structure_figures(const Aggregate& a) {
   }
   f.json["walked"] = true;
   if (a.kind() == AccelKind::KdTree || a.kind() == AccelKind::Grid ||
-      a.kind() == AccelKind::Octree || a.kind() == AccelKind::Bsp) {
+      a.kind() == AccelKind::Octree || a.kind() == AccelKind::Bsp ||
+      a.kind() == AccelKind::Spheres) {
     // The structure's own figures, as `rayscope accel compare` gives them.
     const AccelFigures q = a.figures();
     std::snprintf(buf, sizeof buf,

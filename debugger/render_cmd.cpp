@@ -81,6 +81,13 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
         to_string(accel.storage()), k.nodes, k.leaves, k.depth, accel.bsp().config.max_depth,
         k.refs_per_prim, k.inner_refs, k.fragments, k.split_prims, k.mean_leaf_refs,
         k.max_leaf_refs, double(k.memory_bytes) / (1024.0 * 1024.0), k.build_seconds);
+  } else if (accel.walks_structure() && accel.kind() == AccelKind::Spheres) {
+    const SphereTreeQuality k = accel.sphere_tree().quality();
+    std::printf(
+        "Walk:      spheres: %u nodes, %u leaves, depth %u, %.1f prims/leaf (max %u), SAH cost "
+        "%.2f (sphere areas), node volumes %.1fx the root's, %.2f MiB, built in %.3f s\n",
+        k.nodes, k.leaves, k.depth, k.mean_leaf_prims, k.max_leaf_prims, k.sah_cost, k.volume_ratio,
+        double(k.memory_bytes) / (1024.0 * 1024.0), k.build_seconds);
   } else if (accel.walks_structure() && accel.kind() == AccelKind::Grid) {
     const GridQuality g = accel.grid().quality();
     std::printf(
@@ -98,7 +105,8 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
     std::printf("Walk:      none: every primitive is tested against every ray\n");
   }
   std::printf(
-      "Memory:    %.2f MiB for the BVH, its walk or the kD-tree, grid, octree or BSP tree, and the "
+      "Memory:    %.2f MiB for the BVH, its walk or the kD-tree, grid, octree, BSP tree or sphere "
+      "tree, and the "
       "primitive records\n",
       double(accel.memory_bytes()) / (1024.0 * 1024.0));
   std::printf("%-22s %14s\n", "Rays", "count");

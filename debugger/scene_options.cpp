@@ -122,8 +122,9 @@ void SceneOptions::add_to(CLI::App* cmd, bool render_settings, bool walk_option)
                   "grid, cells chosen from the object count, every primitive stored in each "
                   "cell it overlaps; same image), octree (cubes cut into 8 octants, see "
                   "--storage; same image), bsp (the BSP tree: planes of any orientation "
-                  "through the triangles, see --storage; same image), none (every primitive "
-                  "tested)")
+                  "through the triangles, see --storage; same image), spheres (the hierarchy "
+                  "of bounding spheres, each primitive once; same image), none (every "
+                  "primitive tested)")
       ->check(CLI::Validator(
           [](std::string& name) {
             AccelKind k;

@@ -34,8 +34,8 @@ struct SceneOptions {
   std::optional<float> min_contribution;
   int threads = 0;
   /// The structure rays walk (rayscope::parse_accel_kind names it): "bvh",
-  /// "bvh2" (the binary teaching walk), "kdtree", "grid", "octree", "bsp" or
-  /// "none".
+  /// "bvh2" (the binary teaching walk), "kdtree", "grid", "octree", "bsp",
+  /// "spheres" or "none".
   std::string accel = to_string(AccelKind::Bvh);
   /// How a spatial subdivision stores a straddling primitive
   /// (rayscope::parse_prim_storage names it): "every-cell" (default),

@@ -53,7 +53,8 @@ PixelCost walk_of(const PixelRecord& rec) {
 class FrameWalk : public ::testing::TestWithParam<AccelKind> {};
 INSTANTIATE_TEST_SUITE_P(Accel, FrameWalk,
                          ::testing::Values(AccelKind::Bvh, AccelKind::BinaryBvh, AccelKind::KdTree,
-                                           AccelKind::Grid, AccelKind::Octree, AccelKind::Bsp),
+                                           AccelKind::Grid, AccelKind::Octree, AccelKind::Bsp,
+                                           AccelKind::Spheres),
                          [](const auto& info) { return std::string(to_string(info.param)); });
 
 TEST_P(FrameWalk, StatisticsAndRecordingObserveThePlainWalk) {

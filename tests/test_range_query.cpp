@@ -333,6 +333,7 @@ std::vector<Structure> structures() {
   add("kdtree-median", AccelKind::KdTree, KdSplitRule::Median);
   add("grid", AccelKind::Grid);
   add("octree", AccelKind::Octree);
+  add("spheres", AccelKind::Spheres);
   add("none", AccelKind::None);
   {
     AccelConfig c;

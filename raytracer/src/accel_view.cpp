@@ -115,6 +115,32 @@ AccelView bsp_view(const Aggregate& a) {
   return v;
 }
 
+AccelView sphere_tree_view(const Aggregate& a) {
+  AccelView v;
+  const SphereTree& tree = a.sphere_tree();
+  v.structure = "spheres";
+  v.traversal_cost = tree.config.traversal_cost;
+  v.intersection_cost = tree.config.intersection_cost;
+  v.nodes.resize(tree.nodes.size());
+  for (size_t i = 0; i < tree.nodes.size(); ++i) {
+    const SphereNode& n = tree.nodes[i];
+    AccelViewNode& o = v.nodes[i];
+    o.sphere = n.sphere();
+    o.box = n.sphere().box();
+    o.leaf = n.is_leaf();
+    if (o.leaf) {
+      o.first = n.index;
+      o.count = n.count;
+    } else {
+      v.nodes[n.index].parent = v.nodes[n.index + 1].parent = int32_t(i);
+    }
+  }
+  v.refs.reserve(tree.prim_indices.size());
+  for (uint32_t r : tree.prim_indices) v.refs.push_back(a.records()[r].id);
+  finish_levels(v);
+  return v;
+}
+
 AccelView grid_view(const Aggregate& a) {
   AccelView v;
   const UniformGrid& grid = a.grid();
@@ -160,6 +186,8 @@ AccelView make_accel_view(const Aggregate& accel) {
       return octree_view(accel);
     case AccelKind::Bsp:
       return bsp_view(accel);
+    case AccelKind::Spheres:
+      return sphere_tree_view(accel);
     case AccelKind::Bvh:
     case AccelKind::BinaryBvh:
     case AccelKind::None:

@@ -23,6 +23,8 @@ const char* to_string(AccelKind kind) {
       return "octree";
     case AccelKind::Bsp:
       return "bsp";
+    case AccelKind::Spheres:
+      return "spheres";
   }
   return "?";
 }
@@ -44,9 +46,10 @@ std::string accel_storage_error(AccelKind kind, PrimStorage storage) {
     case AccelKind::Bvh:
     case AccelKind::BinaryBvh:
     case AccelKind::None:
+    case AccelKind::Spheres:
       return what +
              "the storage choice is for the spatial subdivisions (kdtree, grid, octree, bsp); a "
-             "BVH or no structure holds each primitive once";
+             "BVH, a sphere tree or no structure holds each primitive once";
     case AccelKind::KdTree:
     case AccelKind::Grid:
     case AccelKind::Octree:
@@ -84,6 +87,7 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
   octree_ = Octree{};
   grid_ = UniformGrid{};
   bsp_ = BspTree{};
+  sphere_tree_ = SphereTree{};
   if (config.kind == AccelKind::Bsp) {
     // Over the records (leaf order), with their geometry: the BSP tree's
     // planes go through the triangles.
@@ -97,6 +101,17 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
     bsp.storage = config.storage;
     bsp_.build(prims, bsp);
     build_seconds_ = bsp_.quality().build_seconds;
+  } else if (config.kind == AccelKind::Spheres) {
+    // Over the records (leaf order), so that its prim_indices are record
+    // indices: a triangle's smallest enclosing sphere, a sphere itself.
+    std::vector<BoundingSphere> spheres(records_.size());
+    for (size_t i = 0; i < spheres.size(); ++i) {
+      const PrimRecord& r = records_[i];
+      spheres[i] =
+          r.id < num_triangles ? min_triangle_sphere(r.a, r.b, r.c) : BoundingSphere{r.a, r.b.x};
+    }
+    sphere_tree_.build(spheres, config.spheres);
+    build_seconds_ = sphere_tree_.quality().build_seconds;
   } else if (config.kind == AccelKind::KdTree || config.kind == AccelKind::Grid ||
              config.kind == AccelKind::Octree) {
     // Over the records (leaf order), so that its references are record
@@ -177,6 +192,15 @@ AccelFigures Aggregate::figures() const {
       f.fragments = q.fragments;
       break;
     }
+    case AccelKind::Spheres: {
+      const SphereTreeQuality q = sphere_tree_.quality();
+      f.memory_bytes = sphere_tree_.memory_bytes() + records;
+      f.nodes = q.nodes;
+      f.leaves = q.leaves;
+      f.depth = q.depth;
+      f.refs_per_prim = records_.empty() ? 0.0 : 1.0;
+      break;
+    }
     case AccelKind::Grid: {
       const GridQuality q = grid_.quality();
       f.memory_bytes = grid_.memory_bytes() + records;
@@ -197,8 +221,8 @@ AccelFigures Aggregate::figures() const {
 size_t Aggregate::memory_bytes() const {
   return bvh_.nodes.size() * sizeof(BvhNode) + bvh_.prim_indices.size() * sizeof(uint32_t) +
          walk_.memory_bytes() + kdtree_.memory_bytes() + grid_.memory_bytes() +
-         octree_.memory_bytes() + bsp_.memory_bytes() + records_.size() * sizeof(PrimRecord) +
-         planes_.size() * sizeof(PlaneRecord);
+         octree_.memory_bytes() + bsp_.memory_bytes() + sphere_tree_.memory_bytes() +
+         records_.size() * sizeof(PrimRecord) + planes_.size() * sizeof(PlaneRecord);
 }
 
 }  // namespace rayscope

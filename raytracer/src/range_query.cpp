@@ -116,6 +116,25 @@ bool triangle_overlaps_box(const Vec3& af, const Vec3& bf, const Vec3& cf, const
   return !separates(glm::cross(edges[0], edges[1]));
 }
 
+float point_ball_distance(const Vec3& p, const BoundingSphere& ball) {
+  const DVec3 d = DVec3(p) - DVec3(ball.center);
+  const double len = std::sqrt(glm::dot(d, d));
+  const double r = double(ball.radius);
+  const double lower = len - r - kBallSlack * (len + r);
+  if (!(lower > 0.0)) return 0.0f;
+  float f = float(lower);
+  if (double(f) > lower) f = next_float_down(f);
+  return f;
+}
+
+bool ball_overlaps_box(const BoundingSphere& ball, const Bounds3& box) {
+  const double gap = double(point_box_distance(ball.center, box));
+  const double r = double(ball.radius);
+  // point_box_distance rounds to float: at most one half ulp of gap, which
+  // the margin (relative to gap + radius) covers.
+  return gap <= r + kBallSlack * (gap + r);
+}
+
 bool sphere_overlaps_box(const Vec3& center, float radius, const Bounds3& box) {
   const Bounds3 b = sphere_bounds(center, radius);
   for (int i = 0; i < 3; ++i)

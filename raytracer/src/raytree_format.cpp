@@ -152,6 +152,10 @@ std::string walk_legend(const Scene& s) {
                  : "the BSP tree (--accel bsp --storage every-cell); nodes are named by their "
                    "BSP ids, a node's two child boxes are the half-spaces of its split plane "
                    "the ray reaches, and a primitive stored in several cells is tested once")
+      : a.kind() == AccelKind::Spheres
+          ? "the sphere tree (--accel spheres); nodes are named by their sphere tree ids, a "
+            "node's two child \"boxes\" are its children's bounding spheres (entered nearer "
+            "entry first), and every primitive is stored once"
           : "the 4-wide BVH, as renders walk it (--accel bvh); nodes are named by their binary "
             "BVH ids";
   return std::string("walk: ") + walk +

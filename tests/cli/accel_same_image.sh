@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Usage: accel_same_image.sh RAYSCOPE RENDER_OPTIONS...
 #
-# The structure the rays walk (--accel bvh|bvh2|kdtree|grid|octree|bsp|none,
-# the kD-tree, grid and octree with either --storage, any --loose-factor and
-# --kd-split, the BSP tree with each of the three storages) changes how much
-# work a render does, never the image: the renders must be the same file, byte
+# The structure the rays walk (--accel bvh|bvh2|kdtree|grid|octree|bsp|spheres|
+# none, the kD-tree, grid and octree with either --storage, any --loose-factor
+# and --kd-split, the BSP tree with each of the three storages) changes how
+# much work a render does, never the image: the renders must be the same file, byte
 # for byte (PNG of identical pixels), and --stats must report more nodes
 # entered by the binary walk (bvh2) than by the 4-wide one (bvh), and none
 # without a structure; the kD-tree and grid walks enter nodes (cells) and name
@@ -13,7 +13,7 @@ set -euo pipefail
 rs="$1"; shift
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
-for a in bvh bvh2 kdtree grid octree none; do
+for a in bvh bvh2 kdtree grid octree spheres none; do
   "$rs" render -q --stats --accel "$a" "$@" -o "$out/$a.png" > "$out/$a.txt"
 done
 "$rs" render -q --stats --accel octree --storage smallest-cell "$@" -o "$out/loose.png" > "$out/loose.txt"
@@ -24,16 +24,17 @@ done
 for st in every-cell smallest-cell split; do
   "$rs" render -q --stats --accel bsp --storage "$st" "$@" -o "$out/bsp-$st.png" > "$out/bsp-$st.txt"
 done
-for a in bvh2 kdtree grid octree loose kdloose kdmedian gridloose gridloose0 bsp-every-cell bsp-smallest-cell bsp-split none; do
+for a in bvh2 kdtree grid octree spheres loose kdloose kdmedian gridloose gridloose0 bsp-every-cell bsp-smallest-cell bsp-split none; do
   cmp "$out/bvh.png" "$out/$a.png" || { echo "FAIL: --accel $a changed the image"; exit 1; }
 done
 nodes() { sed -n 's/^ *nodes visited *\([0-9]*\).*/\1/p' "$out/$1.txt"; }
-n4=$(nodes bvh); n2=$(nodes bvh2); nk=$(nodes kdtree); ng=$(nodes grid); n0=$(nodes none)
-echo "nodes visited: bvh $n4, bvh2 $n2, kdtree $nk, grid $ng, none $n0"
+n4=$(nodes bvh); n2=$(nodes bvh2); nk=$(nodes kdtree); ng=$(nodes grid); ns=$(nodes spheres); n0=$(nodes none)
+echo "nodes visited: bvh $n4, bvh2 $n2, kdtree $nk, grid $ng, spheres $ns, none $n0"
 [ -n "$n4" ] && [ -n "$n2" ] && [ -n "$nk" ] && [ -n "$ng" ] && [ -n "$n0" ] || { echo "FAIL: --stats printed no node counts"; cat "$out/bvh.txt"; exit 1; }
 [ "$n2" -gt "$n4" ] || { echo "FAIL: the binary walk should enter more nodes than the 4-wide one"; exit 1; }
 [ "$nk" -gt 0 ] || { echo "FAIL: the kD-tree walk entered no nodes"; exit 1; }
 [ "$ng" -gt 0 ] || { echo "FAIL: the grid walk entered no cells"; exit 1; }
+[ -n "$ns" ] && [ "$ns" -gt 0 ] || { echo "FAIL: the sphere tree walk entered no nodes"; exit 1; }
 [ "$n0" -eq 0 ] || { echo "FAIL: --accel none entered nodes"; exit 1; }
 grep -q "^Walk: *bvh2: .* 2-wide nodes" "$out/bvh2.txt" || { echo "FAIL: --stats does not name the binary walk"; cat "$out/bvh2.txt"; exit 1; }
 grep -q "^Walk: *octree, every-cell: " "$out/octree.txt" || { echo "FAIL: --stats does not name the octree walk"; cat "$out/octree.txt"; exit 1; }
@@ -46,4 +47,5 @@ for st in every-cell smallest-cell split; do
   grep -q "^Walk: *bsp, $st: [0-9]* nodes" "$out/bsp-$st.txt" || { echo "FAIL: --stats does not name the BSP walk ($st)"; cat "$out/bsp-$st.txt"; exit 1; }
 done
 grep -q "^Walk: *bsp, split: .* [0-9]* fragments" "$out/bsp-split.txt" || { echo "FAIL: --stats does not count the BSP fragments"; exit 1; }
+grep -q "^Walk: *spheres: [0-9]* nodes, [0-9]* leaves" "$out/spheres.txt" || { echo "FAIL: --stats does not name the sphere tree walk"; cat "$out/spheres.txt"; exit 1; }
 echo "PASS"

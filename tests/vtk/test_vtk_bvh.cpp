@@ -1,5 +1,6 @@
 // vtkRayScopeBVHSource: leaf boxes contain their triangles (and every triangle
-// is in exactly one leaf), levels, SAH terms and visit counts.
+// is in exactly one leaf), levels, SAH terms and visit counts, for every
+// structure (the sphere tree's nodes drawn as spheres).
 #include <gtest/gtest.h>
 
 #include <array>
@@ -404,8 +405,62 @@ TEST(VtkBVH, VisitCounts) {
             "grid");
   EXPECT_EQ(g->GetNumberOfCells(),
             vtkIdType(12 * (s.alg->GetCoreScene()->accel().grid().cells() + 1)));
+
+  // The sphere tree: the same image; the source draws every node as its
+  // sphere (three great circles as lines, a closed latitude-longitude surface
+  // with faces), the node's data on each of its cells, and the frame's visits
+  // are the image's Cost of the sphere walk.
+  s.alg->SetAccelToSpheres();
+  EXPECT_EQ(s.alg->GetAccel(), vtkRayScopeImageAlgorithm::ACCEL_SPHERES);
+  s.alg->Update();
+  ASSERT_EQ(s.alg->GetCoreScene()->accel().kind(), rayscope::AccelKind::Spheres);
+  vtkDataArray* sp_rgb = s.alg->GetOutput()->GetPointData()->GetScalars();
+  ASSERT_EQ(wide_rgb->GetNumberOfTuples(), sp_rgb->GetNumberOfTuples());
+  for (vtkIdType k = 0; k < wide_rgb->GetNumberOfTuples(); ++k)
+    for (int j = 0; j < wide_rgb->GetNumberOfComponents(); ++j)
+      ASSERT_EQ(wide_rgb->GetComponent(k, j), sp_rgb->GetComponent(k, j)) << "pixel " << k;
+  double sp_cost = 0.0;
+  c = s.alg->GetOutput()->GetPointData()->GetArray("Cost");
+  for (vtkIdType k = 0; k < c->GetNumberOfTuples(); ++k) sp_cost += c->GetTuple1(k);
+  const rayscope::SphereTree& st = s.alg->GetCoreScene()->accel().sphere_tree();
+  const rayscope::DVec3 origin = s.alg->GetCoreScene()->origin;
+  for (bool faces : {false, true}) {
+    bvh->SetGenerateFaces(faces);
+    ASSERT_EQ(update(bvh), 1);
+    vtkPolyData* sp = bvh->GetOutput();
+    EXPECT_EQ(sp->GetFieldData()->GetAbstractArray("Structure")->GetVariantValue(0).ToString(),
+              "spheres");
+    const vtkIdType per_node = faces ? 24 * 12 : 3 * 24;
+    ASSERT_EQ(sp->GetNumberOfCells(), per_node * vtkIdType(st.nodes.size()));
+    EXPECT_EQ(sp->GetNumberOfPoints(), (faces ? 11 * 24 + 2 : 3 * 24) * vtkIdType(st.nodes.size()));
+    double sp_visits = 0.0;
+    std::set<int> counted;
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType k = 0; k < sp->GetNumberOfCells(); ++k) {
+      const int node = int(sp->GetCellData()->GetArray("NodeId")->GetTuple1(k));
+      ASSERT_GE(node, 0);
+      ASSERT_LT(size_t(node), st.nodes.size());
+      if (counted.insert(node).second)
+        sp_visits += sp->GetCellData()->GetArray("VisitCount")->GetTuple1(k);
+      // Every point of the cell lies on the node's sphere.
+      sp->GetCellPoints(k, ids);
+      ASSERT_GE(ids->GetNumberOfIds(), faces ? 3 : 2);
+      const rayscope::SphereNode& n = st.nodes[size_t(node)];
+      for (vtkIdType j = 0; j < ids->GetNumberOfIds(); ++j) {
+        double p[3];
+        sp->GetPoint(ids->GetId(j), p);
+        const double d = std::hypot(p[0] - origin.x - n.center.x, p[1] - origin.y - n.center.y,
+                                    p[2] - origin.z - n.center.z);
+        ASSERT_NEAR(d, n.radius, 1e-5 * (1.0 + n.radius)) << "node " << node;
+      }
+    }
+    EXPECT_EQ(counted.size(), st.nodes.size());
+    EXPECT_GT(sp_cost, 0.0);
+    EXPECT_EQ(sp_visits, sp_cost);
+  }
+  bvh->SetGenerateFaces(false);
   s.alg->SetAccel(99);  // clamped to the last kind
-  EXPECT_EQ(s.alg->GetAccel(), vtkRayScopeImageAlgorithm::ACCEL_BSP);
+  EXPECT_EQ(s.alg->GetAccel(), vtkRayScopeImageAlgorithm::ACCEL_SPHERES);
 }
 
 // The datasets through input port 0, without a scene source: the same boxes

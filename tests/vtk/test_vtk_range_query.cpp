@@ -92,7 +92,8 @@ TEST_F(SceneFixture, BoxQueryFindsWhatBruteForceFindsWithEveryStructure) {
   for (int accel :
        {int(vtkRayScopeImageAlgorithm::ACCEL_BVH), int(vtkRayScopeImageAlgorithm::ACCEL_BINARY_BVH),
         int(vtkRayScopeImageAlgorithm::ACCEL_NONE), int(vtkRayScopeImageAlgorithm::ACCEL_KDTREE),
-        int(vtkRayScopeImageAlgorithm::ACCEL_GRID), int(vtkRayScopeImageAlgorithm::ACCEL_OCTREE)}) {
+        int(vtkRayScopeImageAlgorithm::ACCEL_GRID), int(vtkRayScopeImageAlgorithm::ACCEL_OCTREE),
+        int(vtkRayScopeImageAlgorithm::ACCEL_BSP), int(vtkRayScopeImageAlgorithm::ACCEL_SPHERES)}) {
     SCOPED_TRACE(accel);
     alg->SetAccel(accel);
     ASSERT_EQ(update(query), 1);

@@ -431,7 +431,9 @@ TEST(Viewer, BvhLevelsImageModesScreenshotAndExport) {
 TEST(Viewer, DrawsNamesAndPlaysTheChosenStructure) {
   const std::pair<int, std::string> kinds[] = {{vtkRayScopeImageAlgorithm::ACCEL_KDTREE, "kdtree"},
                                                {vtkRayScopeImageAlgorithm::ACCEL_GRID, "grid"},
-                                               {vtkRayScopeImageAlgorithm::ACCEL_OCTREE, "octree"}};
+                                               {vtkRayScopeImageAlgorithm::ACCEL_OCTREE, "octree"},
+                                               {vtkRayScopeImageAlgorithm::ACCEL_BSP, "bsp"},
+                                               {vtkRayScopeImageAlgorithm::ACCEL_SPHERES, "spheres"}};
   for (const auto& [accel, name] : kinds) {
     SCOPED_TRACE(name);
     Fixture f;
@@ -446,7 +448,14 @@ TEST(Viewer, DrawsNamesAndPlaysTheChosenStructure) {
     ASSERT_NE(structure, nullptr);
     EXPECT_EQ(structure->GetValue(0), name);
     const rayscope::AccelView view = rayscope::make_accel_view(f.alg->GetCoreScene()->accel());
-    EXPECT_EQ(shown->GetNumberOfCells(), 12 * vtkIdType(view.nodes.size()));
+    // Every node or cell is drawn (a box as 12 edges, a sphere as circles, a
+    // BSP node also as its split polygon), each cell naming its node.
+    vtkDataArray* node_ids = shown->GetCellData()->GetArray("NodeId");
+    ASSERT_NE(node_ids, nullptr);
+    std::set<int> drawn;
+    for (vtkIdType c = 0; c < node_ids->GetNumberOfTuples(); ++c)
+      drawn.insert(int(node_ids->GetTuple1(c)));
+    EXPECT_EQ(drawn.size(), view.nodes.size());
     EXPECT_TRUE(has_label(legend_labels(f.viewer), name + ": level 0 (root)"));
     EXPECT_FALSE(has_label(legend_labels(f.viewer), "BVH: level 0 (root)"));
     f.key("l");

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "rayscope/math.h"
@@ -17,8 +18,12 @@ class Aggregate;
 /// One node or cell.
 struct AccelViewNode {
   /// Its box: a BVH node's bounds, a kD-tree cell, an octree node's (loose)
-  /// box, the bounding box of a BSP node's cell.
+  /// box, the bounding box of a BSP node's cell, the box around a sphere tree
+  /// node's sphere.
   Bounds3 box;
+  /// The node's bounding sphere, for the sphere tree (drawn as a sphere);
+  /// none for the structures of boxes.
+  std::optional<BoundingSphere> sphere;
   int32_t parent = -1;  ///< Id of the parent, -1 for a root.
   int level = 0;        ///< Root = 0.
   bool leaf = false;
@@ -34,7 +39,8 @@ struct AccelViewNode {
 struct AccelView {
   /// The structure shown: "bvh" (the binary BVH, also for bvh2 and for none,
   /// whose rays walk nothing), "kdtree", "grid" (the cells, then the grid's
-  /// box as the root with the last id), "octree" or "bsp".
+  /// box as the root with the last id), "octree", "bsp" or "spheres" (nodes
+  /// with a sphere).
   const char* structure = "bvh";
   /// nodes[id]: ids are the ones the walk reports (dense, 0 .. size - 1).
   std::vector<AccelViewNode> nodes;
@@ -45,7 +51,9 @@ struct AccelView {
   std::vector<Vec3> polygon_vertices;
   /// Cost constants of the structure's build, for each node's SAH term:
   /// area / root area x (traversal_cost for an inner node + intersection_cost
-  /// x count); 1 and 1 for the octree, whose build uses none.
+  /// x count); 1 and 1 for the octree, whose build uses none. (For the
+  /// sphere tree the area is the box's, as for every structure; its build
+  /// weighs spheres by their own areas.)
   float traversal_cost = 1.0f, intersection_cost = 1.0f;
   /// Levels on the longest path (the deepest level + 1; 0 when empty).
   int depth = 0;

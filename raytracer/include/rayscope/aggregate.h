@@ -31,6 +31,7 @@
 #include "rayscope/octree.h"
 #include "rayscope/prim_storage.h"
 #include "rayscope/range_query.h"
+#include "rayscope/sphere_tree.h"
 #include "rayscope/traversal.h"
 #include "rayscope/wide_bvh.h"
 
@@ -63,12 +64,17 @@ enum class AccelKind : uint8_t {
   /// (EveryCell), in the node whose plane it straddles (SmallestCell) or cut
   /// into fragments (Split). Same hits as the BVH.
   Bsp,
+  /// The hierarchy of bounding spheres (sphere_tree.h): the BVH's idea with
+  /// the cheapest bounding volume to test, which fits worse than a box; each
+  /// primitive stored once, in its triangle's smallest enclosing sphere (or
+  /// the sphere itself). Same hits as the BVH.
+  Spheres,
 };
 /// Every kind, in the order the tools list them.
 inline constexpr AccelKind kAccelKinds[] = {
     AccelKind::Bvh,    AccelKind::BinaryBvh, AccelKind::KdTree, AccelKind::Grid,
-    AccelKind::Octree, AccelKind::Bsp,       AccelKind::None};
-/// "bvh", "bvh2", "none", "kdtree", "grid", "octree", "bsp".
+    AccelKind::Octree, AccelKind::Bsp,       AccelKind::Spheres, AccelKind::None};
+/// "bvh", "bvh2", "none", "kdtree", "grid", "octree", "bsp", "spheres".
 const char* to_string(AccelKind kind);
 /// Parses the names to_string() gives; false for anything else.
 bool parse_accel_kind(std::string_view name, AccelKind& kind);
@@ -86,10 +92,12 @@ struct AccelConfig {
   /// Settings of the BSP builder (bsp.h), for AccelKind::Bsp; its `storage`
   /// is replaced by the one below.
   BspBuildConfig bsp;
+  /// Settings of the sphere tree builder (sphere_tree.h), for AccelKind::Spheres.
+  SphereTreeBuildConfig spheres;
   /// How a spatial subdivision stores a primitive that straddles its cuts: the
   /// one setting for every structure, checked by accel_storage_error() (the
-  /// BVH kinds take only the default, every-cell; the BSP tree also takes
-  /// split). Replaces the builder configs' own `storage`.
+  /// BVH kinds and the sphere tree take only the default, every-cell; the BSP
+  /// tree also takes split). Replaces the builder configs' own `storage`.
   PrimStorage storage = PrimStorage::EveryCell;
   /// SmallestCell's loose factor, the one setting for the kD-tree, grid and
   /// octree (replaces their builder configs' own `loose_factor`): each cell
@@ -237,6 +245,9 @@ class Aggregate {
   /// The octree, over records() like the kD-tree; empty unless the kind is
   /// AccelKind::Octree.
   const Octree& octree() const { return octree_; }
+  /// The sphere tree, over records() (its prim_indices are record indices);
+  /// empty unless the kind is AccelKind::Spheres.
+  const SphereTree& sphere_tree() const { return sphere_tree_; }
   /// The uniform grid, over records() (its references are record indices);
   /// empty unless the kind is AccelKind::Grid.
   const UniformGrid& grid() const { return grid_; }
@@ -247,7 +258,7 @@ class Aggregate {
   /// The unbounded planes, with unit normals, in the scene's order.
   const std::vector<PlaneRecord>& plane_records() const { return planes_; }
   /// Every byte the aggregate holds: binary nodes, leaf order, wide nodes,
-  /// kD-tree, grid or octree nodes or cells and references, primitive records
+  /// kD-tree, grid, octree or sphere tree nodes or cells and references, primitive records
   /// and planes.
   size_t memory_bytes() const;
   /// Figures of the structure the rays walk (the kind asked for, also for a
@@ -282,7 +293,8 @@ class Aggregate {
   /// returns true on a hit (lowering tmax, or ending an any-hit query): the
   /// BVH's leaves (contiguous record ranges), the kD-tree's, grid's, octree's
   /// or BSP tree's cells (reference lists, each record once per ray except for
-  /// the BSP tree's fragments), or all records without a structure.
+  /// the BSP tree's fragments), the sphere tree's leaves (each record once), or
+  /// all records without a structure.
   /// The lambdas are forced inline so that the BVH's leaf loop compiles as
   /// one loop, as when it was written as one.
   template <bool AnyHit, class Observer, class PrimFn>
@@ -301,6 +313,8 @@ class Aggregate {
     if (config_.kind == AccelKind::Octree) return octree_.traverse<AnyHit>(ray, tmax, prim, obs);
     if (config_.kind == AccelKind::Grid) return grid_.traverse<AnyHit>(ray, tmax, prim, obs);
     if (config_.kind == AccelKind::Bsp) return bsp_.traverse<AnyHit>(ray, tmax, prim, obs);
+    if (config_.kind == AccelKind::Spheres)
+      return sphere_tree_.traverse<AnyHit>(ray, tmax, prim, obs);
     return walk_.traverse<AnyHit>(ray, tmax, range, obs);
   }
 
@@ -332,6 +346,8 @@ class Aggregate {
       octree_.walk_range(range, prim, obs);
     } else if (config_.kind == AccelKind::Bsp) {
       bsp_.walk_range(range, prim, obs);
+    } else if (config_.kind == AccelKind::Spheres) {
+      sphere_tree_.walk_range(range, prim, obs);
     } else {  // Bvh and BinaryBvh: the binary tree
       bvh_.walk_range(range, prim, obs);
     }
@@ -344,6 +360,7 @@ class Aggregate {
   Octree octree_;
   UniformGrid grid_;
   BspTree bsp_;
+  SphereTree sphere_tree_;
   std::vector<PrimRecord> records_;  ///< Leaf order.
   std::vector<PlaneRecord> planes_;
   uint32_t num_triangles_ = 0;

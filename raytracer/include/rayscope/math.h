@@ -102,6 +102,24 @@ inline Bounds3 merge(Bounds3 a, const Bounds3& b) {
   return a;
 }
 
+/// A ball (lecture: "Bounding sphere: store radius, center, such that all
+/// geometry is contained"): the bounding volume of the sphere hierarchy
+/// (sphere_tree.h), also what range queries test such nodes against.
+struct BoundingSphere {
+  Vec3 center{0.0f};
+  float radius = 0.0f;
+
+  /// The axis-aligned box around the ball (rounded outward).
+  Bounds3 box() const {
+    Bounds3 b;
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a] = next_float_down(center[a] - radius);
+      b.hi[a] = next_float_up(center[a] + radius);
+    }
+    return b;
+  }
+};
+
 /// Builds an orthonormal basis (t, b) around a unit vector n (Duff et al. 2017).
 inline void orthonormal_basis(const Vec3& n, Vec3& t, Vec3& b) {
   float sign = std::copysign(1.0f, n.z);

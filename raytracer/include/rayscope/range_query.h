@@ -8,7 +8,7 @@
 // Ray tracing is the special case where the ray is the range (sorted
 // recursion, stop after the hit). This file holds the other ranges and their
 // exact primitive tests; each structure writes the walk once, as
-// `walk_range(range, prim, observer)` (Bvh, KdTree), and the Aggregate
+// `walk_range(range, prim, observer)` (Bvh, KdTree, SphereTree, ...), and the Aggregate
 // (aggregate.h) runs the three queries through the chosen structure's walk:
 //
 // - box query: every object that intersects an axis-aligned box (closed; a
@@ -85,6 +85,26 @@ bool sphere_overlaps_box(const Vec3& center, float radius, const Bounds3& box);
 /// touches the closed box (the box's corners are not all strictly on one side).
 bool plane_overlaps_box(const Vec3& point, const Vec3& normal, const Bounds3& box);
 
+// Tests of a node's bounding sphere (sphere_tree.h), the one owner of how a
+// range meets a ball. A walk prunes a node by them, so they must never reject
+// what a primitive test inside the ball accepts. The primitives' own tests
+// round to float (a sphere's distance to a box, a point-primitive distance),
+// so these keep a margin of kBallSlack times the scale of the question
+// (|p - center| + radius) on the accepting side: about 16 float roundings,
+// far below anything a drawing or a count of visited nodes would show.
+
+/// Relative margin of point_ball_distance() and ball_overlaps_box(): 2^-20.
+inline constexpr double kBallSlack = 1.0 / 1048576.0;
+
+/// Distance from p to the solid ball (0 on or inside it), lowered by the
+/// margin and rounded down: never above the distance to anything inside it.
+float point_ball_distance(const Vec3& p, const BoundingSphere& ball);
+
+/// Whether the solid ball and the closed box share a point: the distance from
+/// its center to the box (exact comparisons, squares in double) against the
+/// radius raised by the margin.
+bool ball_overlaps_box(const BoundingSphere& ball, const Bounds3& box);
+
 // ---------------------------------------------------------------------------
 // Ranges.
 
@@ -97,10 +117,15 @@ bool plane_overlaps_box(const Vec3& point, const Vec3& normal, const Bounds3& bo
 /// shrink while it is walked (KnnRange): overlaps() and bounds() then answer
 /// for the current range, so a walk checks overlaps() again when it pops a node
 /// it pushed earlier.
+///
+/// The same two questions for a ball (sphere_tree.h's nodes): overlaps(ball)
+/// and distance(ball), through the ball tests above.
 template <class R>
-concept QueryRange = requires(const R& r, const Bounds3& box) {
+concept QueryRange = requires(const R& r, const Bounds3& box, const BoundingSphere& ball) {
   { r.overlaps(box) } -> std::same_as<bool>;
   { r.distance(box) } -> std::same_as<float>;
+  { r.overlaps(ball) } -> std::same_as<bool>;
+  { r.distance(ball) } -> std::same_as<float>;
   { r.bounds() } -> std::same_as<Bounds3>;
 };
 
@@ -117,6 +142,8 @@ class BoxRange {
            b.hi.y >= box_.lo.y && b.lo.z <= box_.hi.z && b.hi.z >= box_.lo.z;
   }
   float distance(const Bounds3& b) const { return point_box_distance(center_, b); }
+  bool overlaps(const BoundingSphere& s) const { return ball_overlaps_box(s, box_); }
+  float distance(const BoundingSphere& s) const { return point_ball_distance(center_, s); }
   Bounds3 bounds() const { return box_; }
   const Bounds3& box() const { return box_; }
 
@@ -136,6 +163,10 @@ class SphereRange {
 
   bool overlaps(const Bounds3& b) const { return point_box_distance(center_, b) <= radius_; }
   float distance(const Bounds3& b) const { return point_box_distance(center_, b); }
+  bool overlaps(const BoundingSphere& s) const {
+    return point_ball_distance(center_, s) <= radius_;
+  }
+  float distance(const BoundingSphere& s) const { return point_ball_distance(center_, s); }
   /// Rounded outward, so that it contains every point within the radius.
   Bounds3 bounds() const;
   const Vec3& center() const { return center_; }
@@ -184,6 +215,10 @@ class KnnRange {
 
   bool overlaps(const Bounds3& b) const { return point_box_distance(center_, b) <= radius_; }
   float distance(const Bounds3& b) const { return point_box_distance(center_, b); }
+  bool overlaps(const BoundingSphere& s) const {
+    return point_ball_distance(center_, s) <= radius_;
+  }
+  float distance(const BoundingSphere& s) const { return point_ball_distance(center_, s); }
   Bounds3 bounds() const;
   const Vec3& center() const { return center_; }
   /// The current radius: the k-th best distance, or +inf while fewer than k

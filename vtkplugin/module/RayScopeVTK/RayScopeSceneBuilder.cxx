@@ -195,6 +195,9 @@ bool accel_kind_of(int accel, rayscope::AccelKind& kind) {
     case vtkRayScopeImageAlgorithm::ACCEL_BSP:
       kind = rayscope::AccelKind::Bsp;
       return true;
+    case vtkRayScopeImageAlgorithm::ACCEL_SPHERES:
+      kind = rayscope::AccelKind::Spheres;
+      return true;
     default:
       return false;
   }
@@ -216,6 +219,8 @@ int accel_of(rayscope::AccelKind kind) {
       return vtkRayScopeImageAlgorithm::ACCEL_OCTREE;
     case rayscope::AccelKind::Bsp:
       return vtkRayScopeImageAlgorithm::ACCEL_BSP;
+    case rayscope::AccelKind::Spheres:
+      return vtkRayScopeImageAlgorithm::ACCEL_SPHERES;
   }
   return vtkRayScopeImageAlgorithm::ACCEL_BVH;
 }

@@ -1,6 +1,7 @@
 #include "vtkRayScopeBVHSource.h"
 
 #include <algorithm>
+#include <cmath>
 #include <exception>
 #include <thread>
 #include <vector>
@@ -229,8 +230,25 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
                                     {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
   static const int kFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
                                    {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  const int per_box = this->GenerateFaces ? 6 : 12;
-  const vtkIdType nboxes = vtkIdType(shown.size());
+  // A node with a sphere (the sphere tree) is drawn as that sphere: with
+  // faces, a latitude-longitude surface of kRings x kSegments cells
+  // (triangles at the poles, quads between); as lines, three great circles
+  // (kSegments segments each, in the coordinate planes).
+  constexpr int kSegments = 24, kRings = 12;
+  const bool faces = this->GenerateFaces;
+  auto point_count = [&](const rayscope::AccelViewNode& n) -> vtkIdType {
+    if (!n.sphere) return 8;
+    return faces ? vtkIdType((kRings - 1) * kSegments + 2) : vtkIdType(3 * kSegments);
+  };
+  auto cell_count = [&](const rayscope::AccelViewNode& n) -> vtkIdType {
+    if (!n.sphere) return faces ? 6 : 12;
+    return faces ? vtkIdType(kRings * kSegments) : vtkIdType(3 * kSegments);
+  };
+  vtkIdType npoints = 0, nvolume_cells = 0;
+  for (uint32_t i : shown) {
+    npoints += point_count(nodes[i]);
+    nvolume_cells += cell_count(nodes[i]);
+  }
   // The BSP tree's split planes, clipped to their cells: one polygon per
   // inner node shown, after all boxes.
   std::vector<uint32_t> planes;
@@ -240,10 +258,10 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
       planes.push_back(i);
       plane_points += vtkIdType(nodes[i].polygon_count);
     }
-  const vtkIdType ncells = nboxes * per_box + vtkIdType(planes.size());
-  vtkSmartPointer<vtkPoints> points = make_world_points(scene, 8 * nboxes + plane_points);
+  const vtkIdType ncells = nvolume_cells + vtkIdType(planes.size());
+  vtkSmartPointer<vtkPoints> points = make_world_points(scene, npoints + plane_points);
   vtkNew<vtkCellArray> cells, plane_cells;
-  cells->AllocateExact(nboxes * per_box, nboxes * per_box * (this->GenerateFaces ? 4 : 2));
+  cells->AllocateEstimate(nvolume_cells, faces ? 4 : 2);
   plane_cells->AllocateExact(vtkIdType(planes.size()), plane_points);
   auto a_level = make_array<vtkIntArray>("Level", 1, ncells);
   auto a_node = make_array<vtkIntArray>("NodeId", 1, ncells);
@@ -258,7 +276,6 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
     a_state = make_array<vtkIntArray>("TraversalState", 1, ncells);
     a_entry = make_array<vtkIntArray>("EntryOrder", 1, ncells);
   }
-  vtkIdType cell = 0;
   auto set_data = [&](vtkIdType c, uint32_t i) {
     const rayscope::AccelViewNode& n = nodes[i];
     a_level->SetValue(c, n.level);
@@ -274,27 +291,80 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
       a_entry->SetValue(c, entry[i]);
     }
   };
-  for (vtkIdType b = 0; b < nboxes; ++b) {
-    const uint32_t i = shown[size_t(b)];
+  vtkIdType cell = 0, point = 0;
+  for (uint32_t i : shown) {
     const rayscope::AccelViewNode& n = nodes[i];
-    const rayscope::Vec3 lo = n.box.lo, hi = n.box.hi;
-    for (int c = 0; c < 8; ++c)
-      set_world_point(
-          points, 8 * b + c, scene,
-          rayscope::Vec3((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z));
-    for (int k = 0; k < per_box; ++k, ++cell) {
-      if (this->GenerateFaces) {
-        vtkIdType q[4];
-        for (int v = 0; v < 4; ++v) q[v] = 8 * b + kFaces[k][v];
-        cells->InsertNextCell(4, q);
-      } else {
-        vtkIdType e[2] = {8 * b + kEdges[k][0], 8 * b + kEdges[k][1]};
-        cells->InsertNextCell(2, e);
+    const vtkIdType p0 = point;
+    point += point_count(n);
+    if (!n.sphere) {
+      const rayscope::Vec3 lo = n.box.lo, hi = n.box.hi;
+      for (int c = 0; c < 8; ++c)
+        set_world_point(
+            points, p0 + c, scene,
+            rayscope::Vec3((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z));
+      for (int k = 0; k < (faces ? 6 : 12); ++k) {
+        if (faces) {
+          vtkIdType q[4];
+          for (int v = 0; v < 4; ++v) q[v] = p0 + kFaces[k][v];
+          cells->InsertNextCell(4, q);
+        } else {
+          vtkIdType e[2] = {p0 + kEdges[k][0], p0 + kEdges[k][1]};
+          cells->InsertNextCell(2, e);
+        }
       }
-      set_data(cell, i);
+    } else {
+      const rayscope::Vec3 c = n.sphere->center;
+      const double r = double(n.sphere->radius);
+      auto put = [&](vtkIdType id, double x, double y, double z) {
+        set_world_point(points, id, scene,
+                        c + rayscope::Vec3(float(r * x), float(r * y), float(r * z)));
+      };
+      const double step = 2.0 * rayscope::kPi / kSegments;
+      if (faces) {
+        // Point 0: the south pole; rings 1 .. kRings - 1 of kSegments points;
+        // the last point: the north pole. Outward-facing (counterclockwise
+        // seen from outside).
+        put(p0, 0, 0, -1);
+        for (int ring = 1; ring < kRings; ++ring) {
+          const double th = rayscope::kPi * ring / kRings - 0.5 * rayscope::kPi;
+          for (int sgm = 0; sgm < kSegments; ++sgm)
+            put(p0 + 1 + (ring - 1) * kSegments + sgm, std::cos(th) * std::cos(step * sgm),
+                std::cos(th) * std::sin(step * sgm), std::sin(th));
+        }
+        const vtkIdType north = p0 + 1 + (kRings - 1) * kSegments;
+        put(north, 0, 0, 1);
+        auto at = [&](int ring, int sgm) {  // ring 1 .. kRings - 1
+          return p0 + 1 + (ring - 1) * kSegments + (sgm % kSegments);
+        };
+        for (int sgm = 0; sgm < kSegments; ++sgm) {
+          const vtkIdType t[3] = {p0, at(1, sgm + 1), at(1, sgm)};
+          cells->InsertNextCell(3, t);
+        }
+        for (int ring = 1; ring < kRings - 1; ++ring)
+          for (int sgm = 0; sgm < kSegments; ++sgm) {
+            const vtkIdType q[4] = {at(ring, sgm), at(ring, sgm + 1), at(ring + 1, sgm + 1),
+                                    at(ring + 1, sgm)};
+            cells->InsertNextCell(4, q);
+          }
+        for (int sgm = 0; sgm < kSegments; ++sgm) {
+          const vtkIdType t[3] = {north, at(kRings - 1, sgm), at(kRings - 1, sgm + 1)};
+          cells->InsertNextCell(3, t);
+        }
+      } else {
+        for (int circle = 0; circle < 3; ++circle)
+          for (int sgm = 0; sgm < kSegments; ++sgm) {
+            double v[3] = {0, 0, 0};
+            v[circle] = std::cos(step * sgm);
+            v[(circle + 1) % 3] = std::sin(step * sgm);
+            put(p0 + circle * kSegments + sgm, v[0], v[1], v[2]);
+            const vtkIdType e[2] = {p0 + circle * kSegments + sgm,
+                                    p0 + circle * kSegments + (sgm + 1) % kSegments};
+            cells->InsertNextCell(2, e);
+          }
+      }
     }
+    for (const vtkIdType end = cell + cell_count(n); cell < end; ++cell) set_data(cell, i);
   }
-  vtkIdType point = 8 * nboxes;
   std::vector<vtkIdType> ids;
   for (uint32_t i : planes) {
     const rayscope::AccelViewNode& n = nodes[i];
@@ -303,18 +373,17 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
       set_world_point(points, point, scene, view.polygon_vertices[n.polygon_first + k]);
       ids.push_back(point);
     }
-    (this->GenerateFaces ? cells.Get() : plane_cells.Get())
-        ->InsertNextCell(vtkIdType(ids.size()), ids.data());
+    (faces ? cells.Get() : plane_cells.Get())->InsertNextCell(vtkIdType(ids.size()), ids.data());
     set_data(cell++, i);
   }
 
   output->Initialize();
   output->SetPoints(points);
-  if (this->GenerateFaces) {
+  if (faces) {
     output->SetPolys(cells);
   } else {
-    // Lines come before polygons in a vtkPolyData's cells: the boxes' edges,
-    // then the split polygons, as the cell data above.
+    // Lines come before polygons in a vtkPolyData's cells: the boxes' edges
+    // and spheres' circles, then the split polygons, as the cell data above.
     output->SetLines(cells);
     if (!planes.empty()) output->SetPolys(plane_cells);
   }

@@ -1,19 +1,30 @@
 /**
  * @class   vtkRayScopeBVHSource
  * @brief   The acceleration structure of a scene as vtkPolyData boxes: the
- *          bounding volume hierarchy, the kD-tree's cells or the octree's nodes.
+ *          bounding volume hierarchy, the kD-tree's cells, the octree's nodes,
+ *          or the sphere tree's nodes as spheres.
  *
  * It draws the structure the scene's rays walk (the scene source's Accel):
  * the binary BVH for ACCEL_BVH, ACCEL_BINARY_BVH and ACCEL_NONE (whose rays
  * walk nothing), the kD-tree's cells for ACCEL_KDTREE, the octree's nodes
  * (their loose boxes with smallest-cell storage) for ACCEL_OCTREE, the BSP
- * tree's cells (their bounding boxes) and split planes for ACCEL_BSP; node ids
- * are the ones its walk reports, so visit counts and played walks work for
- * each. Field data "Structure" names it ("bvh", "kdtree", "grid", "octree",
- * "bsp"). For the BSP tree, each inner node shown also gets its split plane
- * clipped to its cell, a convex polygon cell with the node's data, after all
- * boxes (the lecture's "BSP planes as clipped polygons"). What
- * follows says "node" for a BVH node or a cell.
+ * tree's cells (their bounding boxes) and split planes for ACCEL_BSP, the
+ * sphere tree's nodes for ACCEL_SPHERES; node ids are the ones its walk
+ * reports, so visit counts and played walks work for each. Field data
+ * "Structure" names it ("bvh", "kdtree", "grid", "octree", "bsp",
+ * "spheres"). What follows says "node" for a BVH node or a cell, and "box"
+ * for its drawing.
+ *
+ * For the BSP tree, each inner node shown also gets its split plane clipped
+ * to its cell, a convex polygon cell with the node's data, after all boxes
+ * (the lecture's "BSP planes as clipped polygons").
+ *
+ * A sphere tree's node is drawn as its sphere, not a box: with GenerateFaces
+ * a latitude-longitude surface (24 segments x 12 rings: triangles at the
+ * poles, quads between, outward facing), else three great circles in the
+ * coordinate planes (24 line cells each). Its cells carry the same data as a
+ * box's; "SAHCost" uses the area of the box around the sphere, as for every
+ * structure.
  *
  * The scene's datasets come through input port 0 (one or more vtkDataSets),
  * as for vtkRayScopeRayTreeSource; SetSceneSource gives the camera and the

@@ -134,7 +134,8 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// counts show every binary node a ray enters; ACCEL_NONE, every primitive
   /// tested against every ray; ACCEL_KDTREE, the SAH kD-tree; ACCEL_GRID, the
   /// uniform grid; ACCEL_OCTREE, the octree, and ACCEL_BSP, the BSP tree
-  /// (planes through the triangles), both stored as Storage says. Each walk
+  /// (planes through the triangles), both stored as Storage says;
+  /// ACCEL_SPHERES, the hierarchy of bounding spheres. Each walk
   /// names its own nodes or cells, and vtkRayScopeBVHSource draws the
   /// structure walked. The image is the same for all.
   enum AccelKinds {
@@ -144,9 +145,10 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
     ACCEL_KDTREE = 3,
     ACCEL_GRID = 4,
     ACCEL_OCTREE = 5,
-    ACCEL_BSP = 6
+    ACCEL_BSP = 6,
+    ACCEL_SPHERES = 7
   };
-  vtkSetClampMacro(Accel, int, ACCEL_BVH, ACCEL_BSP);
+  vtkSetClampMacro(Accel, int, ACCEL_BVH, ACCEL_SPHERES);
   vtkGetMacro(Accel, int);
   void SetAccelToBvh() { this->SetAccel(ACCEL_BVH); }
   void SetAccelToBinaryBvh() { this->SetAccel(ACCEL_BINARY_BVH); }
@@ -155,6 +157,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   void SetAccelToGrid() { this->SetAccel(ACCEL_GRID); }
   void SetAccelToOctree() { this->SetAccel(ACCEL_OCTREE); }
   void SetAccelToBsp() { this->SetAccel(ACCEL_BSP); }
+  void SetAccelToSpheres() { this->SetAccel(ACCEL_SPHERES); }
   ///@}
 
   ///@{
