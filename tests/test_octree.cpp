@@ -445,13 +445,14 @@ TEST(Octree, KindStorageNamesAndMemory) {
 
 TEST(Octree, OneCheckOfStructureAndStorage) {
   // Every kind takes every-cell (the default); the spatial subdivisions
-  // (kD-tree, grid, octree) take smallest-cell; nothing splits yet. The
-  // aggregate refuses what the check refuses, with its message.
+  // (kD-tree, grid, octree, BSP tree) take smallest-cell; only the BSP tree
+  // splits. The aggregate refuses what the check refuses, with its message.
   for (AccelKind k : kAccelKinds) {
-    const bool spatial = k == AccelKind::KdTree || k == AccelKind::Grid || k == AccelKind::Octree;
+    const bool spatial = k == AccelKind::KdTree || k == AccelKind::Grid || k == AccelKind::Octree ||
+                         k == AccelKind::Bsp;
     EXPECT_EQ(accel_storage_error(k, PrimStorage::EveryCell), "");
     EXPECT_EQ(accel_storage_error(k, PrimStorage::SmallestCell).empty(), spatial);
-    EXPECT_NE(accel_storage_error(k, PrimStorage::Split), "");
+    EXPECT_EQ(accel_storage_error(k, PrimStorage::Split).empty(), k == AccelKind::Bsp);
   }
   const std::string kd = accel_storage_error(AccelKind::KdTree, PrimStorage::Split);
   EXPECT_NE(kd.find("split"), std::string::npos) << kd;

@@ -15,8 +15,9 @@ must already be in paraview.simple. Then:
   primary ray, a reflection ray when the material reflects.
 - "BVH": boxes with Level, NodeId, PrimitiveCount, SAHCost, VisitCount; the
   leaves hold every triangle once; the level range limits the levels.
-- "Range Query": a box query through the kD-tree finds the same triangles as
-  through no structure, testing fewer; the range output is the box; the k
+- "Range Query": a box query through the kD-tree (and the BSP tree with split
+  storage, the bounding spheres, the loose median-split kD-tree) finds the
+  same triangles as through no structure, testing fewer; the range output is the box; the k
   nearest come nearest first.
 - bad parameters (a pixel outside the image, samples 0): an empty output and
   an error in ParaView's output.
@@ -159,6 +160,22 @@ walked, out_kd = found_ids(query)
 assert brute and walked == brute, (len(brute), len(walked))
 tested = [int(o.GetFieldData().GetArray("PrimitivesTested").GetValue(0)) for o in (out_none, out_kd)]
 assert tested[0] == triangles and tested[1] < tested[0], tested
+# Every other structure of the lecture, and the loose kD-tree (smallest-cell,
+# loose factor 0.25, median splits): the same triangles, fewer tested.
+others = {}
+for accel, storage in (("BSP tree (planes through the triangles)", "Split (BSP fragments)"),
+                       ("Bounding spheres", "Every cell (store multiple times)"),
+                       ("kD-tree (SAH)", "Smallest cell (loose octree, BSP node lists)")):
+    query.Accel, query.Storage = accel, storage
+    if accel == "kD-tree (SAH)":
+        query.LooseFactor, query.KdSplit = 0.25, "Median"
+    ids, out = found_ids(query)
+    assert ids == brute, (accel, len(ids), len(brute))
+    others[accel] = int(out.GetFieldData().GetArray("PrimitivesTested").GetValue(0))
+    assert others[accel] < tested[0], (accel, others[accel])
+query.Accel, query.Storage = "kD-tree (SAH)", "Every cell (store multiple times)"
+query.LooseFactor, query.KdSplit = 0.1, "Surface area heuristic"
+print(f"Range Query, primitives tested by BSP (split), spheres, loose median kD-tree: {others}")
 range_box = sm.Fetch(query, idx=1).GetBounds()
 assert [round(v, 6) for v in range_box] == [0.1, 0.6, -0.2, 0.2, -0.6, 0.6], range_box
 query.QueryType = "Nearest"

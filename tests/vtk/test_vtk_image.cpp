@@ -29,8 +29,10 @@
 #include <vtkUnsignedCharArray.h>
 
 #include "RayScopeImageArrays.h"
+#include "rayscope/aggregate.h"
 #include "rayscope/image.h"
 #include "rayscope/render_settings.h"
+#include "rayscope/scene.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeMaterial.h"
 #include "vtk_test_util.h"
@@ -222,6 +224,53 @@ TEST(VtkImage, ThreadInvariance) {
   EXPECT_EQ(std::memcmp(f1->GetPointer(0), f2->GetPointer(0), size_t(f1->GetDataSize()) * 4), 0);
 }
 
+// LooseFactor and KdSplit (the CLI's --loose-factor and --kd-split) reach the
+// structure: a change rebuilds it with the new settings (fewer references per
+// primitive with median splits and smallest-cell storage than every-cell),
+// and the image stays the BVH's, bit for bit.
+TEST(VtkImage, LooseFactorAndKdSplitReachTheStructure) {
+  vtkNew<vtkSphereSource> a, b;
+  configure_sphere(a, 0, 0, 0, 0.5);
+  configure_sphere(b, 0.6, 0.3, 0.4, 0.3);
+  vtkNew<vtkRayScopeImageAlgorithm> bvh, alg;
+  for (vtkRayScopeImageAlgorithm* x : {bvh.Get(), alg.Get()}) {
+    x->AddInputConnection(a->GetOutputPort());
+    x->AddInputConnection(b->GetOutputPort());
+    x->SetSize(48, 36);
+    x->SetPosition(0, 0.5, 3);
+  }
+  ASSERT_EQ(update(bvh), 1);
+  EXPECT_DOUBLE_EQ(alg->GetLooseFactor(), double(rayscope::kDefaultLooseFactor));
+  EXPECT_EQ(alg->GetKdSplit(), vtkRayScopeImageAlgorithm::KD_SPLIT_SAH);
+  alg->SetAccelToKdTree();
+  ASSERT_EQ(update(alg), 1);
+  const double every_cell_refs = alg->GetCoreScene()->accel().figures().refs_per_prim;
+  EXPECT_GT(every_cell_refs, 1.0);
+  expect_same_colors(bvh->GetOutput(), alg->GetOutput());
+
+  alg->SetStorageToSmallestCell();
+  alg->SetLooseFactor(0.3);
+  alg->SetKdSplitToMedian();
+  ASSERT_EQ(update(alg), 1);
+  const rayscope::Aggregate& accel = alg->GetCoreScene()->accel();
+  EXPECT_EQ(accel.kind(), rayscope::AccelKind::KdTree);
+  EXPECT_EQ(accel.storage(), rayscope::PrimStorage::SmallestCell);
+  EXPECT_EQ(accel.config().loose_factor, 0.3f);
+  EXPECT_EQ(accel.config().kdtree.rule, rayscope::KdSplitRule::Median);
+  EXPECT_DOUBLE_EQ(accel.figures().refs_per_prim, 1.0);
+  expect_same_colors(bvh->GetOutput(), alg->GetOutput());
+
+  // The grid and the octree take the same loose factor.
+  for (int kind :
+       {int(vtkRayScopeImageAlgorithm::ACCEL_GRID), int(vtkRayScopeImageAlgorithm::ACCEL_OCTREE)}) {
+    alg->SetAccel(kind);
+    ASSERT_EQ(update(alg), 1);
+    EXPECT_EQ(alg->GetCoreScene()->accel().config().loose_factor, 0.3f);
+    EXPECT_DOUBLE_EQ(alg->GetCoreScene()->accel().figures().refs_per_prim, 1.0);
+    expect_same_colors(bvh->GetOutput(), alg->GetOutput());
+  }
+}
+
 // Each bad parameter gives one clear error naming it, and Update fails.
 TEST(VtkImage, RejectsBadParameters) {
   vtkNew<vtkSphereSource> s;
@@ -268,16 +317,27 @@ TEST(VtkImage, RejectsBadParameters) {
        }},
       // Structure and storage: the core's one check (accel_storage_error),
       // as the CLI's --storage.
-      {"storage smallest-cell is not available for kdtree",
+      {"storage split is not available for kdtree",
        [](auto* a) {
          a->SetAccelToKdTree();
-         a->SetStorageToSmallestCell();
+         a->SetStorageToSplit();
        }},
       {"storage smallest-cell is not available for bvh",
        [](auto* a) { a->SetStorageToSmallestCell(); }},
-      {"storage smallest-cell is not available for grid",
+      {"storage split is not available for grid",
        [](auto* a) {
          a->SetAccelToGrid();
+         a->SetStorageToSplit();
+       }},
+      {"LooseFactor: loose factor must be a number from 0 to 0.5",
+       [](auto* a) {
+         a->SetAccelToGrid();
+         a->SetStorageToSmallestCell();
+         a->SetLooseFactor(0.7);
+       }},
+      {"storage smallest-cell is not available for spheres",
+       [](auto* a) {
+         a->SetAccelToSpheres();
          a->SetStorageToSmallestCell();
        }},
   };

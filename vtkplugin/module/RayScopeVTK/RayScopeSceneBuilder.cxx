@@ -243,7 +243,17 @@ rayscope::AccelConfig accel_config_of(vtkRayScopeImageAlgorithm* alg) {
   rayscope::AccelConfig accel;
   if (!accel_kind_of(alg->GetAccel(), accel.kind)) accel.kind = rayscope::AccelKind::Bvh;
   accel.storage = storage_of(alg->GetStorage());
+  accel.loose_factor = float(alg->GetLooseFactor());
+  accel.kdtree.rule = alg->GetKdSplit() == vtkRayScopeImageAlgorithm::KD_SPLIT_MEDIAN
+                          ? rayscope::KdSplitRule::Median
+                          : rayscope::KdSplitRule::Sah;
   return accel;
+}
+
+static bool same_structure(const rayscope::Aggregate& built, const rayscope::AccelConfig& accel) {
+  const rayscope::AccelConfig& c = built.config();
+  return c.kind == accel.kind && c.storage == accel.storage &&
+         c.loose_factor == accel.loose_factor && c.kdtree.rule == accel.kdtree.rule;
 }
 
 int SceneBuilder::Commit(vtkRayScopeImageAlgorithm* alg, const rayscope::AccelConfig& accel) {
@@ -260,7 +270,7 @@ int SceneBuilder::Commit(vtkRayScopeImageAlgorithm* alg, const rayscope::AccelCo
 int SceneBuilder::UpdateFixed(vtkRayScopeImageAlgorithm* alg) {
   rayscope::Scene& s = this->Scene;
   const rayscope::AccelConfig accel = accel_config_of(alg);
-  if (s.accel().kind() != accel.kind || s.accel().storage() != accel.storage) {
+  if (!same_structure(s.accel(), accel)) {
     this->HasScene = false;
     if (!this->Commit(alg, accel)) return 0;
   }
@@ -326,8 +336,7 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
   std::vector<rayscope::Light> core = core_lights(alg, lights, s);
   const rayscope::AccelConfig accel = accel_config_of(alg);
   bool recommit = regeometry || materials.size() != s.materials.size() ||
-                  core.size() != s.lights.size() || s.accel().kind() != accel.kind ||
-                  s.accel().storage() != accel.storage;
+                  core.size() != s.lights.size() || !same_structure(s.accel(), accel);
   for (size_t i = 0; !recommit && i < materials.size(); ++i)
     recommit = materials[i].reflective() != s.materials[i].reflective() ||
                materials[i].refractive() != s.materials[i].refractive();

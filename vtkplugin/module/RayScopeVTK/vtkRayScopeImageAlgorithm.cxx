@@ -53,6 +53,8 @@ vtkRayScopeImageAlgorithm::vtkRayScopeImageAlgorithm()
       ComputeCost(1),
       Accel(ACCEL_BVH),
       Storage(STORAGE_EVERY_CELL),
+      LooseFactor(double(rayscope::kDefaultLooseFactor)),
+      KdSplit(KD_SPLIT_SAH),
       Position{0.0, 0.0, 1.0},
       FocalPoint{0.0, 0.0, 0.0},
       ViewUp{0.0, 1.0, 0.0},
@@ -290,6 +292,8 @@ std::string vtkRayScopeImageAlgorithm::ValidateParameters() {
   if (std::string e = rayscope::accel_storage_error(kind, rayscope_vtk::storage_of(this->Storage));
       !e.empty())
     return e;
+  if (std::string e = rayscope::loose_factor_error(float(this->LooseFactor)); !e.empty())
+    return "LooseFactor: " + e;
   if (std::string m = this->Internal->material->Validate(); !m.empty())
     return "default material: " + m;
   for (auto& [index, mat] : this->Internal->input_materials)
@@ -337,6 +341,10 @@ void vtkRayScopeImageAlgorithm::SetCoreScene(const rayscope::Scene& scene) {
   this->SetParallelScale(c.parallel_scale);
   this->SetAccel(rayscope_vtk::accel_of(scene.accel().kind()));
   this->SetStorage(rayscope_vtk::storage_value_of(scene.accel().storage()));
+  this->SetLooseFactor(double(scene.accel().config().loose_factor));
+  this->SetKdSplit(scene.accel().config().kdtree.rule == rayscope::KdSplitRule::Median
+                       ? KD_SPLIT_MEDIAN
+                       : KD_SPLIT_SAH);
   this->Modified();
 }
 
@@ -527,6 +535,8 @@ void vtkRayScopeImageAlgorithm::PrintSelf(ostream& os, vtkIndent indent) {
      << (rayscope_vtk::accel_kind_of(this->Accel, kind) ? rayscope::to_string(kind) : "?") << "\n";
   os << indent << "Storage: " << rayscope::to_string(rayscope_vtk::storage_of(this->Storage))
      << "\n";
+  os << indent << "LooseFactor: " << this->LooseFactor << "\n";
+  os << indent << "KdSplit: " << (this->KdSplit == KD_SPLIT_MEDIAN ? "median" : "sah") << "\n";
   v3("Position", this->Position);
   v3("FocalPoint", this->FocalPoint);
   v3("ViewUp", this->ViewUp);

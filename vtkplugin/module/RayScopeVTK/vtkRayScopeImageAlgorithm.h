@@ -178,6 +178,28 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   ///@}
 
   ///@{
+  /// STORAGE_SMALLEST_CELL's loose factor for ACCEL_KDTREE, ACCEL_GRID and
+  /// ACCEL_OCTREE: each cell enlarged by this fraction of its size on every
+  /// side (default 0.1, the lecture's 10%; 0 .. 0.5). A value out of range is
+  /// an error with the core's message (rayscope::loose_factor_error, as the
+  /// CLI's --loose-factor).
+  vtkSetMacro(LooseFactor, double);
+  vtkGetMacro(LooseFactor, double);
+  ///@}
+
+  ///@{
+  /// How ACCEL_KDTREE chooses its split planes (rayscope::KdSplitRule, as the
+  /// CLI's --kd-split): KD_SPLIT_SAH, by the surface-area heuristic
+  /// (default); KD_SPLIT_MEDIAN, at the median of the cell's primitive
+  /// centers on its widest axis.
+  enum KdSplitRules { KD_SPLIT_SAH = 0, KD_SPLIT_MEDIAN = 1 };
+  vtkSetClampMacro(KdSplit, int, KD_SPLIT_SAH, KD_SPLIT_MEDIAN);
+  vtkGetMacro(KdSplit, int);
+  void SetKdSplitToSah() { this->SetKdSplit(KD_SPLIT_SAH); }
+  void SetKdSplitToMedian() { this->SetKdSplit(KD_SPLIT_MEDIAN); }
+  ///@}
+
+  ///@{
   /// Produce the "Cost" arrays (default on).
   vtkSetMacro(ComputeCost, vtkTypeBool);
   vtkGetMacro(ComputeCost, vtkTypeBool);
@@ -422,6 +444,8 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   vtkTypeBool ComputeCost;
   int Accel;
   int Storage;
+  double LooseFactor;
+  int KdSplit;
   double Position[3];
   double FocalPoint[3];
   double ViewUp[3];
