@@ -129,7 +129,12 @@ def add_line(chart, t, x, y, color, label, width=2.5, style=vtk.vtkPen.SOLID_LIN
 
 
 def snapshot(view):
-    win = view.GetRenderWindow()
+    """The pixels of a chart view (or any object with a render window)."""
+    return snapshot_window(view.GetRenderWindow())
+
+
+def snapshot_window(win):
+    """Renders the window and copies its back buffer into a new image."""
     win.Render()
     w2i = vtk.vtkWindowToImageFilter()
     w2i.SetInput(win)
@@ -158,6 +163,11 @@ def write_png(images, path):
         raise RuntimeError(f"{path}: cannot write PNG")
     os.chmod(tmp, 0o644)
     os.replace(tmp, path)
+
+
+def save_window(win, path):
+    """Renders the window and writes it to `path` as a PNG, atomically."""
+    write_png([snapshot_window(win)], path)
 
 
 def time_vs_error(rows, path):

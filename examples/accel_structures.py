@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 """Show the acceleration structures side by side on one mesh: one OpenGL
 viewport per structure, the mesh in gray and the structure's leaves (BVH
-leaves, kD-tree, grid and octree cells, ...) colored by how often the rays of
-the whole frame visited them (blue: rarely, red: often).
+leaves, kD-tree, grid and octree cells, bounding spheres) colored by how often
+the rays of the whole frame visited them (blue: rarely, red: often); for the
+BSP tree, its split planes of the top levels, clipped to their cells.
 
     PYTHONPATH=<build>/lib/python3/dist-packages xvfb-run -a /usr/bin/python3 \\
-        examples/accel_structures.py -o structures.png --structures bvh,kdtree,grid,octree
+        examples/accel_structures.py -o structures.png \\
+        --structures bvh,kdtree,grid,octree,bsp/split,spheres
 
 The mesh is the Stanford bunny of Debian's glmark2-data when installed, else a
 superquadric, simplified to about --triangles triangles so that the cells stay
@@ -19,6 +21,10 @@ import sys
 
 import vtk
 import rayscope
+
+# The atomic PNG writer of the benchmark plots.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "bench"))
+from plot_quality import save_window  # noqa: E402
 
 BUNNY = "/usr/share/glmark2/models/bunny.obj"
 ALG = rayscope.vtkRayScopeImageAlgorithm
@@ -44,6 +50,34 @@ def dataset(triangles):
     dec.SetInputConnection(tri.GetOutputPort())
     dec.SetTargetReduction(1.0 - triangles / n)
     return dec
+
+
+# The BSP tree is drawn by its split planes (convex polygons clipped to their
+# cells) of this many top levels: deeper ones are too small to see.
+BSP_PLANE_LEVELS = 6
+
+
+def bsp_planes(source, levels):
+    """The split polygons of the BSP tree's top `levels` levels, with their
+    VisitCount and NodeId: the structure source draws every node's cell box
+    as lines and then each inner node's plane as a polygon."""
+    source.OnlyLeavesOff()
+    source.SetLevelRange(0, levels - 1)
+    source.Update()
+    full = source.GetOutput()
+    planes = vtk.vtkPolyData()
+    planes.SetPoints(full.GetPoints())
+    planes.SetPolys(full.GetPolys())
+    first = full.GetNumberOfLines()  # lines come first among a polydata's cells
+    for name in ("VisitCount", "NodeId", "PrimitiveCount"):
+        src = full.GetCellData().GetArray(name)
+        dst = vtk.vtkIntArray()
+        dst.SetName(name)
+        for c in range(first, full.GetNumberOfCells()):
+            dst.InsertNextValue(int(src.GetValue(c)))
+        planes.GetCellData().AddArray(dst)
+    planes.GetFieldData().ShallowCopy(full.GetFieldData())
+    return planes
 
 
 def accel_of(name):
@@ -98,6 +132,8 @@ def main():
         leaves.OnlyLeavesOn()
         leaves.Update()
         out = leaves.GetOutput()
+        if out.GetFieldData().GetAbstractArray("Structure").GetValue(0) == "bsp":
+            out = bsp_planes(leaves, BSP_PLANE_LEVELS)
         drawn = out.GetFieldData().GetAbstractArray("Structure").GetValue(0)
         depth = int(out.GetFieldData().GetArray("TreeDepth").GetValue(0))
         node = out.GetCellData().GetArray("NodeId")
@@ -124,6 +160,8 @@ def main():
         actor = vtk.vtkActor()
         actor.SetMapper(mapper)
         actor.GetProperty().SetLineWidth(1.2)
+        if out.GetNumberOfPolys():
+            actor.GetProperty().SetOpacity(0.45)
         actor.GetProperty().LightingOff()
         mesh_actor = vtk.vtkActor()
         mesh_actor.SetMapper(mesh_mapper)
@@ -137,7 +175,8 @@ def main():
         ren.AddActor(mesh_actor)
         ren.AddActor(actor)
         ren.SetActiveCamera(camera)
-        label = f"{name}: {len(cells)} leaves, {depth} levels"
+        label = (f"{name}: planes of levels 0-{BSP_PLANE_LEVELS - 1}, {depth} levels"
+                 if out.GetNumberOfPolys() else f"{name}: {len(cells)} leaves, {depth} levels")
         text = vtk.vtkTextActor()
         text.SetInput(label)
         text.GetTextProperty().SetFontSize(15)
@@ -145,19 +184,12 @@ def main():
         ren.AddViewProp(text)
         window.AddRenderer(ren)
         mean = sum(held) / len(held) if held else 0.0
-        print(f"{name} (drawn: {drawn}): {len(cells)} leaves, {len(held)} holding primitives "
+        what = "split planes" if out.GetNumberOfPolys() else "leaves"
+        print(f"{name} (drawn: {drawn}): {len(cells)} {what}, {len(held)} holding primitives "
               f"({mean:.1f} on average), {depth} levels")
     for ren in window.GetRenderers():
         ren.ResetCameraClippingRange()
-    window.Render()
-
-    grab = vtk.vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.ReadFrontBufferOff()
-    writer = vtk.vtkPNGWriter()
-    writer.SetFileName(args.output)
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
+    save_window(window, args.output)
     triangles = source.GetOutput().GetNumberOfPolys()
     print(f"wrote {args.output}: {len(names)} structures over {triangles} triangles")
 

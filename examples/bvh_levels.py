@@ -11,9 +11,14 @@ superquadric. Needs a display (OpenGL): use xvfb-run on a headless machine.
 """
 import argparse
 import os
+import sys
 
 import vtk
 import rayscope
+
+# The atomic PNG writer of the benchmark plots.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "bench"))
+from plot_quality import save_window  # noqa: E402
 
 BUNNY = "/usr/share/glmark2/models/bunny.obj"
 
@@ -112,15 +117,7 @@ def main():
     window.GetRenderers().GetFirstRenderer().ResetCameraClippingRange()
     for ren in window.GetRenderers():
         ren.ResetCameraClippingRange()
-    window.Render()
-
-    grab = vtk.vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.ReadFrontBufferOff()
-    writer = vtk.vtkPNGWriter()
-    writer.SetFileName(args.output)
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
+    save_window(window, args.output)
     bvh.SetLevelRange(0, 1000)
     bvh.Update()
     print(f"wrote {args.output}; the hierarchy has "

@@ -13,9 +13,15 @@ arrows, and occluded shadow rays ending at their occluder.
 Needs a display (OpenGL): use xvfb-run on a headless machine.
 """
 import argparse
+import os
+import sys
 
 import vtk
 import rayscope
+
+# The atomic PNG writer of the benchmark plots.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "bench"))
+from plot_quality import save_window  # noqa: E402
 
 KIND_COLORS = [(1.0, 1.0, 1.0), (1.0, 0.85, 0.1), (0.2, 0.9, 1.0), (1.0, 0.3, 0.9)]
 
@@ -199,14 +205,7 @@ def main():
     window.SetMultiSamples(8)
     window.AddRenderer(image_ren)
     window.AddRenderer(scene_ren)
-    window.Render()
-    grab = vtk.vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.ReadFrontBufferOff()
-    writer = vtk.vtkPNGWriter()
-    writer.SetFileName(args.output)
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
+    save_window(window, args.output)
     print(f"wrote {args.output}")
 
 

@@ -185,6 +185,14 @@ inline std::vector<rayscope::Bounds3> triangle_boxes(const rayscope::Scene& scen
   return boxes;
 }
 
+/// Appends n random rays (rstest::random_ray) aimed at the scene's triangles
+/// or through `world`.
+inline void add_random_rays(Rng& rng, const rayscope::Scene& scene, const rayscope::Bounds3& world,
+                            int n, std::vector<rayscope::Ray>& rays) {
+  const std::vector<rayscope::Bounds3> boxes = triangle_boxes(scene);
+  for (int i = 0; i < n; ++i) rays.push_back(random_ray(rng, world, boxes));
+}
+
 // An observer that is active and does nothing: the query must not change.
 struct AlwaysActive : rayscope::TraversalHooks {
   static constexpr bool kActive = true;

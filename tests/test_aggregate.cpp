@@ -50,9 +50,8 @@ TEST_P(AggregateKind, RandomRaysMatchBruteForce) {
   Rng rng(15);
   Scene scene = soup_scene(rng);
   commit(scene);
-  const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
   std::vector<Ray> rays;
-  for (int i = 0; i < 20000; ++i) rays.push_back(random_ray(rng, scene.bvh().bounds(), boxes));
+  rstest::add_random_rays(rng, scene, scene.bvh().bounds(), 20000, rays);
   check_queries(scene, rays, "meshes + soup + spheres + plane", 0);
 }
 
@@ -100,9 +99,8 @@ TEST(Aggregate, EveryStructureGivesTheSameHitsBitForBit) {
   Rng rng(17);
   Scene scene = soup_scene(rng);
   scene.commit();
-  const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
   std::vector<Ray> rays;
-  for (int i = 0; i < 5000; ++i) rays.push_back(random_ray(rng, scene.bvh().bounds(), boxes));
+  rstest::add_random_rays(rng, scene, scene.bvh().bounds(), 5000, rays);
   std::vector<std::vector<PrimHit>> per_kind;
   for (AccelKind kind : kAccelKinds) {
     AccelConfig cfg;

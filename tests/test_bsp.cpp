@@ -311,10 +311,8 @@ TEST_P(BspStorage, RandomRaysMatchBruteForce) {
   Rng rng(63);
   Scene scene = rstest::soup_scene(rng);
   commit_bsp(scene, GetParam());
-  const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
   std::vector<Ray> rays;
-  for (int i = 0; i < 20000; ++i)
-    rays.push_back(rstest::random_ray(rng, scene.accel().bsp().bounds(), boxes));
+  rstest::add_random_rays(rng, scene, scene.accel().bsp().bounds(), 20000, rays);
   rstest::check_queries(scene, rays, "bsp: meshes + soup + spheres + plane", 0);
 }
 
@@ -371,9 +369,7 @@ TEST(Bsp, SameHitsAsTheBvhBitForBit) {
     rays.insert(rays.end(), more.begin(), more.end());
   }
   scene.commit();
-  const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
-  for (int i = 0; i < 5000; ++i)
-    rays.push_back(rstest::random_ray(rng, scene.bvh().bounds(), boxes));
+  rstest::add_random_rays(rng, scene, scene.bvh().bounds(), 5000, rays);
   std::vector<PrimHit> bvh(rays.size());
   std::vector<uint8_t> bvh_occluded(rays.size());
   for (size_t i = 0; i < rays.size(); ++i) {
@@ -390,22 +386,6 @@ TEST(Bsp, SameHitsAsTheBvhBitForBit) {
     }
   }
 }
-
-struct CountingObserver : TraversalHooks {
-  static constexpr bool kActive = true;
-  std::vector<int> nodes, prim_tests, box_tests;
-  int boxes = 0, culled = 0;
-  void on_node(uint32_t n) { nodes.at(n)++; }
-  void on_box_test(uint32_t n, bool) {
-    box_tests.at(n)++;
-    ++boxes;
-  }
-  void on_cull(uint32_t n) {
-    ASSERT_LT(n, nodes.size());
-    ++culled;
-  }
-  void on_prim_test(uint32_t p) { prim_tests.at(p)++; }
-};
 
 TEST_P(BspStorage, TheObserverSeesTheWalk) {
   // Every ray enters each node at most once, tests the root box and both
@@ -425,10 +405,7 @@ TEST_P(BspStorage, TheObserverSeesTheWalk) {
   for (int i = 0; i < n_rays; ++i) {
     const Ray ray{to_f(9.0 * rng.unit_vector()), to_f(rng.unit_vector()), kInfinity};
     for (int any = 0; any < 2; ++any) {
-      CountingObserver obs;
-      obs.nodes.assign(t.nodes.size(), 0);
-      obs.box_tests.assign(t.nodes.size(), 0);
-      obs.prim_tests.assign(prims, 0);
+      rstest::CountingObserver obs(t.nodes.size(), prims);
       PrimHit hit;
       if (any)
         scene.occluded(ray, obs);

@@ -493,10 +493,8 @@ TEST_P(GridResolution, RandomRaysMatchBruteForce) {
   Rng rng(55);
   Scene scene = rstest::soup_scene(rng);
   commit_grid(scene, config());
-  const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
   std::vector<Ray> rays;
-  for (int i = 0; i < 20000; ++i)
-    rays.push_back(rstest::random_ray(rng, scene.accel().grid().bounds(), boxes));
+  rstest::add_random_rays(rng, scene, scene.accel().grid().bounds(), 20000, rays);
   rstest::check_queries(scene, rays, "grid: meshes + soup + spheres + plane", 0);
 }
 
@@ -540,10 +538,8 @@ TEST(Grid, SameHitsAsTheBvhBitForBit) {
   Scene scene = rstest::soup_scene(rng);
   scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
   commit_grid(scene, GridBuildConfig{});
-  const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
   std::vector<Ray> rays = adversarial_rays(rng, scene);
-  for (int i = 0; i < 5000; ++i)
-    rays.push_back(rstest::random_ray(rng, scene.accel().grid().bounds(), boxes));
+  rstest::add_random_rays(rng, scene, scene.accel().grid().bounds(), 5000, rays);
   scene.commit();
   std::vector<PrimHit> bvh(rays.size());
   std::vector<uint8_t> bvh_occluded(rays.size());
@@ -733,8 +729,7 @@ TEST(Grid, SmallestCellRaysMatchBruteForce) {
       const int a = rng.integer(0, 2);
       rstest::add_plane_rays(rng, g.bounds(), a, rng.coin() ? box.lo[a] : box.hi[a], rays, false);
     }
-    const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
-    for (int i = 0; i < 4000; ++i) rays.push_back(rstest::random_ray(rng, g.bounds(), boxes));
+    rstest::add_random_rays(rng, scene, g.bounds(), 4000, rays);
     rstest::check_queries(scene, rays, "loose grid", 20);
   }
 }

@@ -160,10 +160,8 @@ TEST_P(KdTreeRule, RandomRaysMatchBruteForce) {
   Rng rng(42);
   Scene scene = rstest::soup_scene(rng);
   commit_kd(scene, config());
-  const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
   std::vector<Ray> rays;
-  for (int i = 0; i < 20000; ++i)
-    rays.push_back(rstest::random_ray(rng, scene.accel().kdtree().bounds(), boxes));
+  rstest::add_random_rays(rng, scene, scene.accel().kdtree().bounds(), 20000, rays);
   rstest::check_queries(scene, rays, "kD-tree: meshes + soup + spheres + plane", 0);
 }
 
@@ -198,10 +196,8 @@ TEST(KdTree, SameHitsAsTheBvhBitForBit) {
   Rng rng(44);
   Scene scene = rstest::soup_scene(rng);
   scene.commit();
-  const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
   std::vector<Ray> rays = adversarial_rays(rng, scene);
-  for (int i = 0; i < 5000; ++i)
-    rays.push_back(rstest::random_ray(rng, scene.bvh().bounds(), boxes));
+  rstest::add_random_rays(rng, scene, scene.bvh().bounds(), 5000, rays);
   std::vector<PrimHit> bvh(rays.size());
   std::vector<uint8_t> bvh_occluded(rays.size());
   for (size_t i = 0; i < rays.size(); ++i) {
@@ -337,8 +333,7 @@ TEST_P(KdTreeRule, SmallestCellRaysMatchBruteForce) {
       rstest::add_plane_rays(rng, kd.bounds(), a, box.lo[a], rays, false);
       rstest::add_plane_rays(rng, kd.bounds(), a, box.hi[a], rays, false);
     }
-    const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
-    for (int i = 0; i < 4000; ++i) rays.push_back(rstest::random_ray(rng, kd.bounds(), boxes));
+    rstest::add_random_rays(rng, scene, kd.bounds(), 4000, rays);
     rstest::check_queries(scene, rays, "loose kD-tree", 20);
   }
 }

@@ -279,10 +279,8 @@ TEST_P(OctreeStorage, RandomRaysMatchBruteForce) {
   Rng rng(53);
   Scene scene = rstest::soup_scene(rng);
   commit_octree(scene, config());
-  const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
   std::vector<Ray> rays;
-  for (int i = 0; i < 20000; ++i)
-    rays.push_back(rstest::random_ray(rng, scene.accel().octree().bounds(), boxes));
+  rstest::add_random_rays(rng, scene, scene.accel().octree().bounds(), 20000, rays);
   rstest::check_queries(scene, rays, "octree: meshes + soup + spheres + plane", 0);
 }
 

@@ -281,10 +281,8 @@ TEST(SphereTree, RandomRaysMatchBruteForce) {
   Rng rng(64);
   Scene scene = rstest::soup_scene(rng);
   commit_spheres(scene);
-  const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
   std::vector<Ray> rays;
-  for (int i = 0; i < 20000; ++i)
-    rays.push_back(rstest::random_ray(rng, scene.bvh().bounds(), boxes));
+  rstest::add_random_rays(rng, scene, scene.bvh().bounds(), 20000, rays);
   rstest::check_queries(scene, rays, "spheres: meshes + soup + spheres + plane", 0);
 }
 
@@ -325,10 +323,8 @@ TEST(SphereTree, SameHitsAsTheBvhBitForBit) {
   scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
   commit_spheres(scene);
   std::vector<Ray> rays = adversarial_rays(rng, scene);
-  const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
   scene.commit();
-  for (int i = 0; i < 5000; ++i)
-    rays.push_back(rstest::random_ray(rng, scene.bvh().bounds(), boxes));
+  rstest::add_random_rays(rng, scene, scene.bvh().bounds(), 5000, rays);
   std::vector<PrimHit> bvh(rays.size());
   std::vector<uint8_t> bvh_occluded(rays.size());
   for (size_t i = 0; i < rays.size(); ++i) {
@@ -343,23 +339,6 @@ TEST(SphereTree, SameHitsAsTheBvhBitForBit) {
     ASSERT_EQ(scene.occluded(rays[i]), bool(bvh_occluded[i])) << "ray " << i;
   }
 }
-
-// Counts what the walk reports, per node and per primitive.
-struct CountingObserver : TraversalHooks {
-  static constexpr bool kActive = true;
-  std::vector<int> nodes, prim_tests, box_tests;
-  int boxes = 0, culled = 0;
-  void on_node(uint32_t n) { nodes.at(n)++; }
-  void on_box_test(uint32_t n, bool) {
-    box_tests.at(n)++;
-    ++boxes;
-  }
-  void on_cull(uint32_t n) {
-    ASSERT_LT(n, nodes.size());
-    ++culled;
-  }
-  void on_prim_test(uint32_t p) { prim_tests.at(p)++; }
-};
 
 TEST(SphereTree, EachPrimitiveTestedOncePerRayAndTheObserverSeesTheWalk) {
   // Every ray tests each primitive at most once, enters each node at most
@@ -383,10 +362,7 @@ TEST(SphereTree, EachPrimitiveTestedOncePerRayAndTheObserverSeesTheWalk) {
   }
   for (int i = 0; i < n_rays; ++i) {
     for (int any = 0; any < 2; ++any) {
-      CountingObserver obs;
-      obs.nodes.assign(t.nodes.size(), 0);
-      obs.box_tests.assign(t.nodes.size(), 0);
-      obs.prim_tests.assign(prims, 0);
+      rstest::CountingObserver obs(t.nodes.size(), prims);
       PrimHit hit;
       if (any)
         scene.occluded(rays[i], obs);
@@ -411,10 +387,7 @@ TEST(SphereTree, EachPrimitiveTestedOncePerRayAndTheObserverSeesTheWalk) {
   }
   scene.commit();  // the BVH, for comparison
   for (const Ray& r : rays) {
-    CountingObserver obs;
-    obs.nodes.assign(scene.bvh().nodes.size(), 0);
-    obs.box_tests.assign(scene.bvh().nodes.size() + 8, 0);
-    obs.prim_tests.assign(prims, 0);
+    rstest::CountingObserver obs(scene.bvh().nodes.size() + 8, prims);
     PrimHit hit;
     scene.intersect(r, hit, obs);
     for (int v : obs.prim_tests) bvh_tests += uint64_t(v);
@@ -476,10 +449,7 @@ TEST(SphereTree, RangeQueriesMatchBruteForce) {
   const SphereTree& t = scene.accel().sphere_tree();
   uint64_t entered = 0, found = 0, culled = 0;
   for (size_t i = 0; i < queries.size(); ++i) {
-    CountingObserver obs;
-    obs.nodes.assign(t.nodes.size(), 0);
-    obs.box_tests.assign(t.nodes.size(), 0);
-    obs.prim_tests.assign(scene.accel().records().size(), 0);
+    rstest::CountingObserver obs(t.nodes.size(), scene.accel().records().size());
     const std::vector<RangeHit> got = run(queries[i], obs);
     ASSERT_EQ(got, want[i]) << "query " << i << " (kind " << queries[i].kind << ")";
     for (int v : obs.prim_tests) ASSERT_LE(v, 1);

@@ -18,17 +18,17 @@ void finish_levels(AccelView& v) {
   }
 }
 
-AccelView bvh_view(const Aggregate& a) {
-  AccelView v;
-  const Bvh& bvh = a.bvh();
-  v.structure = "bvh";
-  v.traversal_cost = bvh.config.traversal_cost;
-  v.intersection_cost = bvh.config.intersection_cost;
-  v.nodes.resize(bvh.nodes.size());
-  for (size_t i = 0; i < bvh.nodes.size(); ++i) {
-    const BvhNode& n = bvh.nodes[i];
+// The nodes of a binary hierarchy whose inner nodes name their first child
+// (`index`, the second follows it) and whose leaves a range of `count`
+// records from `index` (the BVH's and the sphere tree's layout); `volume`
+// sets each node's box (and sphere).
+template <class Node, class Volume>
+void binary_nodes(AccelView& v, const std::vector<Node>& nodes, Volume volume) {
+  v.nodes.resize(nodes.size());
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const Node& n = nodes[i];
     AccelViewNode& o = v.nodes[i];
-    o.box = n.bounds();
+    volume(n, o);
     o.leaf = n.is_leaf();
     if (o.leaf) {
       o.first = n.index;
@@ -37,6 +37,15 @@ AccelView bvh_view(const Aggregate& a) {
       v.nodes[n.index].parent = v.nodes[n.index + 1].parent = int32_t(i);
     }
   }
+}
+
+AccelView bvh_view(const Aggregate& a) {
+  AccelView v;
+  const Bvh& bvh = a.bvh();
+  v.structure = "bvh";
+  v.traversal_cost = bvh.config.traversal_cost;
+  v.intersection_cost = bvh.config.intersection_cost;
+  binary_nodes(v, bvh.nodes, [](const BvhNode& n, AccelViewNode& o) { o.box = n.bounds(); });
   v.refs.reserve(a.records().size());
   for (const PrimRecord& r : a.records()) v.refs.push_back(r.id);
   finish_levels(v);
@@ -121,20 +130,10 @@ AccelView sphere_tree_view(const Aggregate& a) {
   v.structure = "spheres";
   v.traversal_cost = tree.config.traversal_cost;
   v.intersection_cost = tree.config.intersection_cost;
-  v.nodes.resize(tree.nodes.size());
-  for (size_t i = 0; i < tree.nodes.size(); ++i) {
-    const SphereNode& n = tree.nodes[i];
-    AccelViewNode& o = v.nodes[i];
+  binary_nodes(v, tree.nodes, [](const SphereNode& n, AccelViewNode& o) {
     o.sphere = n.sphere();
     o.box = n.sphere().box();
-    o.leaf = n.is_leaf();
-    if (o.leaf) {
-      o.first = n.index;
-      o.count = n.count;
-    } else {
-      v.nodes[n.index].parent = v.nodes[n.index + 1].parent = int32_t(i);
-    }
-  }
+  });
   v.refs.reserve(tree.prim_indices.size());
   for (uint32_t r : tree.prim_indices) v.refs.push_back(a.records()[r].id);
   finish_levels(v);

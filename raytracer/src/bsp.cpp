@@ -419,20 +419,12 @@ BspQuality BspTree::quality() const {
   q.fragments = config.storage == PrimStorage::Split ? refs.size() : 0;
   q.split_prims = split_prims_;
   q.memory_bytes = memory_bytes();
-  const std::vector<uint32_t> d = depths();
-  size_t leaf_refs = 0;
-  for (size_t i = 0; i < nodes.size(); ++i) {
-    const BspNode& n = nodes[i];
-    q.depth = std::max(q.depth, d[i]);
-    if (n.is_leaf()) {
-      q.leaves++;
-      q.max_leaf_refs = std::max(q.max_leaf_refs, n.count);
-      leaf_refs += n.count;
-    } else {
-      q.inner_refs += n.count;
-    }
-  }
-  q.mean_leaf_refs = q.leaves ? double(leaf_refs) / q.leaves : 0.0;
+  const CellRefCounts c = count_cell_refs(nodes, depths());
+  q.leaves = c.leaves;
+  q.depth = c.depth;
+  q.max_leaf_refs = c.max_leaf_refs;
+  q.inner_refs = c.inner_refs;
+  q.mean_leaf_refs = c.mean_leaf_refs;
   return q;
 }
 

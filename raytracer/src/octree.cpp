@@ -179,21 +179,14 @@ OctreeQuality Octree::quality() const {
   q.references = refs.size();
   q.refs_per_prim = num_prims_ ? double(refs.size()) / num_prims_ : 0.0;
   q.memory_bytes = memory_bytes();
-  const std::vector<uint32_t> d = depths();
-  size_t leaf_refs = 0;
-  for (size_t i = 0; i < nodes.size(); ++i) {
-    const OctNode& n = nodes[i];
-    q.depth = std::max(q.depth, d[i]);
-    if (n.is_leaf()) {
-      q.leaves++;
-      q.max_leaf_refs = std::max(q.max_leaf_refs, n.count);
-      leaf_refs += n.count;
-    } else {
-      q.inner_refs += n.count;
-      q.empty_leaves += 8u - uint32_t(std::popcount(unsigned(n.mask)));
-    }
-  }
-  q.mean_leaf_refs = q.leaves ? double(leaf_refs) / q.leaves : 0.0;
+  const CellRefCounts c = count_cell_refs(nodes, depths());
+  q.leaves = c.leaves;
+  q.depth = c.depth;
+  q.max_leaf_refs = c.max_leaf_refs;
+  q.inner_refs = c.inner_refs;
+  q.mean_leaf_refs = c.mean_leaf_refs;
+  for (const OctNode& n : nodes)
+    if (!n.is_leaf()) q.empty_leaves += 8u - uint32_t(std::popcount(unsigned(n.mask)));
   return q;
 }
 

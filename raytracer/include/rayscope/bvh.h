@@ -14,6 +14,7 @@
 #include <span>
 #include <vector>
 
+#include "rayscope/binary_range_walk.h"
 #include "rayscope/intersect.h"
 #include "rayscope/math.h"
 #include "rayscope/ray.h"
@@ -101,49 +102,8 @@ class Bvh {
 
 template <class Range, class Observer, class PrimFn>
 void Bvh::walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
-  if (nodes.empty()) return;
-  const bool root_overlaps = range.overlaps(nodes[0].bounds());
-  if constexpr (Observer::kActive) obs.on_box_test(0, root_overlaps);
-  if (!root_overlaps) return;
-  uint32_t stack[kRangeStackSize];
-  int sp = 0;
-  uint32_t node = 0;
-  for (;;) {
-    if constexpr (Observer::kActive) obs.on_node(node);
-    const BvhNode& n = nodes[node];
-    if (n.is_leaf()) {
-      for (uint32_t i = n.index; i < n.index + n.count; ++i) prim(i);
-    } else {
-      const uint32_t c0 = n.index, c1 = n.index + 1;
-      const Bounds3 b0 = nodes[c0].bounds(), b1 = nodes[c1].bounds();
-      const bool o0 = range.overlaps(b0), o1 = range.overlaps(b1);
-      if constexpr (Observer::kActive) {
-        obs.on_box_test(c0, o0);
-        obs.on_box_test(c1, o1);
-      }
-      if (o0 && o1) {
-        const bool second_first = range.distance(b1) < range.distance(b0);
-        assert(sp < kRangeStackSize);
-        stack[sp++] = second_first ? c0 : c1;
-        node = second_first ? c1 : c0;
-        continue;
-      }
-      if (o0 || o1) {
-        node = o0 ? c0 : c1;
-        continue;
-      }
-    }
-    // Pop the next node the range still overlaps.
-    for (;;) {
-      if (sp == 0) return;
-      const uint32_t next = stack[--sp];
-      if (range.overlaps(nodes[next].bounds())) {
-        node = next;
-        break;
-      }
-      if constexpr (Observer::kActive) obs.on_cull(next);
-    }
-  }
+  walk_binary_range<kRangeStackSize>(
+      nodes, [](const BvhNode& n) { return n.bounds(); }, range, prim, obs);
 }
 
 }  // namespace rayscope

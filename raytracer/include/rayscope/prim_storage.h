@@ -3,9 +3,11 @@
 // solutions ("Extended objects").
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "rayscope/math.h"
 
@@ -55,6 +57,35 @@ inline Bounds3 loose_box(const Bounds3& cell, float factor) {
   b.lo = cell.lo - e;
   b.hi = cell.hi + e;
   return b;
+}
+
+/// What a tree of cells holds, counted the same way for every structure whose
+/// nodes store reference lists (`is_leaf()`, `count`): leaves, the deepest
+/// level, references held by leaves and by inner nodes (smallest-cell and the
+/// BSP node lists), the largest leaf list, the mean over the leaves.
+struct CellRefCounts {
+  uint32_t leaves = 0, depth = 0, max_leaf_refs = 0;
+  size_t leaf_refs = 0, inner_refs = 0;
+  double mean_leaf_refs = 0.0;
+};
+
+/// Counts `nodes` given each node's depth (`depths[i]`, the root 0).
+template <class Node>
+CellRefCounts count_cell_refs(const std::vector<Node>& nodes, const std::vector<uint32_t>& depths) {
+  CellRefCounts c;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const Node& n = nodes[i];
+    c.depth = std::max(c.depth, depths[i]);
+    if (n.is_leaf()) {
+      c.leaves++;
+      c.max_leaf_refs = std::max(c.max_leaf_refs, uint32_t(n.count));
+      c.leaf_refs += n.count;
+    } else {
+      c.inner_refs += n.count;
+    }
+  }
+  c.mean_leaf_refs = c.leaves ? double(c.leaf_refs) / c.leaves : 0.0;
+  return c;
 }
 
 }  // namespace rayscope

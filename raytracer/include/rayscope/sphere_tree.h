@@ -28,6 +28,7 @@
 #include <span>
 #include <vector>
 
+#include "rayscope/binary_range_walk.h"
 #include "rayscope/math.h"
 #include "rayscope/range_query.h"
 #include "rayscope/ray.h"
@@ -293,48 +294,9 @@ bool SphereTree::traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& 
 
 template <class Range, class Observer, class PrimFn>
 void SphereTree::walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
-  if (nodes.empty()) return;
-  const bool root_overlaps = range.overlaps(nodes[0].sphere());
-  if constexpr (Observer::kActive) obs.on_box_test(0, root_overlaps);
-  if (!root_overlaps) return;
-  uint32_t stack[kStackSize];
-  int sp = 0;
-  uint32_t node = 0;
-  for (;;) {
-    if constexpr (Observer::kActive) obs.on_node(node);
-    const SphereNode& n = nodes[node];
-    if (n.is_leaf()) {
-      for (uint32_t i = n.index; i < n.index + n.count; ++i) prim(prim_indices[i]);
-    } else {
-      const uint32_t c0 = n.index, c1 = n.index + 1;
-      const BoundingSphere s0 = nodes[c0].sphere(), s1 = nodes[c1].sphere();
-      const bool o0 = range.overlaps(s0), o1 = range.overlaps(s1);
-      if constexpr (Observer::kActive) {
-        obs.on_box_test(c0, o0);
-        obs.on_box_test(c1, o1);
-      }
-      if (o0 && o1) {
-        const bool second_first = range.distance(s1) < range.distance(s0);
-        assert(sp < kStackSize);
-        stack[sp++] = second_first ? c0 : c1;
-        node = second_first ? c1 : c0;
-        continue;
-      }
-      if (o0 || o1) {
-        node = o0 ? c0 : c1;
-        continue;
-      }
-    }
-    for (;;) {
-      if (sp == 0) return;
-      const uint32_t next = stack[--sp];
-      if (range.overlaps(nodes[next].sphere())) {
-        node = next;
-        break;
-      }
-      if constexpr (Observer::kActive) obs.on_cull(next);
-    }
-  }
+  walk_binary_range<kStackSize>(
+      nodes, [](const SphereNode& n) { return n.sphere(); }, range,
+      [&](uint32_t i) { prim(prim_indices[i]); }, obs);
 }
 
 }  // namespace rayscope
