@@ -184,9 +184,12 @@ def main():
         ren.AddViewProp(text)
         window.AddRenderer(ren)
         mean = sum(held) / len(held) if held else 0.0
-        what = "split planes" if out.GetNumberOfPolys() else "leaves"
-        print(f"{name} (drawn: {drawn}): {len(cells)} {what}, {len(held)} holding primitives "
-              f"({mean:.1f} on average), {depth} levels")
+        if out.GetNumberOfPolys():
+            print(f"{name} (drawn: {drawn}): {len(cells)} split planes in levels 0-"
+                  f"{BSP_PLANE_LEVELS - 1}, {depth} levels")
+        else:
+            print(f"{name} (drawn: {drawn}): {len(cells)} leaves, {len(held)} holding primitives "
+                  f"({mean:.1f} on average), {depth} levels")
     for ren in window.GetRenderers():
         ren.ResetCameraClippingRange()
     save_window(window, args.output)

@@ -335,11 +335,11 @@ std::vector<Structure> structures() {
   add("octree", AccelKind::Octree);
   add("spheres", AccelKind::Spheres);
   add("none", AccelKind::None);
-  {
-    AccelConfig c;
-    c.kind = AccelKind::Octree;
+  for (AccelKind kind : {AccelKind::KdTree, AccelKind::Grid, AccelKind::Octree}) {
+    AccelConfig c;  // smallest-cell: loose cells, at the default loose factor
+    c.kind = kind;
     c.storage = PrimStorage::SmallestCell;
-    out.push_back({"octree-loose", c});
+    out.push_back({std::string(to_string(kind)) + "-loose", c});
   }
   for (PrimStorage st : kPrimStorages) {  // the BSP tree takes all three
     AccelConfig c;
