@@ -51,8 +51,7 @@ struct Face {
 };
 using Cell = std::vector<Face>;
 
-Cell box_cell(const Bounds3& b) {
-  const DVec3 lo(b.lo), hi(b.hi);
+Cell box_cell(const DVec3& lo, const DVec3& hi) {
   Cell c;
   for (int a = 0; a < 3; ++a) {
     const int u = (a + 1) % 3, v = (a + 2) % 3;
@@ -394,12 +393,18 @@ void BspTree::build(std::span<const BspPrim> prims, const BspBuildConfig& cfg) {
               std::clamp(cfg.max_depth, 0, kMaxDepth),
               kMaxReferencesPerPrim * n,
               std::vector<char>(n, 0)};
-    const Cell root = box_cell(bounds_);
+    const Cell root = box_cell(DVec3(bounds_.lo), DVec3(bounds_.hi));
     b.new_node(cell_box(root, tolerance_, bounds_));
     b.build(0, std::move(items), root, 0);
     for (char c : b.cut) split_prims_ += size_t(c);
   }
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::vector<DVec3> plane_in_box(const DVec3& point, const DVec3& normal, const DVec3& lo,
+                                const DVec3& hi) {
+  if (!(glm::length(normal) > 0.0)) return {};
+  return cap(box_cell(lo, hi), Plane{normal, glm::dot(normal, point)});
 }
 
 std::vector<uint32_t> BspTree::depths() const {

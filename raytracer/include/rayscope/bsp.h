@@ -252,6 +252,13 @@ class BspTree {
   double build_seconds_ = 0.0;
 };
 
+/// The part of the plane through `point` with normal `normal` that lies in
+/// the box [lo, hi]: a convex polygon, in order around it (empty when the
+/// plane misses the box). The BSP tree clips its split planes to its cells
+/// this way; the VTK range query clips scene planes to the range's box.
+std::vector<glm::dvec3> plane_in_box(const glm::dvec3& point, const glm::dvec3& normal,
+                                     const glm::dvec3& lo, const glm::dvec3& hi);
+
 // ---------------------------------------------------------------------------
 
 template <bool AnyHit, class Observer, class PrimFn>

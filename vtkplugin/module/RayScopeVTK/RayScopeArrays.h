@@ -54,4 +54,11 @@ inline void set_world_point(vtkPoints* points, vtkIdType i, const rayscope::Scen
   points->SetPoint(i, w.x, w.y, w.z);
 }
 
+/// A box's corners are numbered by bits (bit 0: x high, bit 1: y high, bit 2:
+/// z high); its 12 edges and its 6 faces (outward facing) as corner numbers.
+inline constexpr int kBoxEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                                         {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+inline constexpr int kBoxFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                        {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+
 }  // namespace rayscope_vtk

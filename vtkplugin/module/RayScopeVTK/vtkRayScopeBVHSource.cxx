@@ -226,10 +226,6 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
         (!this->OnlyLeaves || nodes[i].leaf) && (!play || state[i] != 0))
       shown.push_back(i);
 
-  static const int kEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
-                                    {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
-  static const int kFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
-                                   {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
   // A node with a sphere (the sphere tree) is drawn as that sphere: with
   // faces, a latitude-longitude surface of kRings x kSegments cells
   // (triangles at the poles, quads between); as lines, three great circles
@@ -305,10 +301,10 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
       for (int k = 0; k < (faces ? 6 : 12); ++k) {
         if (faces) {
           vtkIdType q[4];
-          for (int v = 0; v < 4; ++v) q[v] = p0 + kFaces[k][v];
+          for (int v = 0; v < 4; ++v) q[v] = p0 + rayscope_vtk::kBoxFaces[k][v];
           cells->InsertNextCell(4, q);
         } else {
-          vtkIdType e[2] = {p0 + kEdges[k][0], p0 + kEdges[k][1]};
+          vtkIdType e[2] = {p0 + rayscope_vtk::kBoxEdges[k][0], p0 + rayscope_vtk::kBoxEdges[k][1]};
           cells->InsertNextCell(2, e);
         }
       }

@@ -133,50 +133,12 @@ vtkSmartPointer<vtkPolyData> sphere_polys(const DVec3& center, double radius, in
   return s->GetOutput();
 }
 
-// The polygon where the plane (point p, normal n) cuts the box [lo, hi]: the
-// points where it crosses the box's 12 edges, ordered around their centroid
-// (empty when it misses the box).
-std::vector<DVec3> plane_in_box(const DVec3& p, const DVec3& n, const DVec3& lo, const DVec3& hi) {
-  auto corner = [&](int c) {
-    return DVec3((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
-  };
-  static const int kEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
-                                    {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
-  std::vector<DVec3> pts;
-  for (const auto& e : kEdges) {
-    const DVec3 a = corner(e[0]), b = corner(e[1]);
-    const double da = glm::dot(a - p, n), db = glm::dot(b - p, n);
-    if ((da < 0.0) == (db < 0.0) && da != 0.0 && db != 0.0) continue;
-    const double t = da == db ? 0.0 : da / (da - db);
-    const DVec3 q = a + (b - a) * t;
-    if (std::none_of(pts.begin(), pts.end(), [&](const DVec3& o) {
-          return glm::length(o - q) <= 1e-12 * glm::length(hi - lo);
-        }))
-      pts.push_back(q);
-  }
-  if (pts.size() < 3) return {};
-  DVec3 c(0.0);
-  for (const DVec3& q : pts) c += q;
-  c /= double(pts.size());
-  // Axes in the plane, and the points by angle around the centroid.
-  const DVec3 u = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, DVec3(1, 0, 0))
-                                                     : glm::cross(n, DVec3(0, 1, 0)));
-  const DVec3 v = glm::cross(n, u);
-  std::sort(pts.begin(), pts.end(), [&](const DVec3& a, const DVec3& b) {
-    return std::atan2(glm::dot(a - c, v), glm::dot(a - c, u)) <
-           std::atan2(glm::dot(b - c, v), glm::dot(b - c, u));
-  });
-  return pts;
-}
-
 // A box's 6 faces.
 void box_faces(PolyBuilder& out, const DVec3& lo, const DVec3& hi) {
   auto corner = [&](int c) {
     return DVec3((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
   };
-  static const int kFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
-                                   {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  for (const auto& f : kFaces)
+  for (const auto& f : rayscope_vtk::kBoxFaces)
     out.polygon({corner(f[0]), corner(f[1]), corner(f[2]), corner(f[3])});
 }
 
@@ -243,7 +205,7 @@ int vtkRayScopeRangeQuery::RequestData(vtkInformation*, vtkInformationVector** i
     if (h.plane >= 0) {
       const rayscope::PlaneRecord& pl = accel.plane_records()[size_t(h.plane)];
       const DVec3 p = scene.to_world(pl.point);
-      const std::vector<DVec3> poly = plane_in_box(p, DVec3(pl.normal), lo, hi);
+      const std::vector<DVec3> poly = rayscope::plane_in_box(p, DVec3(pl.normal), lo, hi);
       if (!poly.empty()) objects.polygon(poly);
       objects.tag(first, int(r), 2, -1, h.plane, int(num_bounded) + h.plane, h.distance);
       continue;
