@@ -513,14 +513,15 @@ std::vector<Ray> adversarial_rays(Rng& rng, const Scene& scene) {
                 g.planes[1][size_t(rng.integer(0, int(res.y)))],
                 g.planes[2][size_t(rng.integer(0, int(res.z)))]);
   };
-  for (int i = 0; i < 3000; ++i) {
+  const size_t n = rstest::stress_scaled(3000);
+  for (size_t i = 0; i < n; ++i) {
     const int a = rng.integer(0, 2);
     rstest::add_plane_rays(rng, world, a, g.planes[size_t(a)][size_t(rng.integer(0, int(res[a])))],
                            rays);
     const Vec3 c0 = corner(), c1 = corner();  // through two cell corners
     if (c0 != c1) rays.push_back(Ray{c0 - 1.5f * (c1 - c0), c1 - c0, kInfinity});
   }
-  rstest::add_inside_and_grazing_rays(rng, scene, world, 3000, rays);
+  rstest::add_inside_and_grazing_rays(rng, scene, world, int(n), rays);
   return rays;
 }
 
@@ -722,15 +723,15 @@ TEST(Grid, SmallestCellRaysMatchBruteForce) {
     const UniformGrid& g = scene.accel().grid();
     std::vector<Ray> rays = adversarial_rays(rng, scene);
     const glm::uvec3 r = g.resolution();
-    for (int i = 0; i < 2000; ++i) {
+    for (size_t i = 0; i < rstest::stress_scaled(2000); ++i) {
       const Bounds3 box =
           g.node_box(uint32_t(rng.integer(0, int(r.x) - 1)), uint32_t(rng.integer(0, int(r.y) - 1)),
                      uint32_t(rng.integer(0, int(r.z) - 1)));
       const int a = rng.integer(0, 2);
       rstest::add_plane_rays(rng, g.bounds(), a, rng.coin() ? box.lo[a] : box.hi[a], rays, false);
     }
-    rstest::add_random_rays(rng, scene, g.bounds(), 4000, rays);
-    rstest::check_queries(scene, rays, "loose grid", 20);
+    rstest::add_random_rays(rng, scene, g.bounds(), int(rstest::stress_scaled(4000)), rays);
+    rstest::check_queries(scene, rays, "loose grid", rstest::stress_scale() < 1.0 ? 2 : 20);
   }
 }
 
