@@ -164,6 +164,10 @@ void SceneOptions::add_to(CLI::App* cmd, bool render_settings, bool walk_option)
                                                 : "expected sah or median, got '" + name + "'";
           },
           "sah|median"));
+  cmd->add_option("--grid-resolution", grid_resolution,
+                  "The grid's cells per axis: N, or NX,NY,NZ (0 on an axis: chosen from the "
+                  "object count, the default; at most " +
+                      std::to_string(UniformGrid::kMaxResolution) + " per axis)");
 }
 
 void parse_pixel_option(const std::string& text, int xy[2]) {
@@ -229,6 +233,19 @@ LoadedScene SceneOptions::load() const {
   if (const std::string e = loose_factor_error(accel_config.loose_factor); !e.empty())
     throw std::invalid_argument("--loose-factor: " + e);
   parse_kd_split_rule(kd_split, accel_config.kdtree.rule);  // checked by the option's validator
+  if (!grid_resolution.empty()) {
+    int r[3];
+    const bool one = parse_ints(grid_resolution, 1, r);
+    if (one) r[1] = r[2] = r[0];
+    if (!(one || parse_ints(grid_resolution, 3, r)) || r[0] < 0 || r[1] < 0 || r[2] < 0)
+      throw std::invalid_argument(
+          "--grid-resolution: expected N or NX,NY,NZ (cells per axis, 0: "
+          "automatic), got '" +
+          grid_resolution + "'");
+    accel_config.grid.resolution = glm::uvec3(uint32_t(r[0]), uint32_t(r[1]), uint32_t(r[2]));
+  }
+  if (const std::string e = grid_resolution_error(accel_config.grid.resolution); !e.empty())
+    throw std::invalid_argument("--grid-resolution: " + e);
   try {
     loaded.scene.commit(accel_config);
     // The camera checks render() runs, here with the file's name (a framed
@@ -256,6 +273,9 @@ std::string SceneOptions::replay_args(const std::string& scene, const RenderSett
     a += " --loose-factor " + shortest_text(accel.loose_factor);
   if (accel.kdtree.rule != KdSplitRule::Sah)
     a += std::string(" --kd-split ") + to_string(accel.kdtree.rule);
+  if (accel.grid.resolution != glm::uvec3(0u))
+    a += " --grid-resolution " + std::to_string(accel.grid.resolution.x) + "," +
+         std::to_string(accel.grid.resolution.y) + "," + std::to_string(accel.grid.resolution.z);
   return a;
 }
 

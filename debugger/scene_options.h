@@ -48,11 +48,15 @@ struct SceneOptions {
   /// The kD-tree's split rule (rayscope::parse_kd_split_rule names it):
   /// "sah" (default) or "median".
   std::string kd_split = to_string(KdSplitRule::Sah);
+  /// The uniform grid's cells per axis, "N" or "NX,NY,NZ" (0 on an axis:
+  /// chosen from the object count; empty: all automatic), checked by
+  /// rayscope::grid_resolution_error.
+  std::string grid_resolution;
 
   /// Adds the scene argument, the render-setting options (unless
   /// `render_settings` is false: commands that render nothing) and, with
-  /// `walk_option`, --accel, --storage, --loose-factor and --kd-split (a command that chooses the
-  /// structures itself, such as accel compare, leaves them out).
+  /// `walk_option`, --accel, --storage, --loose-factor, --kd-split and --grid-resolution (a command
+  /// that chooses the structures itself, such as accel compare, leaves them out).
   void add_to(CLI::App* cmd, bool render_settings = true, bool walk_option = true);
   /// Loads (and commits) the scene and applies the option overrides. Throws
   /// std::exception with a one-line message naming the file.

@@ -88,6 +88,18 @@ bool UniformGrid::cell_range(const Bounds3& b, glm::uvec3& first, glm::uvec3& la
   return true;
 }
 
+std::string grid_resolution_error(const glm::uvec3& resolution) {
+  for (int a = 0; a < 3; ++a)
+    if (resolution[a] > UniformGrid::kMaxResolution)
+      return "resolution " + text(resolution) + " exceeds " +
+             std::to_string(UniformGrid::kMaxResolution) + " cells per axis";
+  if (resolution.x > 0 && resolution.y > 0 && resolution.z > 0 &&
+      cell_count(resolution) > UniformGrid::kMaxCells)
+    return "resolution " + text(resolution) + " has more than " +
+           std::to_string(UniformGrid::kMaxCells) + " cells";
+  return {};
+}
+
 void UniformGrid::build(std::span<const Bounds3> bounds, const GridBuildConfig& cfg) {
   const auto start = std::chrono::steady_clock::now();
   if (cfg.storage == PrimStorage::Split)
@@ -108,11 +120,8 @@ void UniformGrid::build(std::span<const Bounds3> bounds, const GridBuildConfig& 
   inv_width_ = Vec3(0.0f);
   num_prims_ = uint32_t(bounds.size());
   const size_t n = bounds.size();
-  for (int a = 0; a < 3; ++a)
-    if (cfg.resolution[a] > kMaxResolution)
-      throw std::length_error("UniformGrid::build: resolution " + text(cfg.resolution) +
-                              " exceeds kMaxResolution (" + std::to_string(kMaxResolution) +
-                              " cells per axis)");
+  if (const std::string e = grid_resolution_error(cfg.resolution); !e.empty())
+    throw std::length_error("UniformGrid::build: " + e);
   if (n == 0) {
     build_seconds_ =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -152,9 +161,6 @@ void UniformGrid::build(std::span<const Bounds3> bounds, const GridBuildConfig& 
   };
   glm::uvec3 res = auto_resolution(bounds_, n, cfg, 1.0);
   const bool automatic = cfg.resolution.x == 0 || cfg.resolution.y == 0 || cfg.resolution.z == 0;
-  if (!automatic && cell_count(res) > kMaxCells)
-    throw std::length_error("UniformGrid::build: " + text(res) + " cells exceed kMaxCells (" +
-                            std::to_string(kMaxCells) + ")");
   // An automatic resolution is coarsened (cells per length times 0.8 at a
   // time) until the cells and references fit their budgets.
   const size_t auto_budget = std::min(kMaxReferences, kMaxAutoReferencesPerPrim * n);

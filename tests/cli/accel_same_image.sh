@@ -21,10 +21,11 @@ done
 "$rs" render -q --stats --accel kdtree --kd-split median --storage smallest-cell --loose-factor 0.5 "$@" -o "$out/kdmedian.png" > "$out/kdmedian.txt"
 "$rs" render -q --stats --accel grid --storage smallest-cell "$@" -o "$out/gridloose.png" > "$out/gridloose.txt"
 "$rs" render -q --stats --accel grid --storage smallest-cell --loose-factor 0 "$@" -o "$out/gridloose0.png" > "$out/gridloose0.txt"
+"$rs" render -q --stats --accel grid --grid-resolution 7,5,3 "$@" -o "$out/grid753.png" > "$out/grid753.txt"
 for st in every-cell smallest-cell split; do
   "$rs" render -q --stats --accel bsp --storage "$st" "$@" -o "$out/bsp-$st.png" > "$out/bsp-$st.txt"
 done
-for a in bvh2 kdtree grid octree spheres loose kdloose kdmedian gridloose gridloose0 bsp-every-cell bsp-smallest-cell bsp-split none; do
+for a in bvh2 kdtree grid octree spheres loose kdloose kdmedian gridloose gridloose0 grid753 bsp-every-cell bsp-smallest-cell bsp-split none; do
   cmp "$out/bvh.png" "$out/$a.png" || { echo "FAIL: --accel $a changed the image"; exit 1; }
 done
 nodes() { sed -n 's/^ *nodes visited *\([0-9]*\).*/\1/p' "$out/$1.txt"; }
@@ -42,6 +43,7 @@ grep -q "^Walk: *octree, smallest-cell (loose factor 0.1): " "$out/loose.txt" ||
 grep -q "^Walk: *kdtree, sah split, every-cell: " "$out/kdtree.txt" || { echo "FAIL: --stats does not name the kD-tree walk"; cat "$out/kdtree.txt"; exit 1; }
 grep -q "^Walk: *kdtree, median split, smallest-cell (loose factor 0.5): " "$out/kdmedian.txt" || { echo "FAIL: --stats does not name the loose median kD-tree walk"; cat "$out/kdmedian.txt"; exit 1; }
 grep -q "^Walk: *grid, every-cell: [0-9]* x [0-9]* x [0-9]* cells" "$out/grid.txt" || { echo "FAIL: --stats does not name the grid walk"; cat "$out/grid.txt"; exit 1; }
+grep -q "^Walk: *grid, every-cell: 7 x 5 x 3 cells" "$out/grid753.txt" || { echo "FAIL: --grid-resolution 7,5,3 is not the grid's resolution"; cat "$out/grid753.txt"; exit 1; }
 grep -q "^Walk: *grid, smallest-cell (loose factor 0.1): .* 1.00 references per primitive" "$out/gridloose.txt" || { echo "FAIL: --stats does not name the loose grid walk"; cat "$out/gridloose.txt"; exit 1; }
 for st in every-cell smallest-cell split; do
   grep -q "^Walk: *bsp, $st: [0-9]* nodes" "$out/bsp-$st.txt" || { echo "FAIL: --stats does not name the BSP walk ($st)"; cat "$out/bsp-$st.txt"; exit 1; }

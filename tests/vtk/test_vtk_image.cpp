@@ -224,7 +224,8 @@ TEST(VtkImage, ThreadInvariance) {
   EXPECT_EQ(std::memcmp(f1->GetPointer(0), f2->GetPointer(0), size_t(f1->GetDataSize()) * 4), 0);
 }
 
-// LooseFactor and KdSplit (the CLI's --loose-factor and --kd-split) reach the
+// LooseFactor, KdSplit and GridResolution (the CLI's --loose-factor,
+// --kd-split and --grid-resolution) reach the
 // structure: a change rebuilds it with the new settings (fewer references per
 // primitive with median splits and smallest-cell storage than every-cell),
 // and the image stays the BVH's, bit for bit.
@@ -259,6 +260,16 @@ TEST(VtkImage, LooseFactorAndKdSplitReachTheStructure) {
   EXPECT_EQ(accel.config().kdtree.rule, rayscope::KdSplitRule::Median);
   EXPECT_DOUBLE_EQ(accel.figures().refs_per_prim, 1.0);
   expect_same_colors(bvh->GetOutput(), alg->GetOutput());
+
+  // GridResolution gives the grid's cells per axis; 0 on an axis: automatic.
+  alg->SetAccelToGrid();
+  alg->SetStorageToEveryCell();
+  alg->SetGridResolution(7, 5, 3);
+  ASSERT_EQ(update(alg), 1);
+  EXPECT_EQ(alg->GetCoreScene()->accel().grid().resolution(), glm::uvec3(7, 5, 3));
+  expect_same_colors(bvh->GetOutput(), alg->GetOutput());
+  alg->SetGridResolution(0, 0, 0);
+  alg->SetStorageToSmallestCell();
 
   // The grid and the octree take the same loose factor.
   for (int kind :
@@ -335,6 +346,13 @@ TEST(VtkImage, RejectsBadParameters) {
          a->SetStorageToSmallestCell();
          a->SetLooseFactor(0.7);
        }},
+      {"GridResolution: resolution 5000 x 1 x 1 exceeds 4096 cells per axis",
+       [](auto* a) {
+         a->SetAccelToGrid();
+         a->SetGridResolution(5000, 1, 1);
+       }},
+      {"GridResolution: cells per axis must be >= 0",
+       [](auto* a) { a->SetGridResolution(4, -1, 4); }},
       {"storage smallest-cell is not available for spheres",
        [](auto* a) {
          a->SetAccelToSpheres();

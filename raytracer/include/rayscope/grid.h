@@ -30,6 +30,7 @@
 #include <cassert>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "rayscope/intersect.h"
@@ -75,6 +76,13 @@ struct GridQuality {
   size_t memory_bytes = 0;      ///< Cell offsets, references and cell planes.
   double build_seconds = 0.0;
 };
+
+/// Why `resolution` (cells per axis, 0: automatic) cannot be built, in one
+/// line; empty when it can (at most UniformGrid::kMaxResolution per axis and,
+/// when all three are given, kMaxCells in all). The one check: the builder
+/// throws std::length_error with it, the CLI's --grid-resolution and the VTK
+/// image algorithm's GridResolution report it.
+std::string grid_resolution_error(const glm::uvec3& resolution);
 
 class UniformGrid {
  public:

@@ -239,11 +239,18 @@ int storage_value_of(rayscope::PrimStorage storage) {
                                                    : vtkRayScopeImageAlgorithm::STORAGE_EVERY_CELL;
 }
 
+glm::uvec3 grid_resolution_of(vtkRayScopeImageAlgorithm* alg) {
+  const int* r = alg->GetGridResolution();
+  return glm::uvec3(uint32_t(std::max(r[0], 0)), uint32_t(std::max(r[1], 0)),
+                    uint32_t(std::max(r[2], 0)));
+}
+
 rayscope::AccelConfig accel_config_of(vtkRayScopeImageAlgorithm* alg) {
   rayscope::AccelConfig accel;
   if (!accel_kind_of(alg->GetAccel(), accel.kind)) accel.kind = rayscope::AccelKind::Bvh;
   accel.storage = storage_of(alg->GetStorage());
   accel.loose_factor = float(alg->GetLooseFactor());
+  accel.grid.resolution = grid_resolution_of(alg);
   accel.kdtree.rule = alg->GetKdSplit() == vtkRayScopeImageAlgorithm::KD_SPLIT_MEDIAN
                           ? rayscope::KdSplitRule::Median
                           : rayscope::KdSplitRule::Sah;
@@ -253,7 +260,8 @@ rayscope::AccelConfig accel_config_of(vtkRayScopeImageAlgorithm* alg) {
 static bool same_structure(const rayscope::Aggregate& built, const rayscope::AccelConfig& accel) {
   const rayscope::AccelConfig& c = built.config();
   return c.kind == accel.kind && c.storage == accel.storage &&
-         c.loose_factor == accel.loose_factor && c.kdtree.rule == accel.kdtree.rule;
+         c.loose_factor == accel.loose_factor && c.kdtree.rule == accel.kdtree.rule &&
+         c.grid.resolution == accel.grid.resolution;
 }
 
 int SceneBuilder::Commit(vtkRayScopeImageAlgorithm* alg, const rayscope::AccelConfig& accel) {

@@ -50,6 +50,9 @@ rayscope::PrimStorage storage_of(int storage);
 int storage_value_of(rayscope::PrimStorage storage);
 /// What `alg` asks to build: its Accel and Storage, in the core's terms (its
 /// parameters validated: an unknown Accel gives the BVH).
+/// The algorithm's GridResolution as the grid builder takes it (negative
+/// values, which Validate refuses, as 0).
+glm::uvec3 grid_resolution_of(vtkRayScopeImageAlgorithm* alg);
 rayscope::AccelConfig accel_config_of(vtkRayScopeImageAlgorithm* alg);
 
 class SceneBuilder {

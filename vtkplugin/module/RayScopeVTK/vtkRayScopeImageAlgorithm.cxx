@@ -55,6 +55,7 @@ vtkRayScopeImageAlgorithm::vtkRayScopeImageAlgorithm()
       Storage(STORAGE_EVERY_CELL),
       LooseFactor(double(rayscope::kDefaultLooseFactor)),
       KdSplit(KD_SPLIT_SAH),
+      GridResolution{0, 0, 0},
       Position{0.0, 0.0, 1.0},
       FocalPoint{0.0, 0.0, 0.0},
       ViewUp{0.0, 1.0, 0.0},
@@ -294,6 +295,11 @@ std::string vtkRayScopeImageAlgorithm::ValidateParameters() {
     return e;
   if (std::string e = rayscope::loose_factor_error(float(this->LooseFactor)); !e.empty())
     return "LooseFactor: " + e;
+  for (int r : this->GridResolution)
+    if (r < 0) return "GridResolution: cells per axis must be >= 0 (0: automatic)";
+  if (std::string e = rayscope::grid_resolution_error(rayscope_vtk::grid_resolution_of(this));
+      !e.empty())
+    return "GridResolution: " + e;
   if (std::string m = this->Internal->material->Validate(); !m.empty())
     return "default material: " + m;
   for (auto& [index, mat] : this->Internal->input_materials)
@@ -342,6 +348,8 @@ void vtkRayScopeImageAlgorithm::SetCoreScene(const rayscope::Scene& scene) {
   this->SetAccel(rayscope_vtk::accel_of(scene.accel().kind()));
   this->SetStorage(rayscope_vtk::storage_value_of(scene.accel().storage()));
   this->SetLooseFactor(double(scene.accel().config().loose_factor));
+  const glm::uvec3 res = scene.accel().config().grid.resolution;
+  this->SetGridResolution(int(res.x), int(res.y), int(res.z));
   this->SetKdSplit(scene.accel().config().kdtree.rule == rayscope::KdSplitRule::Median
                        ? KD_SPLIT_MEDIAN
                        : KD_SPLIT_SAH);
@@ -536,6 +544,8 @@ void vtkRayScopeImageAlgorithm::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "Storage: " << rayscope::to_string(rayscope_vtk::storage_of(this->Storage))
      << "\n";
   os << indent << "LooseFactor: " << this->LooseFactor << "\n";
+  os << indent << "GridResolution: " << this->GridResolution[0] << " " << this->GridResolution[1]
+     << " " << this->GridResolution[2] << "\n";
   os << indent << "KdSplit: " << (this->KdSplit == KD_SPLIT_MEDIAN ? "median" : "sah") << "\n";
   v3("Position", this->Position);
   v3("FocalPoint", this->FocalPoint);

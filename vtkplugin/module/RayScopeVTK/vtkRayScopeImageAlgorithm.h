@@ -200,6 +200,15 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   ///@}
 
   ///@{
+  /// ACCEL_GRID's cells per axis (x, y, z; 0 on an axis, the default: chosen
+  /// from the object count), as the CLI's --grid-resolution. More than
+  /// rayscope::UniformGrid::kMaxResolution per axis or kMaxCells in all is an
+  /// error with the core's message (rayscope::grid_resolution_error).
+  vtkSetVector3Macro(GridResolution, int);
+  vtkGetVector3Macro(GridResolution, int);
+  ///@}
+
+  ///@{
   /// Produce the "Cost" arrays (default on).
   vtkSetMacro(ComputeCost, vtkTypeBool);
   vtkGetMacro(ComputeCost, vtkTypeBool);
@@ -446,6 +455,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   int Storage;
   double LooseFactor;
   int KdSplit;
+  int GridResolution[3];
   double Position[3];
   double FocalPoint[3];
   double ViewUp[3];
