@@ -16,9 +16,9 @@ must already be in paraview.simple. Then:
 - "BVH": boxes with Level, NodeId, PrimitiveCount, SAHCost, VisitCount; the
   leaves hold every triangle once; the level range limits the levels.
 - "Range Query": a box query through the kD-tree (and the BSP tree with split
-  storage, the bounding spheres, the loose median-split kD-tree) finds the
-  same triangles as through no structure, testing fewer; the range output is the box; the k
-  nearest come nearest first.
+  storage, the bounding spheres, the loose median-split kD-tree, a 3 x 7 x 5
+  grid) finds the same triangles as through no structure, testing fewer; the
+  range output is the box; the k nearest come nearest first.
 - bad parameters (a pixel outside the image, samples 0): an empty output and
   an error in ParaView's output.
 """
@@ -165,17 +165,22 @@ assert tested[0] == triangles and tested[1] < tested[0], tested
 others = {}
 for accel, storage in (("BSP tree (planes through the triangles)", "Split (BSP fragments)"),
                        ("Bounding spheres", "Every cell (store multiple times)"),
-                       ("kD-tree (SAH)", "Smallest cell (loose octree, BSP node lists)")):
+                       ("kD-tree (SAH)", "Smallest cell (loose octree, BSP node lists)"),
+                       ("Uniform grid", "Every cell (store multiple times)")):
     query.Accel, query.Storage = accel, storage
     if accel == "kD-tree (SAH)":
         query.LooseFactor, query.KdSplit = 0.25, "Median"
+    if accel == "Uniform grid":
+        query.GridResolution = [3, 7, 5]
     ids, out = found_ids(query)
     assert ids == brute, (accel, len(ids), len(brute))
     others[accel] = int(out.GetFieldData().GetArray("PrimitivesTested").GetValue(0))
     assert others[accel] < tested[0], (accel, others[accel])
 query.Accel, query.Storage = "kD-tree (SAH)", "Every cell (store multiple times)"
 query.LooseFactor, query.KdSplit = 0.1, "Surface area heuristic"
-print(f"Range Query, primitives tested by BSP (split), spheres, loose median kD-tree: {others}")
+query.GridResolution = [0, 0, 0]
+print(f"Range Query, primitives tested by BSP (split), spheres, loose median kD-tree, "
+      f"3 x 7 x 5 grid: {others}")
 range_box = sm.Fetch(query, idx=1).GetBounds()
 assert [round(v, 6) for v in range_box] == [0.1, 0.6, -0.2, 0.2, -0.6, 0.6], range_box
 query.QueryType = "Nearest"

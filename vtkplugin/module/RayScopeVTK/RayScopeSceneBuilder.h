@@ -48,11 +48,12 @@ int accel_of(rayscope::AccelKind kind);
 /// The core storage choice of a Storage value (STORAGE_*), and back.
 rayscope::PrimStorage storage_of(int storage);
 int storage_value_of(rayscope::PrimStorage storage);
-/// What `alg` asks to build: its Accel and Storage, in the core's terms (its
-/// parameters validated: an unknown Accel gives the BVH).
 /// The algorithm's GridResolution as the grid builder takes it (negative
 /// values, which Validate refuses, as 0).
 glm::uvec3 grid_resolution_of(vtkRayScopeImageAlgorithm* alg);
+/// What `alg` asks to build: its Accel, Storage, LooseFactor, KdSplit and
+/// GridResolution, in the core's terms (its parameters validated: an unknown
+/// Accel gives the BVH).
 rayscope::AccelConfig accel_config_of(vtkRayScopeImageAlgorithm* alg);
 
 class SceneBuilder {
