@@ -602,16 +602,14 @@ TEST(RangeQuery, TinyScenes) {
 // The bunny scene (69,666 triangles). Under sanitizers (stress_scale() < 1:
 // builds and walks 10-50x slower) every (1 / scale)-th triangle of it, so
 // that all structures still build and answer queries on a real mesh within
-// the test's time limit; the optimised run checks the whole bunny.
-size_t bunny_stride() {
-  return size_t(std::lround(1.0 / rstest::stress_scale()));
-}
+// the test's time limit (rstest::stress_stride()); the optimised run checks
+// the whole bunny.
 
 Scene bunny_scene() {
   const std::filesystem::path file =
       std::filesystem::path(RAYSCOPE_SOURCE_DIR) / "data/scenes/bunny.json";
   Scene scene = load_scene(file.string(), rayscope_vtk::load_mesh).scene;
-  if (const size_t stride = bunny_stride(); stride > 1) {
+  if (const size_t stride = rstest::stress_stride(); stride > 1) {
     std::vector<glm::uvec3>& tris = scene.meshes.at(0).triangles;
     std::vector<glm::uvec3> kept;
     for (size_t i = 0; i < tris.size(); i += stride) kept.push_back(tris[i]);
@@ -634,7 +632,8 @@ TEST(RangeQuery, WalksPruneOnTheBunny) {
   // How much a walk prunes is a property of the whole bunny's trees (a
   // thinned bunny's are shallower); under sanitizers the walks' memory safety
   // and contract on the bunny are checked by BunnyMatchesBruteForce.
-  if (bunny_stride() > 1) GTEST_SKIP() << "pruning is measured on the whole bunny (optimised run)";
+  if (rstest::stress_stride() > 1)
+    GTEST_SKIP() << "pruning is measured on the whole bunny (optimised run)";
   Scene scene = bunny_scene();
   const TriangleMesh& bunny = scene.meshes.at(0);
   const Vec3 v = bunny.positions[bunny.triangles[1000].x];

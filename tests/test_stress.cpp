@@ -228,7 +228,7 @@ TEST_F(WatertightMillion, RaysAtEveryVertexAndEdgeMidpointNeverMiss) {
       if (a < b) targets.push_back(0.5f * (mesh_->positions[a] + mesh_->positions[b]));
     }
   ASSERT_EQ(targets.size(), mesh_->positions.size() + mesh_->triangles.size() * 3 / 2);
-  const size_t stride = std::max<size_t>(1, size_t(std::lround(1.0 / stress_scale())));
+  const size_t stride = rstest::stress_stride();
   const size_t n = (targets.size() + stride - 1) / stride;
   std::vector<std::string> msg;
   size_t fails = run_parallel(

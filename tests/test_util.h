@@ -56,6 +56,12 @@ inline size_t stress_scaled(size_t n) {
   return std::max<size_t>(1, size_t(double(n) * stress_scale()));
 }
 
+/// Every how many cases a stress test takes when it thins a fixed set (a
+/// mesh's triangles or vertices) by stress_scale(): 1 / scale, at least 1.
+inline size_t stress_stride() {
+  return std::max<size_t>(1, size_t(std::lround(1.0 / stress_scale())));
+}
+
 using rayscope::Vec3;
 using DVec3 = glm::dvec3;
 

@@ -306,7 +306,7 @@ TEST_P(WatertightDegenerate, RaysAtVerticesAndEdgesNeverEscape) {
   // Through the BVH (AccelKind::Bvh) every target (a stride under
   // sanitizers), and without a structure (AccelKind::None: O(n) per ray) every
   // 97th, so that the triangle test alone is checked too.
-  const size_t stride = std::max<size_t>(1, size_t(std::lround(1.0 / rstest::stress_scale())));
+  const size_t stride = rstest::stress_stride();
   for (AccelKind kind : {AccelKind::Bvh, AccelKind::None}) {
     AccelConfig config;
     config.kind = kind;
