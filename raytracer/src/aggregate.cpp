@@ -140,7 +140,7 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
       build_seconds_ = octree_.quality().build_seconds;
     }
   } else if (config.kind != AccelKind::None) {
-    walk_.build(bvh_, config.kind == AccelKind::BinaryBvh ? 2 : WideBvh::kMaxArity);
+    walk_.build(bvh_, config.kind == AccelKind::BinaryBvh ? 2 : WideBvh::kRenderArity);
     build_seconds_ = std::chrono::duration<double>(Clock::now() - start).count();
   } else {
     build_seconds_ = 0.0;
