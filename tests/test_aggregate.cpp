@@ -141,8 +141,10 @@ TEST_P(AggregateKind, ObserverSeesTheChosenWalk) {
   std::vector<int> is_top(bvh.nodes.size(), 0), parent(bvh.nodes.size(), -1);
   is_top[0] = 1;
   for (size_t n = 0; n < walk.nodes.size(); ++n)
-    for (int k = 0; k < 4; ++k)
-      if (walk.slot_source[4 * n + k] != ~0u) is_top[walk.slot_source[4 * n + k]] = 1;
+    for (int k = 0; k < WideBvhNode::kWidth; ++k) {
+      const uint32_t src = walk.slot_source[WideBvhNode::kWidth * n + k];
+      if (src != ~0u) is_top[src] = 1;
+    }
   for (uint32_t n = 0; n < bvh.nodes.size(); ++n)
     if (!bvh.nodes[n].is_leaf())
       parent[bvh.nodes[n].index] = parent[bvh.nodes[n].index + 1] = int(n);

@@ -189,8 +189,8 @@ TEST(BvhBuild, ParallelBuildIsTheSerialTreeNodeForNode) {
         Bvh bvh;
         bvh.build(p.bounds, p.centroids, cfg);
         ASSERT_EQ(bvh.nodes.size(), ref.nodes.size());
-        EXPECT_EQ(std::memcmp(bvh.nodes.data(), ref.nodes.data(), ref.nodes.size() * sizeof(BvhNode)),
-                  0);
+        EXPECT_EQ(
+            std::memcmp(bvh.nodes.data(), ref.nodes.data(), ref.nodes.size() * sizeof(BvhNode)), 0);
         EXPECT_EQ(bvh.prim_indices, ref.prim_indices);
       }
   }

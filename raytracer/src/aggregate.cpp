@@ -55,7 +55,8 @@ std::string accel_storage_error(AccelKind kind, PrimStorage storage) {
     case AccelKind::Octree:
       if (storage == PrimStorage::SmallestCell) return {};
       return what +
-             "the kD-tree, grid and octree store a primitive in every cell it overlaps (every-cell) "
+             "the kD-tree, grid and octree store a primitive in every cell it overlaps "
+             "(every-cell) "
              "or once in its smallest loose cell (smallest-cell); splitting is the BSP tree's";
     case AccelKind::Bsp:
       return {};  // every-cell, smallest-cell (node lists) and split (fragments)

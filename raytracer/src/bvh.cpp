@@ -55,9 +55,10 @@ struct Bin {
 /// A task's scratch space: the bins of the three axes, and the SAH cost of
 /// the right side of each candidate plane.
 struct Scratch {
-  explicit Scratch(int nb) : bins{std::vector<Bin>(size_t(nb)), std::vector<Bin>(size_t(nb)),
-                                  std::vector<Bin>(size_t(nb))},
-                             right_cost(size_t(nb)) {}
+  explicit Scratch(int nb)
+      : bins{std::vector<Bin>(size_t(nb)), std::vector<Bin>(size_t(nb)),
+             std::vector<Bin>(size_t(nb))},
+        right_cost(size_t(nb)) {}
   std::array<std::vector<Bin>, 3> bins;
   std::vector<float> right_cost;
 };

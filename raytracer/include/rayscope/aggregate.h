@@ -72,7 +72,7 @@ enum class AccelKind : uint8_t {
 };
 /// Every kind, in the order the tools list them.
 inline constexpr AccelKind kAccelKinds[] = {
-    AccelKind::Bvh,    AccelKind::BinaryBvh, AccelKind::KdTree, AccelKind::Grid,
+    AccelKind::Bvh,    AccelKind::BinaryBvh, AccelKind::KdTree,  AccelKind::Grid,
     AccelKind::Octree, AccelKind::Bsp,       AccelKind::Spheres, AccelKind::None};
 /// "bvh", "bvh2", "none", "kdtree", "grid", "octree", "bsp", "spheres".
 const char* to_string(AccelKind kind);
