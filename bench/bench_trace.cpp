@@ -3,8 +3,11 @@
 // For the Stanford bunny (69,666 triangles) and, unless --no-big, a version of it
 // subdivided twice (1,114,656 triangles) this measures
 //  - build time: Scene::commit() (validation + bounds + binned SAH build + its
-//    4-wide collapse + leaf records), Bvh::build() alone, and rtcCommitScene()
-//    with Embree's builder limited to 1 and 2 threads (device config "threads=N");
+//    8-wide collapse + leaf records) and Bvh::build() alone, limited to N
+//    threads by tbb::global_control, and rtcCommitScene() with Embree's builder
+//    limited to N threads (device config "threads=N"), N from --threads;
+//  - memory: every byte of our aggregate and what Embree's memory monitor
+//    counts while it builds, per triangle;
 //  - primary rays (closest hit): Scene::intersect vs rtcIntersect1, one ray per
 //    pixel centre of a pinhole camera framing the mesh, traced in 16x16 tiles.
 //    Ours uses the lean query Scene::intersect(ray, PrimHit&), which returns t,
@@ -26,11 +29,13 @@
 // Finally the two tracers' answers are compared ray by ray.
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -263,6 +268,15 @@ RTCDevice new_device(const std::string& config) {
   }
   rtcSetDeviceErrorFunction(dev, embree_error, nullptr);
   return dev;
+}
+
+/// Net bytes Embree's devices hold (its memory monitor callback: every
+/// allocation and release of scene and geometry memory).
+std::atomic<int64_t> g_embree_bytes{0};
+
+bool embree_memory(void*, ssize_t bytes, bool) {
+  g_embree_bytes += int64_t(bytes);
+  return true;
 }
 
 /// Builds an Embree scene holding one triangle mesh. The vertex and index data
@@ -540,9 +554,12 @@ Check compare_shadow(const std::vector<uint8_t>& a, const std::vector<uint8_t>& 
 struct BuildRow {
   std::string mesh;
   size_t tris = 0;
-  double commit_ms = 0.0, bvh_ms = 0.0;
-  std::vector<std::pair<int, double>> embree_ms;  // (builder threads, ms)
+  // (builder threads, ms): ours limited by tbb::global_control, Embree by its
+  // device's "threads=N".
+  std::vector<std::pair<int, double>> commit_ms, bvh_ms, embree_ms;
   BvhQuality quality;
+  size_t ours_bytes = 0;    ///< Scene::accel().memory_bytes(): nodes, leaf order, records.
+  int64_t embree_bytes = 0;  ///< What Embree's memory monitor counted for the scene.
 };
 
 struct TraceRow {
@@ -564,17 +581,21 @@ void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options
   const size_t tris = mesh.triangles.size();
   std::fprintf(stderr, "[%s] %zu triangles\n", name.c_str(), tris);
 
-  // --- Our build: the whole commit(), and the BVH builder alone.
+  // --- Our build: the whole commit(), and the BVH builder alone, with the
+  // builder limited to N threads.
   BuildRow build;
   build.mesh = name;
   build.tris = tris;
-  build.commit_ms = 1e3 * median_seconds(opt.runs, [&] {
-                      Scene s;
-                      s.meshes.push_back(mesh);
-                      const auto t0 = Clock::now();
-                      s.commit();
-                      return seconds_since(t0);
-                    });
+  for (int n : opt.threads) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
+    build.commit_ms.emplace_back(n, 1e3 * median_seconds(opt.runs, [&] {
+                                      Scene s;
+                                      s.meshes.push_back(mesh);
+                                      const auto t0 = Clock::now();
+                                      s.commit();
+                                      return seconds_since(t0);
+                                    }));
+  }
   {
     std::vector<Bounds3> bounds(tris);
     std::vector<Vec3> centroids(tris);
@@ -586,15 +607,20 @@ void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options
       bounds[i] = b;
       centroids[i] = b.center();
     }
-    build.bvh_ms = 1e3 * median_seconds(opt.runs, [&] {
-                     Bvh bvh;
-                     const auto t0 = Clock::now();
-                     bvh.build(bounds, centroids);
-                     return seconds_since(t0);
-                   });
+    for (int n : opt.threads) {
+      const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
+      build.bvh_ms.emplace_back(n, 1e3 * median_seconds(opt.runs, [&] {
+                                     Bvh bvh;
+                                     const auto t0 = Clock::now();
+                                     bvh.build(bounds, centroids);
+                                     return seconds_since(t0);
+                                   }));
+    }
   }
-  std::fprintf(stderr, "[%s] ours: commit %.1f ms, Bvh::build %.1f ms\n", name.c_str(),
-               build.commit_ms, build.bvh_ms);
+  for (size_t k = 0; k < opt.threads.size(); ++k)
+    std::fprintf(stderr, "[%s] ours, %d thread%s: commit %.1f ms, Bvh::build %.1f ms\n",
+                 name.c_str(), opt.threads[k], opt.threads[k] == 1 ? "" : "s",
+                 build.commit_ms[k].second, build.bvh_ms[k].second);
 
   // --- Embree build with its builder limited to N threads. With the TBB tasking
   // system "threads=N" installs a process-wide tbb::global_control while the
@@ -620,10 +646,14 @@ void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options
   scene.meshes.push_back(mesh);
   scene.commit();
   build.quality = scene.bvh().quality();
-  res.builds.push_back(build);
+  build.ours_bytes = scene.accel().memory_bytes();
 
   RTCDevice dev = new_device("");  // default: no thread cap
+  rtcSetDeviceMemoryMonitorFunction(dev, embree_memory, nullptr);
+  const int64_t embree_before = g_embree_bytes;
   RTCScene escene = embree_scene(dev, mesh, opt.quality, opt.robust);
+  build.embree_bytes = g_embree_bytes - embree_before;
+  res.builds.push_back(build);
 
   // --- Rays.
   const Bounds3 box = scene.bvh().bounds();
@@ -688,27 +718,29 @@ void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options
 void print_tables(const Results& r, const Options& opt) {
   std::printf("\nBuild (median of %d; Embree quality %s; ours: binned SAH, 16 bins, leaves <= 8)\n",
               opt.runs, quality_name(opt.quality));
-  std::printf("%-11s %9s %10s %10s", "mesh", "tris", "commit ms", "bvh ms");
-  for (const auto& [n, ms] : r.builds.front().embree_ms) {
-    (void)ms;
-    std::printf("  %8s%-2d", "Embree ", n);
-  }
-  std::printf(" %9s %9s %6s %9s %8s %8s\n", "nodes", "leaves", "depth", "leaf avg", "max leaf",
-              "SAH");
-  for (const BuildRow& b : r.builds) {
-    std::printf("%-11s %9zu %10.1f %10.1f", b.mesh.c_str(), b.tris, b.commit_ms, b.bvh_ms);
-    for (const auto& [n, ms] : b.embree_ms) {
-      (void)n;
-      std::printf("  %10.1f", ms);
+  std::printf("%-11s %9s %7s %10s %10s %10s %12s\n", "mesh", "tris", "threads", "commit ms",
+              "bvh ms", "Embree ms", "commit/Embree");
+  for (const BuildRow& b : r.builds)
+    for (size_t k = 0; k < b.commit_ms.size(); ++k) {
+      const double embree = k < b.embree_ms.size() ? b.embree_ms[k].second : 0.0;
+      std::printf("%-11s %9zu %7d %10.1f %10.1f %10.1f %12.2f\n", b.mesh.c_str(), b.tris,
+                  b.commit_ms[k].first, b.commit_ms[k].second, b.bvh_ms[k].second, embree,
+                  b.commit_ms[k].second / embree);
     }
-    std::printf(" %9u %9u %6u %9.2f %8u %8.2f\n", b.quality.nodes, b.quality.leaves,
+  std::printf("%-11s %9s %6s %9s %8s %8s %11s %11s\n", "mesh", "nodes", "depth", "leaf avg",
+              "max leaf", "SAH", "ours B/tri", "Embree B/tri");
+  for (const BuildRow& b : r.builds)
+    std::printf("%-11s %9u %6u %9.2f %8u %8.2f %11.1f %11.1f\n", b.mesh.c_str(), b.quality.nodes,
                 b.quality.depth, b.quality.mean_leaf_prims, b.quality.max_leaf_prims,
-                b.quality.sah_cost);
-  }
+                b.quality.sah_cost, double(b.ours_bytes) / double(b.tris),
+                double(b.embree_bytes) / double(b.tris));
   std::printf(
       "(commit = Scene::commit(): validation, bounds, Bvh::build, WideBvh collapse, leaf "
-      "records;\n bvh = Bvh::build() alone; Embree N = rtcNewScene .. rtcCommitScene incl. "
-      "buffer copy with device \"threads=N\")\n");
+      "records;\n bvh = Bvh::build() alone; ours limited to N threads by tbb::global_control;\n "
+      "Embree N = rtcNewScene .. rtcCommitScene incl. buffer copy with device \"threads=N\";\n "
+      "B/tri = bytes per triangle: ours every byte the aggregate holds (binary and wide nodes,\n "
+      "leaf order, leaf records with the vertices), Embree the net bytes its memory monitor\n "
+      "reported while the scene was built)\n");
 
   std::printf(
       "\nTrace throughput (Mrays/s, median of %d after 1 warm-up, ours and Embree passes "
@@ -742,12 +774,21 @@ void write_csv(const Results& r, const std::string& path) {
   }
   f << "mesh,triangles,metric,threads,rays,ours,embree,ours_over_embree,unit\n";
   for (const BuildRow& b : r.builds) {
-    f << b.mesh << ',' << b.tris << ",build_commit,1,0," << b.commit_ms << ",,,ms\n";
-    f << b.mesh << ',' << b.tris << ",build_bvh,1,0," << b.bvh_ms << ",,,ms\n";
-    for (const auto& [n, ms] : b.embree_ms)
-      // ratio as speed (Embree time / our commit time): > 1 means ours is faster.
-      f << b.mesh << ',' << b.tris << ",build," << n << ",0," << b.commit_ms << ',' << ms << ','
-        << ms / b.commit_ms << ",ms\n";
+    for (size_t k = 0; k < b.commit_ms.size(); ++k) {
+      const auto [n, commit] = b.commit_ms[k];
+      f << b.mesh << ',' << b.tris << ",build_commit," << n << ",0," << commit << ",,,ms\n";
+      f << b.mesh << ',' << b.tris << ",build_bvh," << n << ",0," << b.bvh_ms[k].second
+        << ",,,ms\n";
+      if (k < b.embree_ms.size()) {
+        const double ms = b.embree_ms[k].second;
+        // ratio as speed (Embree time / our commit time): > 1 means ours is faster.
+        f << b.mesh << ',' << b.tris << ",build," << n << ",0," << commit << ',' << ms << ','
+          << ms / commit << ",ms\n";
+      }
+    }
+    f << b.mesh << ',' << b.tris << ",bytes_per_triangle,0,0,"
+      << double(b.ours_bytes) / double(b.tris) << ',' << double(b.embree_bytes) / double(b.tris)
+      << ',' << double(b.ours_bytes) / double(b.embree_bytes) << ",B\n";
     f << b.mesh << ',' << b.tris << ",bvh_nodes,1,0," << b.quality.nodes << ",,,count\n";
     f << b.mesh << ',' << b.tris << ",bvh_leaves,1,0," << b.quality.leaves << ",,,count\n";
     f << b.mesh << ',' << b.tris << ",bvh_depth,1,0," << b.quality.depth << ",,,count\n";

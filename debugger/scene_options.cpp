@@ -115,7 +115,7 @@ void SceneOptions::add_to(CLI::App* cmd, bool render_settings, bool walk_option)
   }
   if (!walk_option) return;
   cmd->add_option("--accel", accel,
-                  "Structure the rays walk: bvh (the BVH in 4-wide nodes, what renders use; "
+                  "Structure the rays walk: bvh (the BVH in 8-wide nodes, what renders use; "
                   "default), bvh2 (the same BVH node by node, two boxes per node: the "
                   "lecture's walk, for teaching; same image), kdtree (the SAH kD-tree, every "
                   "primitive stored in each cell it overlaps; same image), grid (the uniform "

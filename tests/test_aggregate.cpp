@@ -1,5 +1,5 @@
 // The aggregate (aggregate.h): scene queries through every structure it can
-// walk (the 4-wide BVH renders use, the binary teaching walk, no structure),
+// walk (the 8-wide BVH renders use, the binary teaching walk, no structure),
 // against brute force over all primitives. Every structure returns the same
 // hit bit for bit, including which primitive wins an exact tie in t; an
 // observed query returns exactly what the plain query returns; the observer
@@ -126,7 +126,7 @@ struct WalkObserver : TraversalHooks {
 };
 
 TEST_P(AggregateKind, ObserverSeesTheChosenWalk) {
-  // What the observer sees tells the structure apart: with the 4-wide BVH
+  // What the observer sees tells the structure apart: with the 8-wide BVH
   // every entered inner node is the top of a wide node (the nodes a wide node
   // swallows are never reported), with the binary walk every entered inner
   // node's parent was entered too, without a structure no node at all and
@@ -141,8 +141,10 @@ TEST_P(AggregateKind, ObserverSeesTheChosenWalk) {
   std::vector<int> is_top(bvh.nodes.size(), 0), parent(bvh.nodes.size(), -1);
   is_top[0] = 1;
   for (size_t n = 0; n < walk.nodes.size(); ++n)
-    for (int k = 0; k < 4; ++k)
-      if (walk.slot_source[4 * n + k] != ~0u) is_top[walk.slot_source[4 * n + k]] = 1;
+    for (int k = 0; k < WideBvhNode::kWidth; ++k) {
+      const uint32_t src = walk.slot_source[WideBvhNode::kWidth * n + k];
+      if (src != ~0u) is_top[src] = 1;
+    }
   for (uint32_t n = 0; n < bvh.nodes.size(); ++n)
     if (!bvh.nodes[n].is_leaf())
       parent[bvh.nodes[n].index] = parent[bvh.nodes[n].index + 1] = int(n);

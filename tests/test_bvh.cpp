@@ -3,8 +3,10 @@
 // log-uniform boxes and adversarial inputs. How rays walk the tree is tested in
 // test_wide_bvh (the one walk) and test_aggregate (scene queries).
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cstdio>
+#include <cstring>
 #include <functional>
 
 #include "accel_test_util.h"
@@ -160,6 +162,38 @@ TEST(BvhBuild, AdversarialDepthFitsTheTraversalStack) {
   bvh.build(p.bounds, p.centroids);
   check_structure(bvh, p, BvhBuildConfig{});
   std::printf("geometric groups, n=%zu: depth %u\n", p.bounds.size(), bvh.quality().depth);
+}
+
+// The parallel build splices its subtrees in the order the serial recursion
+// makes them: the same nodes (bit for bit) and primitive order for every task
+// threshold and thread count.
+TEST(BvhBuild, ParallelBuildIsTheSerialTreeNodeForNode) {
+  Rng rng(3);
+  std::vector<std::pair<const char*, Prims>> inputs;
+  inputs.emplace_back("uniform", random_boxes(rng, 60000, BoxLayout::Uniform));
+  inputs.emplace_back("clustered", random_boxes(rng, 30000, BoxLayout::Clustered));
+  inputs.emplace_back("geometric groups", rstest::deep_chain_boxes(rng));
+  for (const auto& [name, p] : inputs) {
+    BvhBuildConfig serial;
+    serial.parallel_min_prims = ~0u;
+    Bvh ref;
+    ref.build(p.bounds, p.centroids, serial);
+    check_structure(ref, p, serial);
+    for (uint32_t min_prims : {4096u, 64u, 1u})
+      for (int threads : {1, 2, 4}) {
+        SCOPED_TRACE(std::string(name) + ", tasks from " + std::to_string(min_prims) +
+                     " primitives, " + std::to_string(threads) + " threads");
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+        BvhBuildConfig cfg;
+        cfg.parallel_min_prims = min_prims;
+        Bvh bvh;
+        bvh.build(p.bounds, p.centroids, cfg);
+        ASSERT_EQ(bvh.nodes.size(), ref.nodes.size());
+        EXPECT_EQ(
+            std::memcmp(bvh.nodes.data(), ref.nodes.data(), ref.nodes.size() * sizeof(BvhNode)), 0);
+        EXPECT_EQ(bvh.prim_indices, ref.prim_indices);
+      }
+  }
 }
 
 }  // namespace

@@ -144,7 +144,7 @@ TEST(FrameWalk, DefaultWalkIsTheWideOneAndBinaryIsAChoice) {
 
   const Bvh& bvh = wide.bvh();
   const WideBvh& walk = wide.accel().walk();
-  ASSERT_EQ(walk.arity(), 4);
+  ASSERT_EQ(walk.arity(), WideBvh::kRenderArity);
   std::vector<char> is_top(bvh.nodes.size(), 0);
   is_top[0] = 1;
   for (uint32_t src : walk.slot_source)

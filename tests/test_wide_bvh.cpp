@@ -1,10 +1,15 @@
-// The one BVH walk (wide_bvh.h), for both arities it is built with: 4 (what
-// renders walk) and 2 (the binary teaching walk). Structure of the collapse,
-// the SIMD 4-box test and its portable fallback against intersect_box() lane
-// by lane (bit for bit, NaN slabs included), closest-hit / any-hit walks
-// against brute force, and the observer hooks (binary node ids, every box
-// test with its outcome, culls). Scene queries through the aggregate:
-// test_aggregate.
+// The one BVH walk (wide_bvh.h), for the arities it is built with: 8 (what
+// renders walk), 4 and 2 (the binary teaching walk). Structure of the
+// collapse, the SIMD 8-box test and its fallbacks (SSE, scalar) against
+// intersect_box() lane by lane (bit for bit, NaN slabs included), closest-hit
+// / any-hit walks against brute force, and the observer hooks (binary node
+// ids, every box test with its outcome, culls). Scene queries through the
+// aggregate: test_aggregate.
+//
+// This file is compiled twice: as test_wide_bvh for the build machine, and as
+// test_wide_bvh_noavx without AVX (tests/CMakeLists.txt), so that the walk
+// with the fallback box test, which a CPU without AVX runs, is tested here
+// too.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -29,9 +34,11 @@ using rstest::BoxLayout;
 using rstest::BoxLeaves;
 using rstest::Prims;
 
-// The arities the walk is built with: 2 (teaching) and 4 (rendering).
+// The arities the walk is built with: 2 (teaching) and kRenderArity = 8
+// (rendering), and 4 between them.
 class WideBvhArity : public ::testing::TestWithParam<int> {};
-INSTANTIATE_TEST_SUITE_P(Arity, WideBvhArity, ::testing::Values(2, 4),
+static_assert(WideBvh::kRenderArity == 8);
+INSTANTIATE_TEST_SUITE_P(Arity, WideBvhArity, ::testing::Values(2, 4, 8),
                          [](const auto& info) { return "arity" + std::to_string(info.param); });
 
 // Every binary leaf appears exactly once as a wide leaf with the same
@@ -47,7 +54,8 @@ void check_collapse(const Bvh& bvh, const WideBvh& w) {
     return;
   }
   ASSERT_FALSE(w.empty());
-  ASSERT_EQ(w.slot_source.size(), 4 * w.nodes.size());
+  constexpr int W = WideBvhNode::kWidth;
+  ASSERT_EQ(w.slot_source.size(), W * w.nodes.size());
   std::set<uint32_t> binary_leaves;
   for (uint32_t i = 0; i < bvh.nodes.size(); ++i)
     if (bvh.nodes[i].is_leaf()) binary_leaves.insert(i);
@@ -66,8 +74,8 @@ void check_collapse(const Bvh& bvh, const WideBvh& w) {
     const WideBvhNode& node = w.nodes[n];
     bool empty_seen = false;
     int children = 0;
-    for (int k = 0; k < 4; ++k) {
-      const uint32_t src = w.slot_source[4 * n + k];
+    for (int k = 0; k < W; ++k) {
+      const uint32_t src = w.slot_source[W * n + k];
       if (src == ~0u) {
         empty_seen = true;
         EXPECT_EQ(node.child[k], WideBvhNode::kLeaf);
@@ -107,7 +115,7 @@ void check_collapse(const Bvh& bvh, const WideBvh& w) {
   EXPECT_EQ(seen_leaves, binary_leaves);
   for (size_t n = 0; n < reached.size(); ++n) EXPECT_EQ(reached[n], 1) << "wide node " << n;
   EXPECT_EQ(w.depth(), max_level);
-  EXPECT_LE(3 * w.depth(), uint32_t(WideBvh::kStackSize));
+  EXPECT_LE(uint32_t(WideBvh::kMaxArity - 1) * w.depth(), uint32_t(WideBvh::kStackSize));
   EXPECT_LE(w.depth(), bvh.quality().depth);
   if (w.arity() == 2) {
     EXPECT_EQ(w.nodes.size(), bvh.nodes.size() - binary_leaves.size());
@@ -133,10 +141,10 @@ TEST_P(WideBvhArity, CollapseKeepsEveryLeafAndBox) {
       }
 }
 
-TEST(WideBvhBuild, RejectsArityOutside2To4) {
+TEST(WideBvhBuild, RejectsArityOutside2To8) {
   Bvh bvh;
   WideBvh w;
-  for (int arity : {-1, 0, 1, 5, 8}) EXPECT_THROW(w.build(bvh, arity), std::invalid_argument);
+  for (int arity : {-1, 0, 1, 9, 16}) EXPECT_THROW(w.build(bvh, arity), std::invalid_argument);
 }
 
 TEST_P(WideBvhArity, EmptyAndSingleLeaf) {
@@ -187,10 +195,12 @@ TEST_P(WideBvhArity, DeepBinaryTreeFitsTheStack) {
   }
 }
 
-TEST(WideBvhBoxTest, FourBoxTestEqualsIntersectBoxBitForBit) {
+TEST(WideBvhBoxTest, EightBoxTestEqualsIntersectBoxBitForBit) {
   // Nodes filled with the boxes of random primitives (and empty slots); every
-  // lane must give intersect_box's answer: hit or miss, and the same entry
-  // distance for hits.
+  // lane of every implementation (the one this file is compiled for, the
+  // SSE halves, the scalar loop) must give intersect_box's answer: hit or
+  // miss, and the same entry distance for hits.
+  constexpr int W = WideBvhNode::kWidth;
   Rng rng(12);
   Prims p = random_boxes(rng, 400, BoxLayout::Uniform);
   Bounds3 world;
@@ -198,9 +208,9 @@ TEST(WideBvhBoxTest, FourBoxTestEqualsIntersectBoxBitForBit) {
   int hits = 0, lanes = 0;
   for (int i = 0; i < 20000; ++i) {
     WideBvhNode node{};
-    const int used = rng.integer(1, 4);
-    Bounds3 box[4];
-    for (int k = 0; k < 4; ++k) {
+    const int used = rng.integer(1, W);
+    Bounds3 box[W];
+    for (int k = 0; k < W; ++k) {
       if (k < used) box[k] = p.bounds[size_t(rng.integer(0, int(p.bounds.size()) - 1))];
       node.lo_x[k] = box[k].lo.x;
       node.lo_y[k] = box[k].lo.y;
@@ -213,21 +223,32 @@ TEST(WideBvhBoxTest, FourBoxTestEqualsIntersectBoxBitForBit) {
     const Ray ray = random_ray(rng, world, aim);
     const Vec3 inv = 1.0f / ray.dir;
     const wide_bvh_detail::RayBoxes rb(ray.origin, inv);
-    alignas(16) float tnear[4];
+    alignas(32) float tnear[W];
     const float tmax = rng.coin() ? ray.tmax : rstest::round_f(rng.uniform(0, 300));
     const unsigned mask = wide_bvh_detail::intersect_boxes(node, rb, tmax, tnear);
     // The portable fallback (used where SSE is missing) gives the same lanes.
-    alignas(16) float tnear_scalar[4];
+    alignas(32) float tnear_scalar[W];
     ASSERT_EQ(wide_bvh_detail::intersect_boxes_scalar(node, rb, tmax, tnear_scalar), mask)
         << "ray " << i;
-    for (int k = 0; k < 4; ++k) {
+#if defined(__SSE2__)
+    // So do the two SSE halves (the fallback where AVX is missing).
+    alignas(32) float tnear_sse[W];
+    ASSERT_EQ(wide_bvh_detail::intersect_boxes_sse(node, rb, tmax, tnear_sse, 0) |
+                  wide_bvh_detail::intersect_boxes_sse(node, rb, tmax, tnear_sse, 4),
+              mask)
+        << "ray " << i;
+#endif
+    for (int k = 0; k < W; ++k) {
       const float ref = intersect_box(box[k].lo, box[k].hi, ray.origin, inv, tmax);
-      ++lanes;
+      lanes += k < used;
       ASSERT_EQ(bool(mask & (1u << k)), ref != kInfinity) << "ray " << i << " lane " << k;
       if (ref != kInfinity) {
         ++hits;
         ASSERT_EQ(tnear[k], ref) << "ray " << i << " lane " << k;
         ASSERT_EQ(tnear_scalar[k], ref) << "ray " << i << " lane " << k;
+#if defined(__SSE2__)
+        ASSERT_EQ(tnear_sse[k], ref) << "ray " << i << " lane " << k;
+#endif
       }
       if (k >= used) {
         ASSERT_FALSE(mask & (1u << k)) << "empty slot hit, ray " << i;
@@ -308,8 +329,8 @@ TEST_P(WideBvhArity, ObserverReportsBinaryIdsAndEveryBoxTest) {
   std::vector<int> wide_of(bvh.nodes.size(), -1);
   wide_of[0] = 0;
   for (size_t n = 0; n < w.nodes.size(); ++n)
-    for (int k = 0; k < 4; ++k) {
-      uint32_t src = w.slot_source[4 * n + k];
+    for (int k = 0; k < WideBvhNode::kWidth; ++k) {
+      uint32_t src = w.slot_source[WideBvhNode::kWidth * n + k];
       if (src != ~0u && !(w.nodes[n].child[k] & WideBvhNode::kLeaf))
         wide_of[src] = int(w.nodes[n].child[k]);
     }
@@ -342,8 +363,8 @@ TEST_P(WideBvhArity, ObserverReportsBinaryIdsAndEveryBoxTest) {
       }
       ++inner;
       ASSERT_GE(wide_of[n], 0) << "binary node " << n << " is not the top of a wide node";
-      for (int k = 0; k < 4; ++k)
-        expected_boxes += w.slot_source[4 * size_t(wide_of[n]) + k] != ~0u;
+      for (int k = 0; k < WideBvhNode::kWidth; ++k)
+        expected_boxes += w.slot_source[WideBvhNode::kWidth * size_t(wide_of[n]) + k] != ~0u;
     }
     EXPECT_EQ(c.boxes, expected_boxes) << "ray " << i;
     if (GetParam() == 2) {

@@ -55,7 +55,8 @@ std::string accel_storage_error(AccelKind kind, PrimStorage storage) {
     case AccelKind::Octree:
       if (storage == PrimStorage::SmallestCell) return {};
       return what +
-             "the kD-tree, grid and octree store a primitive in every cell it overlaps (every-cell) "
+             "the kD-tree, grid and octree store a primitive in every cell it overlaps "
+             "(every-cell) "
              "or once in its smallest loose cell (smallest-cell); splitting is the BSP tree's";
     case AccelKind::Bsp:
       return {};  // every-cell, smallest-cell (node lists) and split (fragments)
@@ -140,7 +141,7 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
       build_seconds_ = octree_.quality().build_seconds;
     }
   } else if (config.kind != AccelKind::None) {
-    walk_.build(bvh_, config.kind == AccelKind::BinaryBvh ? 2 : WideBvh::kMaxArity);
+    walk_.build(bvh_, config.kind == AccelKind::BinaryBvh ? 2 : WideBvh::kRenderArity);
     build_seconds_ = std::chrono::duration<double>(Clock::now() - start).count();
   } else {
     build_seconds_ = 0.0;

@@ -156,7 +156,7 @@ std::string walk_legend(const Scene& s) {
           ? "the sphere tree (--accel spheres); nodes are named by their sphere tree ids, a "
             "node's two child \"boxes\" are its children's bounding spheres (entered nearer "
             "entry first), and every primitive is stored once"
-          : "the 4-wide BVH, as renders walk it (--accel bvh); nodes are named by their binary "
+          : "the 8-wide BVH, as renders walk it (--accel bvh); nodes are named by their binary "
             "BVH ids";
   return std::string("walk: ") + walk +
          "\n  nodes visited = nodes entered, in order; boxes tested = boxes tested against the "

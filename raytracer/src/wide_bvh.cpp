@@ -1,7 +1,7 @@
 // Collapse of the binary hierarchy into the wide one (wide_bvh.h): each wide
 // node takes a binary inner node's two children and, while it has fewer than
 // the arity, replaces its inner child of largest surface area by that child's
-// two children (the choice Embree's BVH4 builders make), so that the boxes a
+// two children (the choice Embree's BVH4 and BVH8 builders make), so that the boxes a
 // ray is most likely to enter are tested together. With arity 2 nothing is
 // replaced: each wide node is one binary node.
 #include "rayscope/wide_bvh.h"
@@ -33,13 +33,13 @@ void WideBvh::build(const Bvh& bvh, int arity) {
     root_count_ = root.count;
   } else {
     nodes.reserve(bvh.nodes.size() / 2 + 1);
-    slot_source.reserve(nodes.capacity() * 4);
+    slot_source.reserve(nodes.capacity() * WideBvhNode::kWidth);
     root_child_ = collapse(bvh, 0, 1);
     root_count_ = 0;
   }
   nodes.shrink_to_fit();
   slot_source.shrink_to_fit();
-  if (3 * depth_ > uint32_t(kStackSize))
+  if (uint32_t(kMaxArity - 1) * depth_ > uint32_t(kStackSize))
     throw std::length_error("WideBvh: " + std::to_string(depth_) +
                             " levels exceed the traversal stack");
 }
@@ -47,7 +47,7 @@ void WideBvh::build(const Bvh& bvh, int arity) {
 uint32_t WideBvh::collapse(const Bvh& bvh, uint32_t binary_node, uint32_t level) {
   depth_ = std::max(depth_, level);
   const BvhNode& bn = bvh.nodes[binary_node];
-  uint32_t kids[4] = {bn.index, bn.index + 1, 0, 0};
+  uint32_t kids[kMaxArity] = {bn.index, bn.index + 1};
   int n = 2;
   while (n < arity_) {
     int open = -1;
@@ -71,10 +71,10 @@ uint32_t WideBvh::collapse(const Bvh& bvh, uint32_t binary_node, uint32_t level)
 
   const uint32_t me = uint32_t(nodes.size());
   nodes.emplace_back();
-  slot_source.insert(slot_source.end(), 4, ~0u);
+  slot_source.insert(slot_source.end(), WideBvhNode::kWidth, ~0u);
   {
     WideBvhNode& w = nodes[me];
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < WideBvhNode::kWidth; ++k) {
       w.lo_x[k] = w.lo_y[k] = w.lo_z[k] = kInfinity;
       w.hi_x[k] = w.hi_y[k] = w.hi_z[k] = -kInfinity;
       w.child[k] = WideBvhNode::kLeaf;
@@ -101,7 +101,7 @@ uint32_t WideBvh::collapse(const Bvh& bvh, uint32_t binary_node, uint32_t level)
     w.hi_z[k] = c.hi.z;
     w.child[k] = child;
     w.count[k] = count;
-    slot_source[4 * size_t(me) + size_t(k)] = kids[k];
+    slot_source[WideBvhNode::kWidth * size_t(me) + size_t(k)] = kids[k];
   }
   return me;
 }

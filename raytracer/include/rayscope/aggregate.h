@@ -39,7 +39,7 @@ namespace rayscope {
 
 /// Which structure the aggregate walks. One is chosen per scene commit.
 enum class AccelKind : uint8_t {
-  /// The BVH walked through 4-wide nodes (WideBvh arity 4): what renders use.
+  /// The BVH walked through 8-wide nodes (WideBvh arity 8): what renders use.
   Bvh,
   /// The same BVH walked node by node, two child boxes per node (WideBvh
   /// arity 2): the lecture's binary walk, for teaching. Same hits; more,
@@ -72,7 +72,7 @@ enum class AccelKind : uint8_t {
 };
 /// Every kind, in the order the tools list them.
 inline constexpr AccelKind kAccelKinds[] = {
-    AccelKind::Bvh,    AccelKind::BinaryBvh, AccelKind::KdTree, AccelKind::Grid,
+    AccelKind::Bvh,    AccelKind::BinaryBvh, AccelKind::KdTree,  AccelKind::Grid,
     AccelKind::Octree, AccelKind::Bsp,       AccelKind::Spheres, AccelKind::None};
 /// "bvh", "bvh2", "none", "kdtree", "grid", "octree", "bsp", "spheres".
 const char* to_string(AccelKind kind);

@@ -32,11 +32,11 @@ const char* to_string(TraversalStep::Kind kind);
 inline constexpr uint32_t kNoNode = ~0u;
 
 /// How one ray walked the acceleration structure: the walk renders do (the
-/// 4-wide BVH by default), named by the binary BVH's node ids.
+/// 8-wide BVH by default), named by the binary BVH's node ids.
 struct TraversalRecord {
   /// Every node event, in walk order: the root's box test, then for each node
   /// entered its Enter step and the tests of its child boxes; culls where the
-  /// walk pops a node it skips. (A 4-wide node is named by the binary node at
+  /// walk pops a node it skips. (A 8-wide node is named by the binary node at
   /// its top; its children's boxes are tested together.)
   std::vector<TraversalStep> steps;
   uint32_t prims_tested = 0;

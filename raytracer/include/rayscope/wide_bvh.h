@@ -1,25 +1,28 @@
 // The walk of the BVH: the binary tree (bvh.h) collapsed into nodes of up to
-// four children, whose boxes are stored per axis and bound so that one SSE
-// instruction computes one slab of all four boxes.
+// eight children, whose boxes are stored per axis and bound so that one AVX
+// instruction (two SSE ones on a CPU without AVX) computes one slab of all
+// eight boxes.
 //
 // This is the one BVH traversal in RayScope. Renders walk the tree collapsed
-// with arity 4 (AccelKind::Bvh): each wide node replaces a binary node and up to
-// two levels of its descendants, so a wide node costs one visit and one 4-box
-// test instead of up to three visits with two scalar box tests each, and the
-// tree has about half the levels. The teaching walk (AccelKind::BinaryBvh) is
-// the same code on the tree collapsed with arity 2: every wide node is then
-// exactly one binary node, and the walk is the lecture's binary walk, node by
-// node. The leaves are the binary leaves, unchanged.
+// with arity kRenderArity (AccelKind::Bvh): each wide node replaces a binary
+// node and up to two or three levels of its descendants, so a wide node costs
+// one visit and one 8-box test instead of up to seven visits with two scalar
+// box tests each, and the tree has about a third of the levels. The teaching
+// walk (AccelKind::BinaryBvh) is the same code on the tree collapsed with
+// arity 2: every wide node is then exactly one binary node, and the walk is
+// the lecture's binary walk, node by node. The leaves are the binary leaves,
+// unchanged.
 //
 // Observers see binary node ids either way (see traverse()).
 //
-// The box test is intersect_box() exactly, four lanes at a time: same
+// The box test is intersect_box() exactly, eight lanes at a time: same
 // sign-selected planes, same operations in the same order, NaN ignored the same
 // way (min/max take the running value as the second operand), exit distance
 // rounded up by kBoxFarScale. A child is hit here exactly when intersect_box()
 // would report it hit, with the same entry distance.
 #pragma once
 
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <cstdint>
@@ -34,32 +37,37 @@
 
 namespace rayscope {
 
-/// One node of the wide hierarchy (128 bytes, two cache lines): the boxes of up
-/// to four children, one array of four floats per axis and bound.
+/// One node of the wide hierarchy (256 bytes, four cache lines): the boxes of up
+/// to eight children, one array of eight floats per axis and bound.
 struct alignas(64) WideBvhNode {
+  /// Child slots per node: the lanes of one box test.
+  static constexpr int kWidth = 8;
   /// Set in `child` for a leaf child: the low bits are then the offset of its
   /// first primitive in Bvh::prim_indices, and `count` the number of them.
   static constexpr uint32_t kLeaf = 0x80000000u;
 
-  float lo_x[4], hi_x[4], lo_y[4], hi_y[4], lo_z[4], hi_z[4];
+  float lo_x[kWidth], hi_x[kWidth], lo_y[kWidth], hi_y[kWidth], lo_z[kWidth], hi_z[kWidth];
   /// Inner child: index of its WideBvhNode. Leaf child: kLeaf | first primitive.
-  /// Empty slot (nodes with fewer than four children; always the last slots):
-  /// kLeaf with count 0 and an empty box (lo = +inf, hi = -inf) that no ray
-  /// with a finite origin hits.
-  uint32_t child[4];
-  uint32_t count[4];  ///< Primitives of a leaf child; 0 for inner children and empty slots.
+  /// Empty slot (nodes with fewer than kWidth children; always the last
+  /// slots): kLeaf with count 0 and an empty box (lo = +inf, hi = -inf) that
+  /// no ray with a finite origin hits.
+  uint32_t child[kWidth];
+  uint32_t count[kWidth];  ///< Primitives of a leaf child; 0 for inner children and empty slots.
 };
-static_assert(sizeof(WideBvhNode) == 128);
+static_assert(sizeof(WideBvhNode) == 256);
 
 class WideBvh {
  public:
-  /// Most children per node (the SSE box test's width).
-  static constexpr int kMaxArity = 4;
-  /// Entries of the traversal stack. A wide node pushes at most three children,
-  /// so a walk needs at most 3 * depth() entries; build() checks that the
-  /// collapsed tree fits (Bvh's builder caps the binary depth at 64 levels, and
-  /// the wide tree is never deeper than the binary one).
-  static constexpr int kStackSize = 3 * 64 + 4;
+  /// Most children per node (the box test's width).
+  static constexpr int kMaxArity = WideBvhNode::kWidth;
+  /// The arity renders walk (AccelKind::Bvh).
+  static constexpr int kRenderArity = kMaxArity;
+  /// Entries of the traversal stack. A wide node pushes at most kMaxArity - 1
+  /// children, so a walk needs at most (kMaxArity - 1) * depth() entries;
+  /// build() checks that the collapsed tree fits (Bvh's builder caps the
+  /// binary depth at 64 levels, and the wide tree is never deeper than the
+  /// binary one).
+  static constexpr int kStackSize = (kMaxArity - 1) * 64 + 4;
 
   /// Collapses `bvh` into nodes of at most `arity` children (2..kMaxArity; 2
   /// keeps the binary tree's shape). Everything needed is copied. An empty
@@ -100,8 +108,8 @@ class WideBvh {
   bool traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs) const;
 
   std::vector<WideBvhNode> nodes;  ///< nodes[0] is the root unless the root is a leaf.
-  /// Binary node id of child slot k of wide node n at [4 n + k]; ~0u for empty
-  /// slots. Only observers read it.
+  /// Binary node id of child slot k of wide node n at [kWidth n + k]; ~0u for
+  /// empty slots. Only observers read it.
   std::vector<uint32_t> slot_source;
 
  private:
@@ -119,44 +127,59 @@ class WideBvh {
 
 namespace wide_bvh_detail {
 
-/// Per-ray constants of the 4-wide box test.
+// The box test's instruction set names the namespace its code lives in, so
+// that translation units compiled for different instruction sets (the tests
+// build this walk without AVX too, to run the fallback) never share an
+// inline function or a RayBoxes layout.
+#if defined(__AVX__)
+inline namespace avx {
+#elif defined(__SSE2__)
+inline namespace sse {
+#else
+inline namespace scalar {
+#endif
+
+/// Per-ray constants of the 8-wide box test.
 struct RayBoxes {
-#if defined(__SSE2__)
-  __m128 ox, oy, oz, ix, iy, iz;
+#if defined(__AVX__)
+  __m256 ox, oy, oz, ix, iy, iz;
 #endif
   Vec3 origin, inv_dir;
   // Byte offsets of the near and far plane arrays of each axis in a WideBvhNode
-  // (lo_x at 0, hi_x at 16, lo_y at 32, ...), chosen by the direction's sign.
+  // (lo_x at 0, hi_x at 32, lo_y at 64, ...), chosen by the direction's sign.
   uint32_t near_x, far_x, near_y, far_y, near_z, far_z;
 
   RayBoxes(const Vec3& o, const Vec3& inv) : origin(o), inv_dir(inv) {
-#if defined(__SSE2__)
-    ox = _mm_set1_ps(o.x);
-    oy = _mm_set1_ps(o.y);
-    oz = _mm_set1_ps(o.z);
-    ix = _mm_set1_ps(inv.x);
-    iy = _mm_set1_ps(inv.y);
-    iz = _mm_set1_ps(inv.z);
+#if defined(__AVX__)
+    ox = _mm256_set1_ps(o.x);
+    oy = _mm256_set1_ps(o.y);
+    oz = _mm256_set1_ps(o.z);
+    ix = _mm256_set1_ps(inv.x);
+    iy = _mm256_set1_ps(inv.y);
+    iz = _mm256_set1_ps(inv.z);
 #endif
-    near_x = std::signbit(inv.x) ? 16 : 0;
-    near_y = std::signbit(inv.y) ? 48 : 32;
-    near_z = std::signbit(inv.z) ? 80 : 64;
-    far_x = near_x ^ 16;
-    far_y = near_y ^ 16;
-    far_z = near_z ^ 16;
+    constexpr uint32_t row = WideBvhNode::kWidth * sizeof(float);
+    near_x = std::signbit(inv.x) ? row : 0;
+    near_y = std::signbit(inv.y) ? 3 * row : 2 * row;
+    near_z = std::signbit(inv.z) ? 5 * row : 4 * row;
+    far_x = near_x ^ row;
+    far_y = near_y ^ row;
+    far_z = near_z ^ row;
   }
 };
+static_assert(std::has_single_bit(WideBvhNode::kWidth * sizeof(float)),
+              "far = near ^ row needs rows of a power-of-two size");
 
 inline const float* plane(const WideBvhNode& n, uint32_t offset) {
   return reinterpret_cast<const float*>(reinterpret_cast<const char*>(&n) + offset);
 }
 
-/// intersect_box() for the four children of `n`, one lane at a time: the
-/// portable fallback of intersect_boxes() (and its reference in the tests).
-/// Returns a bit mask of the children hit within [0, tmax] and stores their
-/// entry distances in tnear.
+/// intersect_box() for the children of `n`, one lane at a time: the portable
+/// fallback of intersect_boxes() (and its reference in the tests). Returns a
+/// bit mask of the children hit within [0, tmax] and stores their entry
+/// distances in tnear.
 inline unsigned intersect_boxes_scalar(const WideBvhNode& n, const RayBoxes& r, float tmax,
-                                       float tnear[4]) {
+                                       float tnear[WideBvhNode::kWidth]) {
   unsigned mask = 0;
   const float* nx = plane(n, r.near_x);
   const float* fx = plane(n, r.far_x);
@@ -164,7 +187,7 @@ inline unsigned intersect_boxes_scalar(const WideBvhNode& n, const RayBoxes& r, 
   const float* fy = plane(n, r.far_y);
   const float* nz = plane(n, r.near_z);
   const float* fz = plane(n, r.far_z);
-  for (int k = 0; k < 4; ++k) {
+  for (int k = 0; k < WideBvhNode::kWidth; ++k) {
     float tn = 0.0f, tf = tmax;
     const float t[6] = {(nx[k] - r.origin.x) * r.inv_dir.x, (fx[k] - r.origin.x) * r.inv_dir.x,
                         (ny[k] - r.origin.y) * r.inv_dir.y, (fy[k] - r.origin.y) * r.inv_dir.y,
@@ -180,20 +203,22 @@ inline unsigned intersect_boxes_scalar(const WideBvhNode& n, const RayBoxes& r, 
   return mask;
 }
 
-/// intersect_box() for the four children of `n`: SSE where the compiler
-/// targets it, else intersect_boxes_scalar(). Same mask and distances.
-[[gnu::always_inline]] inline unsigned intersect_boxes(const WideBvhNode& n, const RayBoxes& r,
-                                                       float tmax, float tnear[4]) {
 #if defined(__SSE2__)
-  const __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.near_x)), r.ox), r.ix);
-  const __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.far_x)), r.ox), r.ix);
-  const __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.near_y)), r.oy), r.iy);
-  const __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.far_y)), r.oy), r.iy);
-  const __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.near_z)), r.oz), r.iz);
-  const __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(plane(n, r.far_z)), r.oz), r.iz);
-  // _mm_max_ps(a, b) is a > b ? a : b, _mm_min_ps(a, b) is a < b ? a : b: with
-  // the running value as b, a NaN slab (ray in a face plane) leaves it alone,
-  // exactly like intersect_box's "if (tn > tnear) tnear = tn".
+/// Four lanes of intersect_boxes() from lane `first` on, with SSE: the
+/// fallback where AVX is missing (and a reference for the AVX test).
+[[gnu::always_inline]] inline unsigned intersect_boxes_sse(const WideBvhNode& n, const RayBoxes& r,
+                                                           float tmax, float* tnear, int first) {
+  auto at = [&](uint32_t offset) { return _mm_load_ps(plane(n, offset) + first); };
+  const __m128 ox = _mm_set1_ps(r.origin.x), oy = _mm_set1_ps(r.origin.y),
+               oz = _mm_set1_ps(r.origin.z);
+  const __m128 ix = _mm_set1_ps(r.inv_dir.x), iy = _mm_set1_ps(r.inv_dir.y),
+               iz = _mm_set1_ps(r.inv_dir.z);
+  const __m128 tnx = _mm_mul_ps(_mm_sub_ps(at(r.near_x), ox), ix);
+  const __m128 tfx = _mm_mul_ps(_mm_sub_ps(at(r.far_x), ox), ix);
+  const __m128 tny = _mm_mul_ps(_mm_sub_ps(at(r.near_y), oy), iy);
+  const __m128 tfy = _mm_mul_ps(_mm_sub_ps(at(r.far_y), oy), iy);
+  const __m128 tnz = _mm_mul_ps(_mm_sub_ps(at(r.near_z), oz), iz);
+  const __m128 tfz = _mm_mul_ps(_mm_sub_ps(at(r.far_z), oz), iz);
   __m128 tn = _mm_max_ps(tnx, _mm_setzero_ps());
   tn = _mm_max_ps(tny, tn);
   tn = _mm_max_ps(tnz, tn);
@@ -201,13 +226,45 @@ inline unsigned intersect_boxes_scalar(const WideBvhNode& n, const RayBoxes& r, 
   tf = _mm_min_ps(tfy, tf);
   tf = _mm_min_ps(tfz, tf);
   tf = _mm_mul_ps(tf, _mm_set1_ps(kBoxFarScale));
-  _mm_storeu_ps(tnear, tn);
-  return unsigned(_mm_movemask_ps(_mm_cmple_ps(tn, tf)));
+  _mm_storeu_ps(tnear + first, tn);
+  return unsigned(_mm_movemask_ps(_mm_cmple_ps(tn, tf))) << first;
+}
+#endif
+
+/// intersect_box() for the children of `n`: AVX where the compiler targets it
+/// (eight lanes at once), else SSE (two halves of four), else
+/// intersect_boxes_scalar(). Same mask and distances.
+[[gnu::always_inline]] inline unsigned intersect_boxes(const WideBvhNode& n, const RayBoxes& r,
+                                                       float tmax,
+                                                       float tnear[WideBvhNode::kWidth]) {
+#if defined(__AVX__)
+  const __m256 tnx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(plane(n, r.near_x)), r.ox), r.ix);
+  const __m256 tfx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(plane(n, r.far_x)), r.ox), r.ix);
+  const __m256 tny = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(plane(n, r.near_y)), r.oy), r.iy);
+  const __m256 tfy = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(plane(n, r.far_y)), r.oy), r.iy);
+  const __m256 tnz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(plane(n, r.near_z)), r.oz), r.iz);
+  const __m256 tfz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(plane(n, r.far_z)), r.oz), r.iz);
+  // max(a, b) is a > b ? a : b and min(a, b) is a < b ? a : b: with the
+  // running value as b, a NaN slab (ray in a face plane) leaves it alone,
+  // exactly like intersect_box's "if (tn > tnear) tnear = tn".
+  __m256 tn = _mm256_max_ps(tnx, _mm256_setzero_ps());
+  tn = _mm256_max_ps(tny, tn);
+  tn = _mm256_max_ps(tnz, tn);
+  __m256 tf = _mm256_min_ps(tfx, _mm256_set1_ps(tmax));
+  tf = _mm256_min_ps(tfy, tf);
+  tf = _mm256_min_ps(tfz, tf);
+  tf = _mm256_mul_ps(tf, _mm256_set1_ps(kBoxFarScale));
+  _mm256_storeu_ps(tnear, tn);
+  return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
+#elif defined(__SSE2__)
+  static_assert(WideBvhNode::kWidth == 8);
+  return intersect_boxes_sse(n, r, tmax, tnear, 0) | intersect_boxes_sse(n, r, tmax, tnear, 4);
 #else
   return intersect_boxes_scalar(n, r, tmax, tnear);
 #endif
 }
 
+}  // namespace avx / sse / scalar
 }  // namespace wide_bvh_detail
 
 template <bool AnyHit, class Observer, class LeafFn>
@@ -242,12 +299,12 @@ bool WideBvh::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs
     } else {
       if constexpr (Observer::kActive) obs.on_node(source);
       const WideBvhNode& n = nodes[child];
-      alignas(16) float d[4];
+      alignas(32) float d[WideBvhNode::kWidth];
       unsigned mask = wide_bvh_detail::intersect_boxes(n, rb, tmax, d);
       const uint32_t* src = nullptr;
       if constexpr (Observer::kActive) {
-        src = &slot_source[4 * size_t(child)];
-        for (int k = 0; k < 4; ++k)
+        src = &slot_source[WideBvhNode::kWidth * size_t(child)];
+        for (int k = 0; k < WideBvhNode::kWidth; ++k)
           if (src[k] != ~0u) obs.on_box_test(src[k], (mask >> k) & 1u);
       }
       if constexpr (AnyHit) {
@@ -289,16 +346,16 @@ bool WideBvh::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs
           if constexpr (Observer::kActive) source = src[kn];
           continue;
         }
-        // Three or four: sort by entry distance, farthest first, push all but
-        // the nearest.
-        unsigned ks[4] = {k0, k1, unsigned(__builtin_ctz(mask)), 0};
-        mask &= mask - 1;
-        int m = 3;
-        if (mask != 0) ks[m++] = unsigned(__builtin_ctz(mask));
+        // Three or more: sort by entry distance, farthest first (of equal
+        // distances the later slot first, so that the earlier is visited
+        // first, as in the binary tree's order), push all but the nearest.
+        unsigned ks[WideBvhNode::kWidth] = {k0, k1};
+        int m = 2;
+        for (; mask != 0; mask &= mask - 1) ks[m++] = unsigned(__builtin_ctz(mask));
         for (int a = 1; a < m; ++a) {
           const unsigned x = ks[a];
           int b = a - 1;
-          while (b >= 0 && d[ks[b]] < d[x]) {
+          while (b >= 0 && d[ks[b]] <= d[x]) {
             ks[b + 1] = ks[b];
             --b;
           }

@@ -52,9 +52,9 @@
  *   rays of pixel Pixel (VTK image coordinates; all samples, or only the ray
  *   VisitRay of the recorded ray tree, as numbered by vtkRayScopeRayTreeSource),
  *   with VisitModeToFrame every ray of the whole image, 0 with VisitModeToNone.
- *   Counted on the walk renders do: with the default 4-wide walk a ray enters
- *   only the binary nodes at the top of each 4-wide node (and the leaves), so
- *   the nodes a 4-wide node swallows keep a count of 0; with the scene's
+ *   Counted on the walk renders do: with the default 8-wide walk a ray enters
+ *   only the binary nodes at the top of each 8-wide node (and the leaves), so
+ *   the nodes an 8-wide node swallows keep a count of 0; with the scene's
  *   binary walk (the scene source's SetAccelToBinaryBvh()) every binary node a
  *   ray reaches is counted.
  *

@@ -128,7 +128,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
 
   ///@{
   /// The structure rays walk (rayscope::AccelKind, docs/acceleration.md):
-  /// ACCEL_BVH, the BVH in 4-wide nodes, what renders use (default);
+  /// ACCEL_BVH, the BVH in 8-wide nodes, what renders use (default);
   /// ACCEL_BINARY_BVH, the same BVH node by node, the lecture's binary walk,
   /// so that ray trees, the "Cost" arrays and vtkRayScopeBVHSource's visit
   /// counts show every binary node a ray enters; ACCEL_NONE, every primitive
