@@ -215,7 +215,7 @@ class RayTreeRecorder {
 struct PixelRecord {
   int x = 0, y = 0;
   int sample = -1;    ///< The recorded sample, -1 for all.
-  int samples = 1;    ///< N: the pixel took N x N samples.
+  int samples = 1;    ///< N: the samples come from an N x N grid (all of it unless adaptive).
   Color color{0.0f};  ///< The pixel's color, exactly as in a full render.
   std::vector<RayRecord> rays;
 };
