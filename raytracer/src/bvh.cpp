@@ -2,24 +2,32 @@
 // sorted into equal-width bins along each axis and the split between bins with
 // the lowest surface area heuristic cost is taken.
 //
-// One pass over a node's primitives bins them on all three axes at once; each
-// bin keeps the box of its primitives and of their centroids, so that the two
-// children's boxes are unions of bins (exact: min and max do not round) and no
-// node walks its primitives again to bound them. The primitives are copied
-// into one array of references (box, centroid, index) that the partitions
-// reorder in place, so that a node reads its primitives in order instead of
-// through an index. Subtrees of at least cfg.parallel_min_prims primitives
-// are built in parallel (TBB) into their own node arrays, which are then spliced
-// in the order the serial recursion would have made them: the tree is the
-// same, node for node, whatever the number of threads.
+// One pass over a node's primitives bins them on all three axes at once, a box
+// in two SSE registers (a plain loop without SSE, rounding the same); each bin
+// keeps the box of its primitives, so that the two children's boxes are unions
+// of bins (exact: min and max do not round), and the partition bounds each
+// side's centroids as it moves them, so that no node walks its primitives
+// again to bound them. Only bins that hold a primitive are swept. The
+// primitives are copied into one array of references (box, centroid, index)
+// that the partitions reorder in place, so that a node reads its primitives in
+// order instead of through an index. Subtrees of at least
+// cfg.parallel_min_prims primitives are built in parallel (TBB) into their own
+// node arrays, which are then spliced in the order the serial recursion would
+// have made them: the tree is the same, node for node, whatever the number of
+// threads.
 #include "rayscope/bvh.h"
 
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cassert>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 namespace rayscope {
 namespace {
@@ -27,39 +35,87 @@ namespace {
 /// Most bins per axis (BvhBuildConfig::bins is clamped to [2, kMaxBins]).
 constexpr int kMaxBins = 256;
 
-struct PrimRef {
-  Vec3 lo;
-  uint32_t id;
-  Vec3 hi;
-  Vec3 c;  ///< Centroid.
-  Bounds3 box() const {
+/// x, y, z and a fourth lane that nothing reads, 16-byte aligned so that the
+/// binning loop reads and updates a box in two SSE registers. min_into and
+/// max_into round exactly like Bounds3::extend (glm::min(acc, v) is
+/// v < acc ? v : acc, which is what _mm_min_ps(v, acc) computes); without
+/// SSE a loop does the same.
+struct alignas(16) Lanes {
+  float f[4];
+};
+
+inline void min_into(Lanes& acc, const Lanes& v) {
+#if defined(__SSE2__)
+  _mm_store_ps(acc.f, _mm_min_ps(_mm_load_ps(v.f), _mm_load_ps(acc.f)));
+#else
+  for (int i = 0; i < 4; ++i) acc.f[i] = v.f[i] < acc.f[i] ? v.f[i] : acc.f[i];
+#endif
+}
+inline void max_into(Lanes& acc, const Lanes& v) {
+#if defined(__SSE2__)
+  _mm_store_ps(acc.f, _mm_max_ps(_mm_load_ps(v.f), _mm_load_ps(acc.f)));
+#else
+  for (int i = 0; i < 4; ++i) acc.f[i] = acc.f[i] < v.f[i] ? v.f[i] : acc.f[i];
+#endif
+}
+
+/// A box as two Lanes (empty: lo = +inf, hi = -inf).
+struct Box {
+  Lanes lo{{kInfinity, kInfinity, kInfinity, kInfinity}};
+  Lanes hi{{-kInfinity, -kInfinity, -kInfinity, -kInfinity}};
+  void extend(const Box& b) {
+    min_into(lo, b.lo);
+    max_into(hi, b.hi);
+  }
+  void extend(const Lanes& p) {
+    min_into(lo, p);
+    max_into(hi, p);
+  }
+  Bounds3 bounds() const {
     Bounds3 b;
-    b.lo = lo;
-    b.hi = hi;
+    b.lo = Vec3(lo.f[0], lo.f[1], lo.f[2]);
+    b.hi = Vec3(hi.f[0], hi.f[1], hi.f[2]);
     return b;
   }
+  /// Bounds3::half_area() of a box that is not empty, rounded the same way.
+  float half_area() const {
+    const float x = hi.f[0] - lo.f[0], y = hi.f[1] - lo.f[1], z = hi.f[2] - lo.f[2];
+    return x * y + y * z + z * x;
+  }
 };
+
+/// One primitive: its box and centroid. The box's fourth lo lane holds the
+/// primitive's index (its bits; never read as a number, only carried along
+/// by min and max into lanes nobody reads); the other fourth lanes are 0.
+struct PrimRef {
+  Box box;
+  Lanes c;  ///< Centroid.
+  uint32_t id() const { return std::bit_cast<uint32_t>(box.lo.f[3]); }
+};
+static_assert(sizeof(PrimRef) == 48);
 
 /// A node's primitives refs[begin, end), their box and their centroids' box.
 struct Range {
   uint32_t begin = 0, end = 0;
-  Bounds3 box, cbox;
+  Box box, cbox;
   uint32_t count() const { return end - begin; }
 };
 
-struct Bin {
-  Bounds3 box, cbox;
-  uint32_t count = 0;
-};
-
-/// A task's scratch space: the bins of the three axes, and the SAH cost of
-/// the right side of each candidate plane.
+/// A task's scratch space: per axis, the bins' boxes and counts (empty
+/// between nodes); the bins that hold a primitive, in order; and the SAH cost
+/// of the right side of the plane before each of them.
 struct Scratch {
-  explicit Scratch(int nb)
-      : bins{std::vector<Bin>(size_t(nb)), std::vector<Bin>(size_t(nb)),
-             std::vector<Bin>(size_t(nb))},
-        right_cost(size_t(nb)) {}
-  std::array<std::vector<Bin>, 3> bins;
+  explicit Scratch(int nb) {
+    for (int a = 0; a < 3; ++a) {
+      box[a].resize(size_t(nb));
+      count[a].resize(size_t(nb));
+      used[a].reserve(size_t(nb));
+    }
+    right_cost.resize(size_t(nb));
+  }
+  std::array<std::vector<Box>, 3> box;
+  std::array<std::vector<uint32_t>, 3> count;
+  std::array<std::vector<int>, 3> used;
   std::vector<float> right_cost;
 };
 
@@ -69,10 +125,10 @@ struct Builder {
   int nb;  ///< Bins per axis.
 
   void bound(Range& r) const {
-    r.box = Bounds3();
-    r.cbox = Bounds3();
+    r.box = Box();
+    r.cbox = Box();
     for (uint32_t i = r.begin; i < r.end; ++i) {
-      r.box.extend(refs[i].box());
+      r.box.extend(refs[i].box);
       r.cbox.extend(refs[i].c);
     }
   }
@@ -80,9 +136,10 @@ struct Builder {
   // Splits at the object median on the centroids' widest axis.
   void median_split(const Range& r, Range& left, Range& right) const {
     const uint32_t mid = r.begin + r.count() / 2;
-    const int axis = max_dimension(r.cbox.extent());
-    std::nth_element(refs.begin() + r.begin, refs.begin() + mid, refs.begin() + r.end,
-                     [axis](const PrimRef& a, const PrimRef& b) { return a.c[axis] < b.c[axis]; });
+    const int axis = max_dimension(r.cbox.bounds().extent());
+    std::nth_element(
+        refs.begin() + r.begin, refs.begin() + mid, refs.begin() + r.end,
+        [axis](const PrimRef& a, const PrimRef& b) { return a.c.f[axis] < b.c.f[axis]; });
     left.begin = r.begin;
     left.end = right.begin = mid;
     right.end = r.end;
@@ -94,16 +151,6 @@ struct Builder {
   bool split(const Range& r, int depth, Scratch& s, Range& left, Range& right) const {
     const uint32_t count = r.count();
     if (count <= cfg.min_leaf_size) return false;
-    const Vec3 ext = r.cbox.extent();
-    // Bin of a centroid from its scaled offset, clamped to [0, nb - 1] before
-    // converting: centroids spanning more than the float range (e.g. spheres
-    // at -3e38 and 3e38) give ext = inf, scale = 0 and inf * 0 = NaN, and
-    // converting NaN to int is undefined (tests/fuzz regression
-    // bvh_centroids_span_beyond_float_range.json).
-    auto bin_of = [nb = nb](float scaled) {
-      if (!(scaled > 0.0f)) return 0;  // also NaN
-      return scaled < float(nb - 1) ? int(scaled) : nb - 1;
-    };
 
     // Bvh::traverse keeps a 64-entry stack, one entry per level at most, so no
     // leaf may lie deeper than 64 levels below the root. Median splits need
@@ -118,50 +165,92 @@ struct Builder {
       return true;
     }
 
-    Vec3 scale;
+    // The bin of a centroid on each axis: its offset from the centroids' box,
+    // scaled to [0, nb), clamped to [0, nb - 1] before converting. Centroids
+    // spanning more than the float range (e.g. spheres at -3e38 and 3e38)
+    // give ext = inf, scale = 0 and inf * 0 = NaN, which goes to bin 0
+    // (converting NaN to int is undefined; tests/fuzz regression
+    // bvh_centroids_span_beyond_float_range.json).
+    const Vec3 ext = r.cbox.bounds().extent();
+    Lanes scale{{0.0f, 0.0f, 0.0f, 0.0f}};
     for (int axis = 0; axis < 3; ++axis) {
-      scale[axis] = ext[axis] > 0.0f ? float(nb) / ext[axis] : 0.0f;
-      for (int b = 0; b < nb; ++b) s.bins[axis][b] = Bin{};
+      scale.f[axis] = ext[axis] > 0.0f ? float(nb) / ext[axis] : 0.0f;
     }
+    const Lanes& clo = r.cbox.lo;
+    auto bins_of = [&, last = float(nb - 1)](const Lanes& c, int out[4]) {
+#if defined(__SSE2__)
+      __m128 x = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(c.f), _mm_load_ps(clo.f)), _mm_load_ps(scale.f));
+      x = _mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()), _mm_set1_ps(last));  // NaN -> 0
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_cvttps_epi32(x));
+#else
+      for (int axis = 0; axis < 3; ++axis) {
+        const float x = (c.f[axis] - clo.f[axis]) * scale.f[axis];
+        out[axis] = !(x > 0.0f) ? 0 : x < last ? int(x) : nb - 1;  // also NaN
+      }
+#endif
+    };
     for (uint32_t i = r.begin; i < r.end; ++i) {
       const PrimRef& p = refs[i];
+      int b[4];
+      bins_of(p.c, b);
       for (int axis = 0; axis < 3; ++axis) {
-        Bin& bin = s.bins[axis][bin_of((p.c[axis] - r.cbox.lo[axis]) * scale[axis])];
-        bin.box.extend(p.box());
-        bin.cbox.extend(p.c);
-        bin.count++;
+        s.box[axis][size_t(b[axis])].extend(p.box);
+        s.count[axis][size_t(b[axis])]++;
       }
     }
 
+    // The candidate planes lie between bins; a plane with empty bins on
+    // either side costs what the plane just after the last non-empty bin
+    // before it costs, so only those are swept (the first plane of equal
+    // cost wins, as in a sweep over every bin).
+    for (int axis = 0; axis < 3; ++axis) {
+      std::vector<int>& used = s.used[axis];
+      used.clear();
+      for (int b = 0; b < nb; ++b)
+        if (s.count[axis][size_t(b)]) used.push_back(b);
+    }
     float best_cost = kInfinity;
     int best_axis = -1, best_bin = 0;
     for (int axis = 0; axis < 3; ++axis) {
       if (!(ext[axis] > 0.0f)) continue;
-      const std::vector<Bin>& bins = s.bins[axis];
+      const std::vector<int>& used = s.used[axis];
+      const size_t m = used.size();
+      if (m < 2) continue;
       // Sweep from the right, then from the left.
-      Bounds3 acc;
+      Box acc;
       uint32_t n = 0;
-      for (int b = nb - 1; b > 0; --b) {
-        acc.extend(bins[b].box);
-        n += bins[b].count;
-        s.right_cost[b] = n ? acc.half_area() * float(n) : 0.0f;
+      for (size_t k = m - 1; k > 0; --k) {
+        acc.extend(s.box[axis][size_t(used[k])]);
+        n += s.count[axis][size_t(used[k])];
+        s.right_cost[k] = acc.half_area() * float(n);
       }
-      acc = Bounds3();
+      acc = Box();
       n = 0;
-      for (int b = 0; b < nb - 1; ++b) {
-        acc.extend(bins[b].box);
-        n += bins[b].count;
-        if (n == 0 || n == count) continue;
-        const float cost = acc.half_area() * float(n) + s.right_cost[b + 1];
+      for (size_t k = 0; k + 1 < m; ++k) {
+        acc.extend(s.box[axis][size_t(used[k])]);
+        n += s.count[axis][size_t(used[k])];
+        const float cost = acc.half_area() * float(n) + s.right_cost[k + 1];
         if (cost < best_cost) {
           best_cost = cost;
           best_axis = axis;
-          best_bin = b;
+          best_bin = used[k];
         }
       }
     }
 
-    const float parent_area = r.box.half_area();
+    // The children's boxes, if r is split at the best plane; then the bins
+    // are left empty for the next node (only those that were used).
+    left = Range{r.begin, r.begin, {}, {}};
+    right = Range{r.end, r.end, {}, {}};
+    for (int axis = 0; axis < 3; ++axis) {
+      for (const int b : s.used[axis]) {
+        if (axis == best_axis) (b <= best_bin ? left : right).box.extend(s.box[axis][size_t(b)]);
+        s.box[axis][size_t(b)] = Box();
+        s.count[axis][size_t(b)] = 0;
+      }
+    }
+
+    const float parent_area = r.box.bounds().half_area();
     const float leaf_cost = cfg.intersection_cost * float(count);
     if (best_axis < 0) {
       // All centroids coincide: no plane separates them.
@@ -173,23 +262,27 @@ struct Builder {
     if (parent_area > 0.0f) split_cost += cfg.intersection_cost * best_cost / parent_area;
     if (split_cost >= leaf_cost && count <= cfg.max_leaf_size) return false;
 
-    const float sc = scale[best_axis];
-    const float lo = r.cbox.lo[best_axis];
-    const auto mid_it = std::partition(
-        refs.begin() + r.begin, refs.begin() + r.end,
-        [&](const PrimRef& p) { return bin_of((p.c[best_axis] - lo) * sc) <= best_bin; });
-    const uint32_t mid = uint32_t(mid_it - refs.begin());
-    if (mid == r.begin || mid == r.end) {
+    // Partition in place (the order std::partition gives), bounding each
+    // side's centroids on the way.
+    auto goes_left = [&](const PrimRef& p) {
+      int b[4];
+      bins_of(p.c, b);
+      return b[best_axis] <= best_bin;
+    };
+    uint32_t i = r.begin, j = r.end;
+    for (;;) {
+      while (i < j && goes_left(refs[i])) left.cbox.extend(refs[i++].c);
+      while (i < j && !goes_left(refs[j - 1])) right.cbox.extend(refs[--j].c);
+      if (i == j) break;
+      std::swap(refs[i], refs[j - 1]);
+      left.cbox.extend(refs[i++].c);
+      right.cbox.extend(refs[--j].c);
+    }
+    if (i == r.begin || i == r.end) {
       median_split(r, left, right);
       return true;
     }
-    left = Range{r.begin, mid, {}, {}};
-    right = Range{mid, r.end, {}, {}};
-    for (int b = 0; b < nb; ++b) {
-      Range& side = b <= best_bin ? left : right;
-      side.box.extend(s.bins[best_axis][b].box);
-      side.cbox.extend(s.bins[best_axis][b].cbox);
-    }
+    left.end = right.begin = i;
     return true;
   }
 
@@ -198,8 +291,9 @@ struct Builder {
   // subtree, then the right child's.
   void build_serial(std::vector<BvhNode>& nodes, uint32_t node, const Range& r, int depth,
                     Scratch& s) const {
-    nodes[node].lo = r.box.lo;
-    nodes[node].hi = r.box.hi;
+    const Bounds3 box = r.box.bounds();
+    nodes[node].lo = box.lo;
+    nodes[node].hi = box.hi;
     Range left, right;
     if (!split(r, depth, s, left, right)) {
       nodes[node].index = r.begin;
@@ -225,8 +319,9 @@ struct Builder {
       build_serial(nodes, 0, r, depth, scratch);
       return nodes;
     }
-    nodes[0].lo = r.box.lo;
-    nodes[0].hi = r.box.hi;
+    const Bounds3 box = r.box.bounds();
+    nodes[0].lo = box.lo;
+    nodes[0].hi = box.hi;
     Range left, right;
     if (!split(r, depth, scratch, left, right)) {
       nodes[0].index = r.begin;
@@ -269,15 +364,19 @@ void Bvh::build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids
   std::vector<PrimRef> refs(n);
   Range all{0, uint32_t(n), {}, {}};
   for (size_t i = 0; i < n; ++i) {
-    refs[i] = PrimRef{bounds[i].lo, uint32_t(i), bounds[i].hi, centroids[i]};
-    all.box.extend(bounds[i]);
-    all.cbox.extend(centroids[i]);
+    const Vec3 &lo = bounds[i].lo, &hi = bounds[i].hi, &c = centroids[i];
+    PrimRef& r = refs[i];
+    r.box.lo = Lanes{{lo.x, lo.y, lo.z, std::bit_cast<float>(uint32_t(i))}};
+    r.box.hi = Lanes{{hi.x, hi.y, hi.z, 0.0f}};
+    r.c = Lanes{{c.x, c.y, c.z, 0.0f}};
+    all.box.extend(r.box);
+    all.cbox.extend(r.c);
   }
   const Builder b{refs, cfg, std::clamp(cfg.bins, 2, kMaxBins)};
   nodes = b.build_subtree(all, 0);
   nodes.shrink_to_fit();
   prim_indices.resize(n);
-  for (size_t i = 0; i < n; ++i) prim_indices[i] = refs[i].id;
+  for (size_t i = 0; i < n; ++i) prim_indices[i] = refs[i].id();
 }
 
 BvhQuality Bvh::quality() const {
