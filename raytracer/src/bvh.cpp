@@ -23,6 +23,7 @@
 #include <array>
 #include <bit>
 #include <cassert>
+#include <memory>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -105,18 +106,13 @@ struct Range {
 /// between nodes); the bins that hold a primitive, in order; and the SAH cost
 /// of the right side of the plane before each of them.
 struct Scratch {
-  explicit Scratch(int nb) {
-    for (int a = 0; a < 3; ++a) {
-      box[a].resize(size_t(nb));
-      count[a].resize(size_t(nb));
-      used[a].reserve(size_t(nb));
-    }
-    right_cost.resize(size_t(nb));
-  }
-  std::array<std::vector<Box>, 3> box;
-  std::array<std::vector<uint32_t>, 3> count;
-  std::array<std::vector<int>, 3> used;
-  std::vector<float> right_cost;
+  std::array<std::array<Box, kMaxBins>, 3> box;
+  std::array<std::array<uint32_t, kMaxBins>, 3> count{};
+  /// Per axis, a bit per bin that holds a primitive (set while binning).
+  std::array<std::array<uint64_t, kMaxBins / 64>, 3> occupied{};
+  std::array<std::array<int, kMaxBins>, 3> used;
+  std::array<int, 3> num_used;
+  std::array<float, kMaxBins> right_cost;
 };
 
 struct Builder {
@@ -196,6 +192,7 @@ struct Builder {
       for (int axis = 0; axis < 3; ++axis) {
         s.box[axis][size_t(b[axis])].extend(p.box);
         s.count[axis][size_t(b[axis])]++;
+        s.occupied[axis][size_t(b[axis]) / 64] |= uint64_t(1) << (b[axis] % 64);
       }
     }
 
@@ -204,17 +201,20 @@ struct Builder {
     // before it costs, so only those are swept (the first plane of equal
     // cost wins, as in a sweep over every bin).
     for (int axis = 0; axis < 3; ++axis) {
-      std::vector<int>& used = s.used[axis];
-      used.clear();
-      for (int b = 0; b < nb; ++b)
-        if (s.count[axis][size_t(b)]) used.push_back(b);
+      int m = 0;
+      for (size_t w = 0; w < s.occupied[axis].size(); ++w) {
+        for (uint64_t bits = s.occupied[axis][w]; bits; bits &= bits - 1)
+          s.used[axis][size_t(m++)] = int(w * 64) + std::countr_zero(bits);
+        s.occupied[axis][w] = 0;
+      }
+      s.num_used[axis] = m;
     }
     float best_cost = kInfinity;
     int best_axis = -1, best_bin = 0;
     for (int axis = 0; axis < 3; ++axis) {
       if (!(ext[axis] > 0.0f)) continue;
-      const std::vector<int>& used = s.used[axis];
-      const size_t m = used.size();
+      const std::array<int, kMaxBins>& used = s.used[axis];
+      const size_t m = size_t(s.num_used[axis]);
       if (m < 2) continue;
       // Sweep from the right, then from the left.
       Box acc;
@@ -243,7 +243,8 @@ struct Builder {
     left = Range{r.begin, r.begin, {}, {}};
     right = Range{r.end, r.end, {}, {}};
     for (int axis = 0; axis < 3; ++axis) {
-      for (const int b : s.used[axis]) {
+      for (int k = 0; k < s.num_used[axis]; ++k) {
+        const int b = s.used[axis][size_t(k)];
         if (axis == best_axis) (b <= best_bin ? left : right).box.extend(s.box[axis][size_t(b)]);
         s.box[axis][size_t(b)] = Box();
         s.count[axis][size_t(b)] = 0;
@@ -313,7 +314,8 @@ struct Builder {
   // order; large subtrees build their two halves in parallel and splice them.
   std::vector<BvhNode> build_subtree(const Range& r, int depth) const {
     std::vector<BvhNode> nodes(1);
-    Scratch scratch(nb);
+    const auto scratch_space = std::make_unique<Scratch>();
+    Scratch& scratch = *scratch_space;
     if (r.count() < cfg.parallel_min_prims) {
       nodes.reserve(2 * size_t(r.count()));
       build_serial(nodes, 0, r, depth, scratch);
