@@ -11,10 +11,10 @@
 // primitives are copied into one array of references (box, centroid, index)
 // that the partitions reorder in place, so that a node reads its primitives in
 // order instead of through an index. Subtrees of at least
-// cfg.parallel_min_prims primitives are built in parallel (TBB) into their own
-// node arrays, which are then spliced in the order the serial recursion would
-// have made them: the tree is the same, node for node, whatever the number of
-// threads.
+// cfg.parallel_min_prims primitives are built in parallel (TBB) into slots of
+// one node array reserved for the most nodes they can have; removing the
+// unused slots leaves the array the serial recursion makes: the tree is the
+// same, node for node, whatever the number of threads.
 #include "rayscope/bvh.h"
 
 #include <tbb/parallel_invoke.h>
@@ -146,7 +146,9 @@ struct Builder {
   // Splits r in two (false: r becomes a leaf).
   bool split(const Range& r, int depth, Scratch& s, Range& left, Range& right) const {
     const uint32_t count = r.count();
-    if (count <= cfg.min_leaf_size) return false;
+    // One primitive is always a leaf (the node count bound of build_parallel
+    // relies on it).
+    if (count <= std::max(cfg.min_leaf_size, 1u)) return false;
 
     // Bvh::traverse keeps a 64-entry stack, one entry per level at most, so no
     // leaf may lie deeper than 64 levels below the root. Median splits need
@@ -185,15 +187,27 @@ struct Builder {
       }
 #endif
     };
-    for (uint32_t i = r.begin; i < r.end; ++i) {
-      const PrimRef& p = refs[i];
-      int b[4];
-      bins_of(p.c, b);
-      for (int axis = 0; axis < 3; ++axis) {
-        s.box[axis][size_t(b[axis])].extend(p.box);
-        s.count[axis][size_t(b[axis])]++;
-        s.occupied[axis][size_t(b[axis]) / 64] |= uint64_t(1) << (b[axis] % 64);
+    // Each primitive's box goes into its bin on each axis; mark(axis, bin)
+    // records which bins hold something (in registers for up to 64 bins).
+    auto bin_refs = [&](auto&& mark) {
+      for (uint32_t i = r.begin; i < r.end; ++i) {
+        const PrimRef& p = refs[i];
+        int b[4];
+        bins_of(p.c, b);
+        for (int axis = 0; axis < 3; ++axis) {
+          s.box[axis][size_t(b[axis])].extend(p.box);
+          s.count[axis][size_t(b[axis])]++;
+          mark(axis, b[axis]);
+        }
       }
+    };
+    if (nb <= 64) {
+      uint64_t occupied[3] = {0, 0, 0};
+      bin_refs([&](int axis, int b) { occupied[axis] |= uint64_t(1) << b; });
+      for (int axis = 0; axis < 3; ++axis) s.occupied[axis][0] = occupied[axis];
+    } else {
+      bin_refs(
+          [&](int axis, int b) { s.occupied[axis][size_t(b) / 64] |= uint64_t(1) << (b % 64); });
     }
 
     // The candidate planes lie between bins; a plane with empty bins on
@@ -287,11 +301,12 @@ struct Builder {
     return true;
   }
 
-  // Builds the subtree of r below nodes[node], appending its nodes depth
-  // first: a node's two children next to each other, then the left child's
-  // subtree, then the right child's.
-  void build_serial(std::vector<BvhNode>& nodes, uint32_t node, const Range& r, int depth,
-                    Scratch& s) const {
+  // Builds the subtree of r whose root is nodes[node], writing its other
+  // nodes from nodes[cursor] on, depth first: a node's two children next to
+  // each other, then the left child's subtree, then the right child's.
+  // Returns one past the last node written.
+  uint32_t build_serial(std::span<BvhNode> nodes, uint32_t node, uint32_t cursor, const Range& r,
+                        int depth, Scratch& s) const {
     const Bounds3 box = r.box.bounds();
     nodes[node].lo = box.lo;
     nodes[node].hi = box.hi;
@@ -299,57 +314,44 @@ struct Builder {
     if (!split(r, depth, s, left, right)) {
       nodes[node].index = r.begin;
       nodes[node].count = r.count();
-      return;
+      return cursor;
     }
-    const uint32_t first = uint32_t(nodes.size());
-    nodes.emplace_back();
-    nodes.emplace_back();
+    const uint32_t first = cursor;
     nodes[node].index = first;
     nodes[node].count = 0;
-    build_serial(nodes, first, left, depth + 1, s);
-    build_serial(nodes, first + 1, right, depth + 1, s);
+    cursor = build_serial(nodes, first, first + 2, left, depth + 1, s);
+    return build_serial(nodes, first + 1, cursor, right, depth + 1, s);
   }
 
-  // The subtree of r in its own array (its root at 0), in build_serial's
-  // order; large subtrees build their two halves in parallel and splice them.
-  std::vector<BvhNode> build_subtree(const Range& r, int depth) const {
-    std::vector<BvhNode> nodes(1);
-    const auto scratch_space = std::make_unique<Scratch>();
-    Scratch& scratch = *scratch_space;
+  // build_serial's subtree, with the subtrees of at least
+  // cfg.parallel_min_prims primitives split into two parallel tasks. A
+  // subtree of n primitives has at most 2n - 1 nodes (every leaf holds one
+  // at least), so the left child's descendants get 2 n_left - 2 slots from
+  // the children's pair on and the right child's follow them: the slots they
+  // leave unused are the only difference from build_serial's array
+  // (compact_nodes removes them).
+  void build_parallel(std::span<BvhNode> nodes, uint32_t node, uint32_t cursor, const Range& r,
+                      int depth) const {
+    const auto scratch = std::make_unique<Scratch>();
     if (r.count() < cfg.parallel_min_prims) {
-      nodes.reserve(2 * size_t(r.count()));
-      build_serial(nodes, 0, r, depth, scratch);
-      return nodes;
+      build_serial(nodes, node, cursor, r, depth, *scratch);
+      return;
     }
     const Bounds3 box = r.box.bounds();
-    nodes[0].lo = box.lo;
-    nodes[0].hi = box.hi;
+    nodes[node].lo = box.lo;
+    nodes[node].hi = box.hi;
     Range left, right;
-    if (!split(r, depth, scratch, left, right)) {
-      nodes[0].index = r.begin;
-      nodes[0].count = r.count();
-      return nodes;
+    if (!split(r, depth, *scratch, left, right)) {
+      nodes[node].index = r.begin;
+      nodes[node].count = r.count();
+      return;
     }
-    std::vector<BvhNode> a, b;
-    tbb::parallel_invoke([&] { a = build_subtree(left, depth + 1); },
-                         [&] { b = build_subtree(right, depth + 1); });
-    // The serial order: root, both children, the left child's descendants,
-    // the right child's. a[i] moves to i + 2 for i >= 1 (a[0] to 1), b[i] to
-    // i + a.size() + 1 for i >= 1 (b[0] to 2); inner nodes' child indices
-    // move with them.
-    const uint32_t shift_a = 2, shift_b = uint32_t(a.size()) + 1;
-    nodes.reserve(a.size() + b.size() + 1);
-    nodes[0].index = 1;
-    nodes[0].count = 0;
-    auto moved = [](BvhNode n, uint32_t shift) {
-      if (!n.is_leaf()) n.index += shift;
-      return n;
-    };
-    nodes.push_back(moved(a[0], shift_a));
-    nodes.push_back(moved(b[0], shift_b));
-    for (size_t i = 1; i < a.size(); ++i) nodes.push_back(moved(a[i], shift_a));
-    for (size_t i = 1; i < b.size(); ++i) nodes.push_back(moved(b[i], shift_b));
-    return nodes;
+    const uint32_t first = cursor;
+    nodes[node].index = first;
+    nodes[node].count = 0;
+    const uint32_t right_cursor = first + 2 + 2 * (left.count() - 1);
+    tbb::parallel_invoke([&] { build_parallel(nodes, first, first + 2, left, depth + 1); },
+                         [&] { build_parallel(nodes, first + 1, right_cursor, right, depth + 1); });
   }
 };
 
@@ -375,7 +377,25 @@ void Bvh::build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids
     all.cbox.extend(r.c);
   }
   const Builder b{refs, cfg, std::clamp(cfg.bins, 2, kMaxBins)};
-  nodes = b.build_subtree(all, 0);
+  // Unused slots keep count == kUnused (no leaf holds that many primitives).
+  constexpr uint32_t kUnused = ~0u;
+  BvhNode unused{};
+  unused.count = kUnused;
+  nodes.assign(2 * n - 1, unused);
+  b.build_parallel(nodes, 0, 1, all, 0);
+  // Compacted in place, in order (a node only moves down): then the array is
+  // build_serial's, node for node.
+  std::vector<uint32_t> new_index(nodes.size());
+  uint32_t used = 0;
+  for (size_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].count != kUnused) new_index[i] = used++;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    if (nodes[i].count == kUnused) continue;
+    BvhNode node = nodes[i];
+    if (!node.is_leaf()) node.index = new_index[node.index];
+    nodes[new_index[i]] = node;
+  }
+  nodes.resize(used);
   nodes.shrink_to_fit();
   prim_indices.resize(n);
   for (size_t i = 0; i < n; ++i) prim_indices[i] = refs[i].id();
