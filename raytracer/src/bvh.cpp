@@ -23,6 +23,7 @@
 #include <array>
 #include <bit>
 #include <cassert>
+#include <cstddef>
 #include <memory>
 #include <vector>
 
@@ -36,64 +37,92 @@ namespace {
 /// Most bins per axis (BvhBuildConfig::bins is clamped to [2, kMaxBins]).
 constexpr int kMaxBins = 256;
 
-/// x, y, z and a fourth lane that nothing reads, 16-byte aligned so that the
-/// binning loop reads and updates a box in two SSE registers. min_into and
-/// max_into round exactly like Bounds3::extend (glm::min(acc, v) is
-/// v < acc ? v : acc, which is what _mm_min_ps(v, acc) computes); without
-/// SSE a loop does the same.
+/// The instructions that bin and bound boxes (BvhBuildConfig::simd): each
+/// builds the same tree, bit for bit; kBest is the widest this file is
+/// compiled for.
+enum Isa { kScalar, kSse, kAvx };
+#if defined(__AVX__)
+constexpr Isa kBest = kAvx;
+#elif defined(__SSE2__)
+constexpr Isa kBest = kSse;
+#else
+constexpr Isa kBest = kScalar;
+#endif
+
+/// x, y, z and a fourth lane that nothing reads.
 struct alignas(16) Lanes {
   float f[4];
 };
 
-inline void min_into(Lanes& acc, const Lanes& v) {
-#if defined(__SSE2__)
-  _mm_store_ps(acc.f, _mm_min_ps(_mm_load_ps(v.f), _mm_load_ps(acc.f)));
-#else
-  for (int i = 0; i < 4; ++i) acc.f[i] = v.f[i] < acc.f[i] ? v.f[i] : acc.f[i];
-#endif
-}
-inline void max_into(Lanes& acc, const Lanes& v) {
-#if defined(__SSE2__)
-  _mm_store_ps(acc.f, _mm_max_ps(_mm_load_ps(v.f), _mm_load_ps(acc.f)));
-#else
-  for (int i = 0; i < 4; ++i) acc.f[i] = acc.f[i] < v.f[i] ? v.f[i] : acc.f[i];
-#endif
-}
-
-/// A box as two Lanes (empty: lo = +inf, hi = -inf).
-struct Box {
+/// A box as its lower corner and its negated upper corner, so that extending
+/// it is one min over eight floats (one AVX instruction, two SSE ones, a loop
+/// without SSE): min(-a, -b) = -max(a, b) exactly, and _mm_min_ps(v, acc) is
+/// v < acc ? v : acc, which is how glm::min(acc, v) and, negated,
+/// glm::max(acc, v) round (Bounds3::extend), signed zeros included. The empty
+/// box is +inf everywhere.
+struct alignas(32) Box {
   Lanes lo{{kInfinity, kInfinity, kInfinity, kInfinity}};
-  Lanes hi{{-kInfinity, -kInfinity, -kInfinity, -kInfinity}};
-  void extend(const Box& b) {
-    min_into(lo, b.lo);
-    max_into(hi, b.hi);
+  Lanes neg_hi{{kInfinity, kInfinity, kInfinity, kInfinity}};
+
+  /// Extends this box by the box (b_lo, b_neg_hi); b_neg_hi must follow
+  /// b_lo in memory (one 32-byte load with AVX).
+  template <Isa I>
+  void extend(const Lanes& b_lo, const Lanes& b_neg_hi) {
+#if defined(__AVX__)
+    if constexpr (I == kAvx) {
+      assert(&b_neg_hi == &b_lo + 1);
+      _mm256_store_ps(lo.f, _mm256_min_ps(_mm256_loadu_ps(b_lo.f), _mm256_load_ps(lo.f)));
+      return;
+    }
+#endif
+#if defined(__SSE2__)
+    if constexpr (I != kScalar) {
+      _mm_store_ps(lo.f, _mm_min_ps(_mm_load_ps(b_lo.f), _mm_load_ps(lo.f)));
+      _mm_store_ps(neg_hi.f, _mm_min_ps(_mm_load_ps(b_neg_hi.f), _mm_load_ps(neg_hi.f)));
+      return;
+    }
+#endif
+    for (int i = 0; i < 4; ++i) {
+      lo.f[i] = b_lo.f[i] < lo.f[i] ? b_lo.f[i] : lo.f[i];
+      neg_hi.f[i] = b_neg_hi.f[i] < neg_hi.f[i] ? b_neg_hi.f[i] : neg_hi.f[i];
+    }
   }
+  template <Isa I>
+  void extend(const Box& b) {
+    extend<I>(b.lo, b.neg_hi);
+  }
+  template <Isa I>
   void extend(const Lanes& p) {
-    min_into(lo, p);
-    max_into(hi, p);
+    Box point;
+    for (int i = 0; i < 4; ++i) {
+      point.lo.f[i] = p.f[i];
+      point.neg_hi.f[i] = -p.f[i];
+    }
+    extend<I>(point);
   }
   Bounds3 bounds() const {
     Bounds3 b;
     b.lo = Vec3(lo.f[0], lo.f[1], lo.f[2]);
-    b.hi = Vec3(hi.f[0], hi.f[1], hi.f[2]);
+    b.hi = -Vec3(neg_hi.f[0], neg_hi.f[1], neg_hi.f[2]);
     return b;
   }
   /// Bounds3::half_area() of a box that is not empty, rounded the same way.
   float half_area() const {
-    const float x = hi.f[0] - lo.f[0], y = hi.f[1] - lo.f[1], z = hi.f[2] - lo.f[2];
+    const float x = -neg_hi.f[0] - lo.f[0], y = -neg_hi.f[1] - lo.f[1], z = -neg_hi.f[2] - lo.f[2];
     return x * y + y * z + z * x;
   }
 };
 
 /// One primitive: its box and centroid. The box's fourth lo lane holds the
 /// primitive's index (its bits; never read as a number, only carried along
-/// by min and max into lanes nobody reads); the other fourth lanes are 0.
+/// by min into lanes nobody reads); the other fourth lanes are 0. 48 bytes:
+/// the box is read unaligned (every other one is not 32-byte aligned).
 struct PrimRef {
-  Box box;
-  Lanes c;  ///< Centroid.
-  uint32_t id() const { return std::bit_cast<uint32_t>(box.lo.f[3]); }
+  Lanes lo, neg_hi;  ///< The box, as Box holds it.
+  Lanes c;           ///< Centroid.
+  uint32_t id() const { return std::bit_cast<uint32_t>(lo.f[3]); }
 };
-static_assert(sizeof(PrimRef) == 48);
+static_assert(sizeof(PrimRef) == 48 && offsetof(PrimRef, neg_hi) == 16);
 
 /// A node's primitives refs[begin, end), their box and their centroids' box.
 struct Range {
@@ -115,6 +144,7 @@ struct Scratch {
   std::array<float, kMaxBins> right_cost;
 };
 
+template <Isa I>
 struct Builder {
   std::span<PrimRef> refs;
   const BvhBuildConfig& cfg;
@@ -124,8 +154,8 @@ struct Builder {
     r.box = Box();
     r.cbox = Box();
     for (uint32_t i = r.begin; i < r.end; ++i) {
-      r.box.extend(refs[i].box);
-      r.cbox.extend(refs[i].c);
+      r.box.extend<I>(refs[i].lo, refs[i].neg_hi);
+      r.cbox.extend<I>(refs[i].c);
     }
   }
 
@@ -177,15 +207,18 @@ struct Builder {
     const Lanes& clo = r.cbox.lo;
     auto bins_of = [&, last = float(nb - 1)](const Lanes& c, int out[4]) {
 #if defined(__SSE2__)
-      __m128 x = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(c.f), _mm_load_ps(clo.f)), _mm_load_ps(scale.f));
-      x = _mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()), _mm_set1_ps(last));  // NaN -> 0
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_cvttps_epi32(x));
-#else
+      if constexpr (I != kScalar) {
+        __m128 x =
+            _mm_mul_ps(_mm_sub_ps(_mm_load_ps(c.f), _mm_load_ps(clo.f)), _mm_load_ps(scale.f));
+        x = _mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()), _mm_set1_ps(last));  // NaN -> 0
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_cvttps_epi32(x));
+        return;
+      }
+#endif
       for (int axis = 0; axis < 3; ++axis) {
         const float x = (c.f[axis] - clo.f[axis]) * scale.f[axis];
         out[axis] = !(x > 0.0f) ? 0 : x < last ? int(x) : nb - 1;  // also NaN
       }
-#endif
     };
     // Each primitive's box goes into its bin on each axis; mark(axis, bin)
     // records which bins hold something (in registers for up to 64 bins).
@@ -195,7 +228,7 @@ struct Builder {
         int b[4];
         bins_of(p.c, b);
         for (int axis = 0; axis < 3; ++axis) {
-          s.box[axis][size_t(b[axis])].extend(p.box);
+          s.box[axis][size_t(b[axis])].extend<I>(p.lo, p.neg_hi);
           s.count[axis][size_t(b[axis])]++;
           mark(axis, b[axis]);
         }
@@ -234,14 +267,14 @@ struct Builder {
       Box acc;
       uint32_t n = 0;
       for (size_t k = m - 1; k > 0; --k) {
-        acc.extend(s.box[axis][size_t(used[k])]);
+        acc.extend<I>(s.box[axis][size_t(used[k])]);
         n += s.count[axis][size_t(used[k])];
         s.right_cost[k] = acc.half_area() * float(n);
       }
       acc = Box();
       n = 0;
       for (size_t k = 0; k + 1 < m; ++k) {
-        acc.extend(s.box[axis][size_t(used[k])]);
+        acc.extend<I>(s.box[axis][size_t(used[k])]);
         n += s.count[axis][size_t(used[k])];
         const float cost = acc.half_area() * float(n) + s.right_cost[k + 1];
         if (cost < best_cost) {
@@ -259,7 +292,7 @@ struct Builder {
     for (int axis = 0; axis < 3; ++axis) {
       for (int k = 0; k < s.num_used[axis]; ++k) {
         const int b = s.used[axis][size_t(k)];
-        if (axis == best_axis) (b <= best_bin ? left : right).box.extend(s.box[axis][size_t(b)]);
+        if (axis == best_axis) (b <= best_bin ? left : right).box.extend<I>(s.box[axis][size_t(b)]);
         s.box[axis][size_t(b)] = Box();
         s.count[axis][size_t(b)] = 0;
       }
@@ -286,12 +319,12 @@ struct Builder {
     };
     uint32_t i = r.begin, j = r.end;
     for (;;) {
-      while (i < j && goes_left(refs[i])) left.cbox.extend(refs[i++].c);
-      while (i < j && !goes_left(refs[j - 1])) right.cbox.extend(refs[--j].c);
+      while (i < j && goes_left(refs[i])) left.cbox.extend<I>(refs[i++].c);
+      while (i < j && !goes_left(refs[j - 1])) right.cbox.extend<I>(refs[--j].c);
       if (i == j) break;
       std::swap(refs[i], refs[j - 1]);
-      left.cbox.extend(refs[i++].c);
-      right.cbox.extend(refs[--j].c);
+      left.cbox.extend<I>(refs[i++].c);
+      right.cbox.extend<I>(refs[--j].c);
     }
     if (i == r.begin || i == r.end) {
       median_split(r, left, right);
@@ -353,6 +386,30 @@ struct Builder {
     tbb::parallel_invoke([&] { build_parallel(nodes, first, first + 2, left, depth + 1); },
                          [&] { build_parallel(nodes, first + 1, right_cursor, right, depth + 1); });
   }
+
+  // The tree of refs (bounded by all) into nodes, compacted.
+  void build(const Range& all, std::vector<BvhNode>& nodes) const {
+    // Unused slots keep count == kUnused (no leaf holds that many primitives).
+    constexpr uint32_t kUnused = ~0u;
+    BvhNode unused{};
+    unused.count = kUnused;
+    nodes.assign(2 * size_t(all.count()) - 1, unused);
+    build_parallel(nodes, 0, 1, all, 0);
+    // Compacted in place, in order (a node only moves down): then the array is
+    // build_serial's, node for node.
+    std::vector<uint32_t> new_index(nodes.size());
+    uint32_t used = 0;
+    for (size_t i = 0; i < nodes.size(); ++i)
+      if (nodes[i].count != kUnused) new_index[i] = used++;
+    for (size_t i = 0; i < nodes.size(); ++i) {
+      if (nodes[i].count == kUnused) continue;
+      BvhNode node = nodes[i];
+      if (!node.is_leaf()) node.index = new_index[node.index];
+      nodes[new_index[i]] = node;
+    }
+    nodes.resize(used);
+    nodes.shrink_to_fit();
+  }
 };
 
 }  // namespace
@@ -370,33 +427,24 @@ void Bvh::build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids
   for (size_t i = 0; i < n; ++i) {
     const Vec3 &lo = bounds[i].lo, &hi = bounds[i].hi, &c = centroids[i];
     PrimRef& r = refs[i];
-    r.box.lo = Lanes{{lo.x, lo.y, lo.z, std::bit_cast<float>(uint32_t(i))}};
-    r.box.hi = Lanes{{hi.x, hi.y, hi.z, 0.0f}};
+    r.lo = Lanes{{lo.x, lo.y, lo.z, std::bit_cast<float>(uint32_t(i))}};
+    r.neg_hi = Lanes{{-hi.x, -hi.y, -hi.z, 0.0f}};
     r.c = Lanes{{c.x, c.y, c.z, 0.0f}};
-    all.box.extend(r.box);
-    all.cbox.extend(r.c);
+    all.box.extend<kScalar>(r.lo, r.neg_hi);
+    all.cbox.extend<kScalar>(r.c);
   }
-  const Builder b{refs, cfg, std::clamp(cfg.bins, 2, kMaxBins)};
-  // Unused slots keep count == kUnused (no leaf holds that many primitives).
-  constexpr uint32_t kUnused = ~0u;
-  BvhNode unused{};
-  unused.count = kUnused;
-  nodes.assign(2 * n - 1, unused);
-  b.build_parallel(nodes, 0, 1, all, 0);
-  // Compacted in place, in order (a node only moves down): then the array is
-  // build_serial's, node for node.
-  std::vector<uint32_t> new_index(nodes.size());
-  uint32_t used = 0;
-  for (size_t i = 0; i < nodes.size(); ++i)
-    if (nodes[i].count != kUnused) new_index[i] = used++;
-  for (size_t i = 0; i < nodes.size(); ++i) {
-    if (nodes[i].count == kUnused) continue;
-    BvhNode node = nodes[i];
-    if (!node.is_leaf()) node.index = new_index[node.index];
-    nodes[new_index[i]] = node;
+  const int bins = std::clamp(cfg.bins, 2, kMaxBins);
+  switch (cfg.simd) {
+    case BvhBuildConfig::Simd::Best:
+      Builder<kBest>{refs, cfg, bins}.build(all, nodes);
+      break;
+    case BvhBuildConfig::Simd::Sse:
+      Builder<kBest == kAvx ? kSse : kBest>{refs, cfg, bins}.build(all, nodes);
+      break;
+    case BvhBuildConfig::Simd::Scalar:
+      Builder<kScalar>{refs, cfg, bins}.build(all, nodes);
+      break;
   }
-  nodes.resize(used);
-  nodes.shrink_to_fit();
   prim_indices.resize(n);
   for (size_t i = 0; i < n; ++i) prim_indices[i] = refs[i].id();
 }

@@ -53,6 +53,11 @@ struct BvhBuildConfig {
   /// into the serial order: the tree is the same for every value and thread
   /// count (~0u: one task).
   uint32_t parallel_min_prims = 4096;
+  /// The instructions that bin and bound the boxes: every choice builds the
+  /// same tree, bit for bit (the tests compare them). Best: the widest the
+  /// library is compiled for (AVX, else SSE2, else none); Sse: SSE2 where it
+  /// is compiled in, else none; Scalar: none, as on a CPU without SIMD.
+  enum class Simd { Best, Sse, Scalar } simd = Simd::Best;
 };
 
 /// Quality figures of a built hierarchy (see Bvh::quality()).
