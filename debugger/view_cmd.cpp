@@ -1,18 +1,20 @@
 // `rayscope view [SCENE] [--pixel X,Y] [--accel ...]`: the interactive ray-tree
 // and acceleration-structure debugger, a thin client of vtkRayScopeViewer
 // (vtkplugin/module). The scene is built with the chosen structure, which the
-// viewer draws and whose walks it plays.
+// viewer draws and whose walks it plays. The options are checked and the
+// scene is loaded here; the window is the viewer module's (view_module.h),
+// loaded when `view` is the command.
+#include <dlfcn.h>
+
+#include <filesystem>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include <vtkNew.h>
-
 #include "commands.h"
 #include "scene_options.h"
-#include "vtkRayScopeImageAlgorithm.h"
-#include "vtkRayScopeViewer.h"
+#include "view_module.h"
 
 namespace rayscope::cli {
 namespace {
@@ -24,45 +26,49 @@ struct ViewOptions {
   std::vector<std::string> keys;
 };
 
+struct ViewModule {
+  ViewHelpFn help = nullptr;
+  ViewRunFn run = nullptr;
+};
+
+// The module beside the executable (the build tree), else where `install`
+// puts it relative to the executable. Loaded once; a module that cannot be
+// loaded is one error line naming it.
+const ViewModule& view_module() {
+  static const ViewModule module = [] {
+    const std::filesystem::path exe_dir =
+        std::filesystem::read_symlink("/proc/self/exe").parent_path();
+    std::filesystem::path path = exe_dir / RAYSCOPE_VIEW_MODULE_NAME;
+    if (!std::filesystem::exists(path))
+      path = exe_dir / RAYSCOPE_VIEW_MODULE_INSTALL_RELDIR / RAYSCOPE_VIEW_MODULE_NAME;
+    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!handle)
+      throw std::runtime_error("view: cannot load the viewer module " + path.string() + ": " +
+                               dlerror());
+    ViewModule m;
+    m.help = reinterpret_cast<ViewHelpFn>(dlsym(handle, kViewHelpSymbol));
+    m.run = reinterpret_cast<ViewRunFn>(dlsym(handle, kViewRunSymbol));
+    if (!m.help || !m.run)
+      throw std::runtime_error("view: " + path.string() + " is not RayScope's viewer module");
+    return m;
+  }();
+  return module;
+}
+
 int run_view(const ViewOptions& o) {
   // Everything that can be wrong with the input fails here, before a window
   // opens, with the one-line errors of `render`.
-  int pxy[2] = {-1, -1};
-  if (!o.pixel.empty()) parse_pixel_option(o.pixel, pxy);
+  ViewRequest request;
+  if (!o.pixel.empty()) parse_pixel_option(o.pixel, request.pixel);
   LoadedScene loaded = o.scene.load();
-  const RenderSettings& rs = loaded.settings;
-  if (!o.pixel.empty()) check_pixel_option(o.pixel, pxy, rs);
-
-  vtkNew<vtkRayScopeImageAlgorithm> scene;
-  scene->SetSize(rs.width, rs.height);
-  scene->SetSamples(rs.samples);
-  scene->SetMaxDepth(rs.max_depth);
-  scene->SetMinContribution(rs.min_contribution);
-  scene->SetMaxSamples(rs.max_samples);
-  scene->SetTargetError(rs.target_error);
-  scene->SetTextureFilter(rs.texture_filter);
-  scene->SetThreads(rs.threads);
-  scene->SetSeed(int(rs.seed));
-  scene->SetCoreScene(loaded.scene);
-  vtkNew<vtkRayScopeViewer> viewer;
-  viewer->SetSceneSource(scene);
-  if (!viewer->Initialize()) throw std::runtime_error(viewer->GetMessage());
-  if (!o.pixel.empty()) {
-    viewer->WaitForRender();
-    viewer->PickPixel(pxy[0], rs.height - 1 - pxy[1]);  // the viewer counts from the bottom
-  }
-  for (const std::string& key : o.keys) {
-    viewer->WaitForRender();  // keys that re-render finish before the next key
-    if (!viewer->HandleKey(key.c_str()))
-      throw std::invalid_argument("--keys: '" + key + "' is not a key of the viewer");
-  }
-  if (!o.screenshot.empty()) {
-    viewer->WaitForRender();
-    if (!viewer->SaveScreenshot(o.screenshot.c_str()))
-      throw std::runtime_error(o.screenshot + ": " + viewer->GetMessage());
-    return 0;
-  }
-  viewer->Start();
+  if (!o.pixel.empty()) check_pixel_option(o.pixel, request.pixel, loaded.settings);
+  request.loaded = &loaded;
+  request.pick = !o.pixel.empty();
+  request.keys = o.keys;
+  request.screenshot = o.screenshot;
+  std::string error;
+  const int status = view_module().run(request, error);
+  if (status != 0) throw std::runtime_error(error);
   return 0;
 }
 
@@ -70,12 +76,12 @@ int run_view(const ViewOptions& o) {
 
 void add_view_command(CLI::App& app, int& exit_code) {
   auto opts = std::make_shared<ViewOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "view",
-      std::string("Open the interactive debugger: the image, the scene in 3D, a picked pixel's "
-                  "ray tree, and the structure chosen by --accel with the selected ray's walk "
-                  "through it. Keys: ") +
-          vtkRayScopeViewer::GetHelpText());
+  static const std::string kDescription =
+      "Open the interactive debugger: the image, the scene in 3D, a picked pixel's ray tree, and "
+      "the structure chosen by --accel with the selected ray's walk through it. Keys: ";
+  CLI::App* cmd = app.add_subcommand("view", kDescription + "(rayscope view --help lists them)");
+  // Once `view` is the command, its help names the viewer's keys.
+  cmd->preparse_callback([cmd](size_t) { cmd->description(kDescription + view_module().help()); });
   opts->scene.add_to(cmd);
   cmd->add_option("--pixel", opts->pixel,
                   "X,Y: pick this pixel at the start (0,0 is the top-left pixel; y grows "

@@ -3,7 +3,8 @@
 Run with ParaView's pvpython, the plugin on PV_PLUGIN_PATH (docs/paraview.md):
 
     PV_PLUGIN_PATH=build/paraview/install/lib/paraview-5.11/plugins/RayScope \\
-      xvfb-run -a build/paraview/pvpython examples/paraview_raytree.py -o raytree.png
+      xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" build/paraview/pvpython \\
+        examples/paraview_raytree.py -o raytree.png
 
 The scene is ParaView's Wavelet contoured at one value (a closed surface)
 with a glass Sphere in front of it. Left: a render view with the contour

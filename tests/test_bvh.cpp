@@ -164,16 +164,28 @@ TEST(BvhBuild, AdversarialDepthFitsTheTraversalStack) {
   std::printf("geometric groups, n=%zu: depth %u\n", p.bounds.size(), bvh.quality().depth);
 }
 
-// The parallel build splices its subtrees in the order the serial recursion
-// makes them: the same nodes (bit for bit) and primitive order for every task
-// threshold and thread count.
+// Uniform and clustered random boxes and rstest::deep_chain_boxes, named.
+std::vector<std::pair<const char*, Prims>> tree_inputs(Rng& rng, int uniform, int clustered) {
+  std::vector<std::pair<const char*, Prims>> inputs;
+  inputs.emplace_back("uniform", random_boxes(rng, uniform, BoxLayout::Uniform));
+  inputs.emplace_back("clustered", random_boxes(rng, clustered, BoxLayout::Clustered));
+  inputs.emplace_back("geometric groups", rstest::deep_chain_boxes(rng));
+  return inputs;
+}
+
+// The same nodes, bit for bit, and the same primitive order.
+void expect_same_tree(const Bvh& bvh, const Bvh& ref) {
+  ASSERT_EQ(bvh.nodes.size(), ref.nodes.size());
+  EXPECT_EQ(std::memcmp(bvh.nodes.data(), ref.nodes.data(), ref.nodes.size() * sizeof(BvhNode)), 0);
+  EXPECT_EQ(bvh.prim_indices, ref.prim_indices);
+}
+
+// The parallel build writes its subtrees into reserved slots and compacts
+// them into the order the serial recursion makes: the same nodes (bit for bit)
+// and primitive order for every task threshold and thread count.
 TEST(BvhBuild, ParallelBuildIsTheSerialTreeNodeForNode) {
   Rng rng(3);
-  std::vector<std::pair<const char*, Prims>> inputs;
-  inputs.emplace_back("uniform", random_boxes(rng, 60000, BoxLayout::Uniform));
-  inputs.emplace_back("clustered", random_boxes(rng, 30000, BoxLayout::Clustered));
-  inputs.emplace_back("geometric groups", rstest::deep_chain_boxes(rng));
-  for (const auto& [name, p] : inputs) {
+  for (const auto& [name, p] : tree_inputs(rng, 60000, 30000)) {
     BvhBuildConfig serial;
     serial.parallel_min_prims = ~0u;
     Bvh ref;
@@ -188,12 +200,47 @@ TEST(BvhBuild, ParallelBuildIsTheSerialTreeNodeForNode) {
         cfg.parallel_min_prims = min_prims;
         Bvh bvh;
         bvh.build(p.bounds, p.centroids, cfg);
-        ASSERT_EQ(bvh.nodes.size(), ref.nodes.size());
-        EXPECT_EQ(
-            std::memcmp(bvh.nodes.data(), ref.nodes.data(), ref.nodes.size() * sizeof(BvhNode)), 0);
-        EXPECT_EQ(bvh.prim_indices, ref.prim_indices);
+        expect_same_tree(bvh, ref);
       }
   }
+}
+
+// The builder bins with AVX, SSE2 or plain loops (BvhBuildConfig::simd; a CPU
+// without AVX gets SSE, one without SIMD the loops): the same tree, bit for
+// bit, also with more than 64 bins (the bins' marks then live in memory) and
+// with parallel tasks. The inputs include boxes whose centroids span beyond
+// the float range and flat and coinciding ones.
+TEST(BvhBuild, EverySimdChoiceBuildsTheSameTree) {
+  Rng rng(5);
+  std::vector<std::pair<const char*, Prims>> inputs = tree_inputs(rng, 20000, 20000);
+  Prims odd;
+  for (int i = 0; i < 300; ++i) {
+    const float x = i % 3 == 0 ? 3e38f : i % 3 == 1 ? -3e38f : 0.0f;
+    const Vec3 c(x, float(i % 7), i % 5 == 0 ? 0.0f : float(i));
+    odd.bounds.emplace_back(c - Vec3(0.5f, 0.0f, 0.5f), c + Vec3(0.5f, 0.0f, 0.5f));
+    odd.centroids.push_back(c);
+  }
+  inputs.emplace_back("beyond the float range, flat, coinciding", odd);
+  using Simd = BvhBuildConfig::Simd;
+  for (const auto& [name, p] : inputs)
+    for (int bins : {16, 100})
+      for (uint32_t min_prims : {~0u, 256u}) {
+        SCOPED_TRACE(std::string(name) + ", " + std::to_string(bins) + " bins, tasks from " +
+                     std::to_string(min_prims) + " primitives");
+        BvhBuildConfig cfg;
+        cfg.bins = bins;
+        cfg.parallel_min_prims = min_prims;
+        cfg.simd = Simd::Best;
+        Bvh best;
+        best.build(p.bounds, p.centroids, cfg);
+        if (&p != &inputs.back().second) check_structure(best, p, cfg);  // infinite areas
+        for (Simd simd : {Simd::Sse, Simd::Scalar}) {
+          cfg.simd = simd;
+          Bvh bvh;
+          bvh.build(p.bounds, p.centroids, cfg);
+          expect_same_tree(bvh, best);
+        }
+      }
 }
 
 }  // namespace

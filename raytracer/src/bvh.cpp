@@ -2,15 +2,18 @@
 // sorted into equal-width bins along each axis and the split between bins with
 // the lowest surface area heuristic cost is taken.
 //
-// One pass over a node's primitives bins them on all three axes at once; each
-// bin keeps the box of its primitives and of their centroids, so that the two
-// children's boxes are unions of bins (exact: min and max do not round) and no
-// node walks its primitives again to bound them. The primitives are copied
-// into one array of references (box, centroid, index) that the partitions
-// reorder in place, so that a node reads its primitives in order instead of
-// through an index. Subtrees of at least cfg.parallel_min_prims primitives
-// are built in parallel (TBB) into their own node arrays, which are then spliced
-// in the order the serial recursion would have made them: the tree is the
+// One pass over a node's primitives bins them on all three axes at once, a box
+// in two SSE registers (a plain loop without SSE, rounding the same); each bin
+// keeps the box of its primitives, so that the two children's boxes are unions
+// of bins (exact: min and max do not round), and the partition bounds each
+// side's centroids as it moves them, so that no node walks its primitives
+// again to bound them. Only bins that hold a primitive are swept. The
+// primitives are copied into one array of references (box, centroid, index)
+// that the partitions reorder in place, so that a node reads its primitives in
+// order instead of through an index. Subtrees of at least
+// cfg.parallel_min_prims primitives are built in parallel (TBB) into slots of
+// one node array reserved for the most nodes they can have; removing the
+// unused slots leaves the array the serial recursion makes: the tree is the
 // same, node for node, whatever the number of threads.
 #include "rayscope/bvh.h"
 
@@ -18,8 +21,15 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cassert>
+#include <cstddef>
+#include <memory>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 namespace rayscope {
 namespace {
@@ -27,62 +37,135 @@ namespace {
 /// Most bins per axis (BvhBuildConfig::bins is clamped to [2, kMaxBins]).
 constexpr int kMaxBins = 256;
 
-struct PrimRef {
-  Vec3 lo;
-  uint32_t id;
-  Vec3 hi;
-  Vec3 c;  ///< Centroid.
-  Bounds3 box() const {
+/// The instructions that bin and bound boxes (BvhBuildConfig::simd): each
+/// builds the same tree, bit for bit; kBest is the widest this file is
+/// compiled for.
+enum Isa { kScalar, kSse, kAvx };
+#if defined(__AVX__)
+constexpr Isa kBest = kAvx;
+#elif defined(__SSE2__)
+constexpr Isa kBest = kSse;
+#else
+constexpr Isa kBest = kScalar;
+#endif
+
+/// x, y, z and a fourth lane that nothing reads.
+struct alignas(16) Lanes {
+  float f[4];
+};
+
+/// A box as its lower corner and its negated upper corner, so that extending
+/// it is one min over eight floats (one AVX instruction, two SSE ones, a loop
+/// without SSE): min(-a, -b) = -max(a, b) exactly, and _mm_min_ps(v, acc) is
+/// v < acc ? v : acc, which is how glm::min(acc, v) and, negated,
+/// glm::max(acc, v) round (Bounds3::extend), signed zeros included. The empty
+/// box is +inf everywhere.
+struct alignas(32) Box {
+  Lanes lo{{kInfinity, kInfinity, kInfinity, kInfinity}};
+  Lanes neg_hi{{kInfinity, kInfinity, kInfinity, kInfinity}};
+
+  /// Extends this box by the box (b_lo, b_neg_hi); b_neg_hi must follow
+  /// b_lo in memory (one 32-byte load with AVX).
+  template <Isa I>
+  void extend(const Lanes& b_lo, const Lanes& b_neg_hi) {
+#if defined(__AVX__)
+    if constexpr (I == kAvx) {
+      assert(&b_neg_hi == &b_lo + 1);
+      _mm256_store_ps(lo.f, _mm256_min_ps(_mm256_loadu_ps(b_lo.f), _mm256_load_ps(lo.f)));
+      return;
+    }
+#endif
+#if defined(__SSE2__)
+    if constexpr (I != kScalar) {
+      _mm_store_ps(lo.f, _mm_min_ps(_mm_load_ps(b_lo.f), _mm_load_ps(lo.f)));
+      _mm_store_ps(neg_hi.f, _mm_min_ps(_mm_load_ps(b_neg_hi.f), _mm_load_ps(neg_hi.f)));
+      return;
+    }
+#endif
+    for (int i = 0; i < 4; ++i) {
+      lo.f[i] = b_lo.f[i] < lo.f[i] ? b_lo.f[i] : lo.f[i];
+      neg_hi.f[i] = b_neg_hi.f[i] < neg_hi.f[i] ? b_neg_hi.f[i] : neg_hi.f[i];
+    }
+  }
+  template <Isa I>
+  void extend(const Box& b) {
+    extend<I>(b.lo, b.neg_hi);
+  }
+  template <Isa I>
+  void extend(const Lanes& p) {
+    Box point;
+    for (int i = 0; i < 4; ++i) {
+      point.lo.f[i] = p.f[i];
+      point.neg_hi.f[i] = -p.f[i];
+    }
+    extend<I>(point);
+  }
+  Bounds3 bounds() const {
     Bounds3 b;
-    b.lo = lo;
-    b.hi = hi;
+    b.lo = Vec3(lo.f[0], lo.f[1], lo.f[2]);
+    b.hi = -Vec3(neg_hi.f[0], neg_hi.f[1], neg_hi.f[2]);
     return b;
   }
+  /// Bounds3::half_area() of a box that is not empty, rounded the same way.
+  float half_area() const {
+    const float x = -neg_hi.f[0] - lo.f[0], y = -neg_hi.f[1] - lo.f[1], z = -neg_hi.f[2] - lo.f[2];
+    return x * y + y * z + z * x;
+  }
 };
+
+/// One primitive: its box and centroid. The box's fourth lo lane holds the
+/// primitive's index (its bits; never read as a number, only carried along
+/// by min into lanes nobody reads); the other fourth lanes are 0. 48 bytes:
+/// the box is read unaligned (every other one is not 32-byte aligned).
+struct PrimRef {
+  Lanes lo, neg_hi;  ///< The box, as Box holds it.
+  Lanes c;           ///< Centroid.
+  uint32_t id() const { return std::bit_cast<uint32_t>(lo.f[3]); }
+};
+static_assert(sizeof(PrimRef) == 48 && offsetof(PrimRef, neg_hi) == 16);
 
 /// A node's primitives refs[begin, end), their box and their centroids' box.
 struct Range {
   uint32_t begin = 0, end = 0;
-  Bounds3 box, cbox;
+  Box box, cbox;
   uint32_t count() const { return end - begin; }
 };
 
-struct Bin {
-  Bounds3 box, cbox;
-  uint32_t count = 0;
-};
-
-/// A task's scratch space: the bins of the three axes, and the SAH cost of
-/// the right side of each candidate plane.
+/// A task's scratch space: per axis, the bins' boxes and counts (empty
+/// between nodes); the bins that hold a primitive, in order; and the SAH cost
+/// of the right side of the plane before each of them.
 struct Scratch {
-  explicit Scratch(int nb)
-      : bins{std::vector<Bin>(size_t(nb)), std::vector<Bin>(size_t(nb)),
-             std::vector<Bin>(size_t(nb))},
-        right_cost(size_t(nb)) {}
-  std::array<std::vector<Bin>, 3> bins;
-  std::vector<float> right_cost;
+  std::array<std::array<Box, kMaxBins>, 3> box;
+  std::array<std::array<uint32_t, kMaxBins>, 3> count{};
+  /// Per axis, a bit per bin that holds a primitive (set while binning).
+  std::array<std::array<uint64_t, kMaxBins / 64>, 3> occupied{};
+  std::array<std::array<int, kMaxBins>, 3> used;
+  std::array<int, 3> num_used;
+  std::array<float, kMaxBins> right_cost;
 };
 
+template <Isa I>
 struct Builder {
   std::span<PrimRef> refs;
   const BvhBuildConfig& cfg;
   int nb;  ///< Bins per axis.
 
   void bound(Range& r) const {
-    r.box = Bounds3();
-    r.cbox = Bounds3();
+    r.box = Box();
+    r.cbox = Box();
     for (uint32_t i = r.begin; i < r.end; ++i) {
-      r.box.extend(refs[i].box());
-      r.cbox.extend(refs[i].c);
+      r.box.extend<I>(refs[i].lo, refs[i].neg_hi);
+      r.cbox.extend<I>(refs[i].c);
     }
   }
 
   // Splits at the object median on the centroids' widest axis.
   void median_split(const Range& r, Range& left, Range& right) const {
     const uint32_t mid = r.begin + r.count() / 2;
-    const int axis = max_dimension(r.cbox.extent());
-    std::nth_element(refs.begin() + r.begin, refs.begin() + mid, refs.begin() + r.end,
-                     [axis](const PrimRef& a, const PrimRef& b) { return a.c[axis] < b.c[axis]; });
+    const int axis = max_dimension(r.cbox.bounds().extent());
+    std::nth_element(
+        refs.begin() + r.begin, refs.begin() + mid, refs.begin() + r.end,
+        [axis](const PrimRef& a, const PrimRef& b) { return a.c.f[axis] < b.c.f[axis]; });
     left.begin = r.begin;
     left.end = right.begin = mid;
     right.end = r.end;
@@ -93,17 +176,9 @@ struct Builder {
   // Splits r in two (false: r becomes a leaf).
   bool split(const Range& r, int depth, Scratch& s, Range& left, Range& right) const {
     const uint32_t count = r.count();
-    if (count <= cfg.min_leaf_size) return false;
-    const Vec3 ext = r.cbox.extent();
-    // Bin of a centroid from its scaled offset, clamped to [0, nb - 1] before
-    // converting: centroids spanning more than the float range (e.g. spheres
-    // at -3e38 and 3e38) give ext = inf, scale = 0 and inf * 0 = NaN, and
-    // converting NaN to int is undefined (tests/fuzz regression
-    // bvh_centroids_span_beyond_float_range.json).
-    auto bin_of = [nb = nb](float scaled) {
-      if (!(scaled > 0.0f)) return 0;  // also NaN
-      return scaled < float(nb - 1) ? int(scaled) : nb - 1;
-    };
+    // One primitive is always a leaf (the node count bound of build_parallel
+    // relies on it).
+    if (count <= std::max(cfg.min_leaf_size, 1u)) return false;
 
     // Bvh::traverse keeps a 64-entry stack, one entry per level at most, so no
     // leaf may lie deeper than 64 levels below the root. Median splits need
@@ -118,50 +193,112 @@ struct Builder {
       return true;
     }
 
-    Vec3 scale;
+    // The bin of a centroid on each axis: its offset from the centroids' box,
+    // scaled to [0, nb), clamped to [0, nb - 1] before converting. Centroids
+    // spanning more than the float range (e.g. spheres at -3e38 and 3e38)
+    // give ext = inf, scale = 0 and inf * 0 = NaN, which goes to bin 0
+    // (converting NaN to int is undefined; tests/fuzz regression
+    // bvh_centroids_span_beyond_float_range.json).
+    const Vec3 ext = r.cbox.bounds().extent();
+    Lanes scale{{0.0f, 0.0f, 0.0f, 0.0f}};
     for (int axis = 0; axis < 3; ++axis) {
-      scale[axis] = ext[axis] > 0.0f ? float(nb) / ext[axis] : 0.0f;
-      for (int b = 0; b < nb; ++b) s.bins[axis][b] = Bin{};
+      scale.f[axis] = ext[axis] > 0.0f ? float(nb) / ext[axis] : 0.0f;
     }
-    for (uint32_t i = r.begin; i < r.end; ++i) {
-      const PrimRef& p = refs[i];
-      for (int axis = 0; axis < 3; ++axis) {
-        Bin& bin = s.bins[axis][bin_of((p.c[axis] - r.cbox.lo[axis]) * scale[axis])];
-        bin.box.extend(p.box());
-        bin.cbox.extend(p.c);
-        bin.count++;
+    const Lanes& clo = r.cbox.lo;
+    auto bins_of = [&, last = float(nb - 1)](const Lanes& c, int out[4]) {
+#if defined(__SSE2__)
+      if constexpr (I != kScalar) {
+        __m128 x =
+            _mm_mul_ps(_mm_sub_ps(_mm_load_ps(c.f), _mm_load_ps(clo.f)), _mm_load_ps(scale.f));
+        x = _mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()), _mm_set1_ps(last));  // NaN -> 0
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_cvttps_epi32(x));
+        return;
       }
+#endif
+      for (int axis = 0; axis < 3; ++axis) {
+        const float x = (c.f[axis] - clo.f[axis]) * scale.f[axis];
+        out[axis] = !(x > 0.0f) ? 0 : x < last ? int(x) : nb - 1;  // also NaN
+      }
+    };
+    // Each primitive's box goes into its bin on each axis; mark(axis, bin)
+    // records which bins hold something (in registers for up to 64 bins).
+    auto bin_refs = [&](auto&& mark) {
+      for (uint32_t i = r.begin; i < r.end; ++i) {
+        const PrimRef& p = refs[i];
+        int b[4];
+        bins_of(p.c, b);
+        for (int axis = 0; axis < 3; ++axis) {
+          s.box[axis][size_t(b[axis])].extend<I>(p.lo, p.neg_hi);
+          s.count[axis][size_t(b[axis])]++;
+          mark(axis, b[axis]);
+        }
+      }
+    };
+    if (nb <= 64) {
+      uint64_t occupied[3] = {0, 0, 0};
+      bin_refs([&](int axis, int b) { occupied[axis] |= uint64_t(1) << b; });
+      for (int axis = 0; axis < 3; ++axis) s.occupied[axis][0] = occupied[axis];
+    } else {
+      bin_refs(
+          [&](int axis, int b) { s.occupied[axis][size_t(b) / 64] |= uint64_t(1) << (b % 64); });
     }
 
+    // The candidate planes lie between bins; a plane with empty bins on
+    // either side costs what the plane just after the last non-empty bin
+    // before it costs, so only those are swept (the first plane of equal
+    // cost wins, as in a sweep over every bin).
+    for (int axis = 0; axis < 3; ++axis) {
+      int m = 0;
+      for (size_t w = 0; w < s.occupied[axis].size(); ++w) {
+        for (uint64_t bits = s.occupied[axis][w]; bits; bits &= bits - 1)
+          s.used[axis][size_t(m++)] = int(w * 64) + std::countr_zero(bits);
+        s.occupied[axis][w] = 0;
+      }
+      s.num_used[axis] = m;
+    }
     float best_cost = kInfinity;
     int best_axis = -1, best_bin = 0;
     for (int axis = 0; axis < 3; ++axis) {
       if (!(ext[axis] > 0.0f)) continue;
-      const std::vector<Bin>& bins = s.bins[axis];
+      const std::array<int, kMaxBins>& used = s.used[axis];
+      const size_t m = size_t(s.num_used[axis]);
+      if (m < 2) continue;
       // Sweep from the right, then from the left.
-      Bounds3 acc;
+      Box acc;
       uint32_t n = 0;
-      for (int b = nb - 1; b > 0; --b) {
-        acc.extend(bins[b].box);
-        n += bins[b].count;
-        s.right_cost[b] = n ? acc.half_area() * float(n) : 0.0f;
+      for (size_t k = m - 1; k > 0; --k) {
+        acc.extend<I>(s.box[axis][size_t(used[k])]);
+        n += s.count[axis][size_t(used[k])];
+        s.right_cost[k] = acc.half_area() * float(n);
       }
-      acc = Bounds3();
+      acc = Box();
       n = 0;
-      for (int b = 0; b < nb - 1; ++b) {
-        acc.extend(bins[b].box);
-        n += bins[b].count;
-        if (n == 0 || n == count) continue;
-        const float cost = acc.half_area() * float(n) + s.right_cost[b + 1];
+      for (size_t k = 0; k + 1 < m; ++k) {
+        acc.extend<I>(s.box[axis][size_t(used[k])]);
+        n += s.count[axis][size_t(used[k])];
+        const float cost = acc.half_area() * float(n) + s.right_cost[k + 1];
         if (cost < best_cost) {
           best_cost = cost;
           best_axis = axis;
-          best_bin = b;
+          best_bin = used[k];
         }
       }
     }
 
-    const float parent_area = r.box.half_area();
+    // The children's boxes, if r is split at the best plane; then the bins
+    // are left empty for the next node (only those that were used).
+    left = Range{r.begin, r.begin, {}, {}};
+    right = Range{r.end, r.end, {}, {}};
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int k = 0; k < s.num_used[axis]; ++k) {
+        const int b = s.used[axis][size_t(k)];
+        if (axis == best_axis) (b <= best_bin ? left : right).box.extend<I>(s.box[axis][size_t(b)]);
+        s.box[axis][size_t(b)] = Box();
+        s.count[axis][size_t(b)] = 0;
+      }
+    }
+
+    const float parent_area = r.box.bounds().half_area();
     const float leaf_cost = cfg.intersection_cost * float(count);
     if (best_axis < 0) {
       // All centroids coincide: no plane separates them.
@@ -173,86 +310,105 @@ struct Builder {
     if (parent_area > 0.0f) split_cost += cfg.intersection_cost * best_cost / parent_area;
     if (split_cost >= leaf_cost && count <= cfg.max_leaf_size) return false;
 
-    const float sc = scale[best_axis];
-    const float lo = r.cbox.lo[best_axis];
-    const auto mid_it = std::partition(
-        refs.begin() + r.begin, refs.begin() + r.end,
-        [&](const PrimRef& p) { return bin_of((p.c[best_axis] - lo) * sc) <= best_bin; });
-    const uint32_t mid = uint32_t(mid_it - refs.begin());
-    if (mid == r.begin || mid == r.end) {
+    // Partition in place (the order std::partition gives), bounding each
+    // side's centroids on the way.
+    auto goes_left = [&](const PrimRef& p) {
+      int b[4];
+      bins_of(p.c, b);
+      return b[best_axis] <= best_bin;
+    };
+    uint32_t i = r.begin, j = r.end;
+    for (;;) {
+      while (i < j && goes_left(refs[i])) left.cbox.extend<I>(refs[i++].c);
+      while (i < j && !goes_left(refs[j - 1])) right.cbox.extend<I>(refs[--j].c);
+      if (i == j) break;
+      std::swap(refs[i], refs[j - 1]);
+      left.cbox.extend<I>(refs[i++].c);
+      right.cbox.extend<I>(refs[--j].c);
+    }
+    if (i == r.begin || i == r.end) {
       median_split(r, left, right);
       return true;
     }
-    left = Range{r.begin, mid, {}, {}};
-    right = Range{mid, r.end, {}, {}};
-    for (int b = 0; b < nb; ++b) {
-      Range& side = b <= best_bin ? left : right;
-      side.box.extend(s.bins[best_axis][b].box);
-      side.cbox.extend(s.bins[best_axis][b].cbox);
-    }
+    left.end = right.begin = i;
     return true;
   }
 
-  // Builds the subtree of r below nodes[node], appending its nodes depth
-  // first: a node's two children next to each other, then the left child's
-  // subtree, then the right child's.
-  void build_serial(std::vector<BvhNode>& nodes, uint32_t node, const Range& r, int depth,
-                    Scratch& s) const {
-    nodes[node].lo = r.box.lo;
-    nodes[node].hi = r.box.hi;
+  // Builds the subtree of r whose root is nodes[node], writing its other
+  // nodes from nodes[cursor] on, depth first: a node's two children next to
+  // each other, then the left child's subtree, then the right child's.
+  // Returns one past the last node written.
+  uint32_t build_serial(std::span<BvhNode> nodes, uint32_t node, uint32_t cursor, const Range& r,
+                        int depth, Scratch& s) const {
+    const Bounds3 box = r.box.bounds();
+    nodes[node].lo = box.lo;
+    nodes[node].hi = box.hi;
     Range left, right;
     if (!split(r, depth, s, left, right)) {
       nodes[node].index = r.begin;
       nodes[node].count = r.count();
-      return;
+      return cursor;
     }
-    const uint32_t first = uint32_t(nodes.size());
-    nodes.emplace_back();
-    nodes.emplace_back();
+    const uint32_t first = cursor;
     nodes[node].index = first;
     nodes[node].count = 0;
-    build_serial(nodes, first, left, depth + 1, s);
-    build_serial(nodes, first + 1, right, depth + 1, s);
+    cursor = build_serial(nodes, first, first + 2, left, depth + 1, s);
+    return build_serial(nodes, first + 1, cursor, right, depth + 1, s);
   }
 
-  // The subtree of r in its own array (its root at 0), in build_serial's
-  // order; large subtrees build their two halves in parallel and splice them.
-  std::vector<BvhNode> build_subtree(const Range& r, int depth) const {
-    std::vector<BvhNode> nodes(1);
-    Scratch scratch(nb);
+  // build_serial's subtree, with the subtrees of at least
+  // cfg.parallel_min_prims primitives split into two parallel tasks. A
+  // subtree of n primitives has at most 2n - 1 nodes (every leaf holds one
+  // at least), so the left child's descendants get 2 n_left - 2 slots from
+  // the children's pair on and the right child's follow them: the slots they
+  // leave unused are the only difference from build_serial's array
+  // (compact_nodes removes them).
+  void build_parallel(std::span<BvhNode> nodes, uint32_t node, uint32_t cursor, const Range& r,
+                      int depth) const {
+    const auto scratch = std::make_unique<Scratch>();
     if (r.count() < cfg.parallel_min_prims) {
-      nodes.reserve(2 * size_t(r.count()));
-      build_serial(nodes, 0, r, depth, scratch);
-      return nodes;
+      build_serial(nodes, node, cursor, r, depth, *scratch);
+      return;
     }
-    nodes[0].lo = r.box.lo;
-    nodes[0].hi = r.box.hi;
+    const Bounds3 box = r.box.bounds();
+    nodes[node].lo = box.lo;
+    nodes[node].hi = box.hi;
     Range left, right;
-    if (!split(r, depth, scratch, left, right)) {
-      nodes[0].index = r.begin;
-      nodes[0].count = r.count();
-      return nodes;
+    if (!split(r, depth, *scratch, left, right)) {
+      nodes[node].index = r.begin;
+      nodes[node].count = r.count();
+      return;
     }
-    std::vector<BvhNode> a, b;
-    tbb::parallel_invoke([&] { a = build_subtree(left, depth + 1); },
-                         [&] { b = build_subtree(right, depth + 1); });
-    // The serial order: root, both children, the left child's descendants,
-    // the right child's. a[i] moves to i + 2 for i >= 1 (a[0] to 1), b[i] to
-    // i + a.size() + 1 for i >= 1 (b[0] to 2); inner nodes' child indices
-    // move with them.
-    const uint32_t shift_a = 2, shift_b = uint32_t(a.size()) + 1;
-    nodes.reserve(a.size() + b.size() + 1);
-    nodes[0].index = 1;
-    nodes[0].count = 0;
-    auto moved = [](BvhNode n, uint32_t shift) {
-      if (!n.is_leaf()) n.index += shift;
-      return n;
-    };
-    nodes.push_back(moved(a[0], shift_a));
-    nodes.push_back(moved(b[0], shift_b));
-    for (size_t i = 1; i < a.size(); ++i) nodes.push_back(moved(a[i], shift_a));
-    for (size_t i = 1; i < b.size(); ++i) nodes.push_back(moved(b[i], shift_b));
-    return nodes;
+    const uint32_t first = cursor;
+    nodes[node].index = first;
+    nodes[node].count = 0;
+    const uint32_t right_cursor = first + 2 + 2 * (left.count() - 1);
+    tbb::parallel_invoke([&] { build_parallel(nodes, first, first + 2, left, depth + 1); },
+                         [&] { build_parallel(nodes, first + 1, right_cursor, right, depth + 1); });
+  }
+
+  // The tree of refs (bounded by all) into nodes, compacted.
+  void build(const Range& all, std::vector<BvhNode>& nodes) const {
+    // Unused slots keep count == kUnused (no leaf holds that many primitives).
+    constexpr uint32_t kUnused = ~0u;
+    BvhNode unused{};
+    unused.count = kUnused;
+    nodes.assign(2 * size_t(all.count()) - 1, unused);
+    build_parallel(nodes, 0, 1, all, 0);
+    // Compacted in place, in order (a node only moves down): then the array is
+    // build_serial's, node for node.
+    std::vector<uint32_t> new_index(nodes.size());
+    uint32_t used = 0;
+    for (size_t i = 0; i < nodes.size(); ++i)
+      if (nodes[i].count != kUnused) new_index[i] = used++;
+    for (size_t i = 0; i < nodes.size(); ++i) {
+      if (nodes[i].count == kUnused) continue;
+      BvhNode node = nodes[i];
+      if (!node.is_leaf()) node.index = new_index[node.index];
+      nodes[new_index[i]] = node;
+    }
+    nodes.resize(used);
+    nodes.shrink_to_fit();
   }
 };
 
@@ -269,15 +425,28 @@ void Bvh::build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids
   std::vector<PrimRef> refs(n);
   Range all{0, uint32_t(n), {}, {}};
   for (size_t i = 0; i < n; ++i) {
-    refs[i] = PrimRef{bounds[i].lo, uint32_t(i), bounds[i].hi, centroids[i]};
-    all.box.extend(bounds[i]);
-    all.cbox.extend(centroids[i]);
+    const Vec3 &lo = bounds[i].lo, &hi = bounds[i].hi, &c = centroids[i];
+    PrimRef& r = refs[i];
+    r.lo = Lanes{{lo.x, lo.y, lo.z, std::bit_cast<float>(uint32_t(i))}};
+    r.neg_hi = Lanes{{-hi.x, -hi.y, -hi.z, 0.0f}};
+    r.c = Lanes{{c.x, c.y, c.z, 0.0f}};
+    all.box.extend<kScalar>(r.lo, r.neg_hi);
+    all.cbox.extend<kScalar>(r.c);
   }
-  const Builder b{refs, cfg, std::clamp(cfg.bins, 2, kMaxBins)};
-  nodes = b.build_subtree(all, 0);
-  nodes.shrink_to_fit();
+  const int bins = std::clamp(cfg.bins, 2, kMaxBins);
+  switch (cfg.simd) {
+    case BvhBuildConfig::Simd::Best:
+      Builder<kBest>{refs, cfg, bins}.build(all, nodes);
+      break;
+    case BvhBuildConfig::Simd::Sse:
+      Builder<kBest == kAvx ? kSse : kBest>{refs, cfg, bins}.build(all, nodes);
+      break;
+    case BvhBuildConfig::Simd::Scalar:
+      Builder<kScalar>{refs, cfg, bins}.build(all, nodes);
+      break;
+  }
   prim_indices.resize(n);
-  for (size_t i = 0; i < n; ++i) prim_indices[i] = refs[i].id;
+  for (size_t i = 0; i < n; ++i) prim_indices[i] = refs[i].id();
 }
 
 BvhQuality Bvh::quality() const {

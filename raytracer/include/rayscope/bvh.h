@@ -49,9 +49,15 @@ struct BvhBuildConfig {
   float intersection_cost = 1.0f;  ///< ...relative to one primitive test.
   int max_depth = 56;              ///< Deeper nodes are split at the object median.
   /// Subtrees of at least this many primitives are built as parallel tasks
-  /// (TBB), each into its own node array, spliced in the serial order: the
-  /// tree is the same for every value and thread count (~0u: one task).
+  /// (TBB), each into its own reserved slots of the node array, compacted
+  /// into the serial order: the tree is the same for every value and thread
+  /// count (~0u: one task).
   uint32_t parallel_min_prims = 4096;
+  /// The instructions that bin and bound the boxes: every choice builds the
+  /// same tree, bit for bit (the tests compare them). Best: the widest the
+  /// library is compiled for (AVX, else SSE2, else none); Sse: SSE2 where it
+  /// is compiled in, else none; Scalar: none, as on a CPU without SIMD.
+  enum class Simd { Best, Sse, Scalar } simd = Simd::Best;
 };
 
 /// Quality figures of a built hierarchy (see Bvh::quality()).

@@ -1,0 +1,31 @@
+// What `rayscope view` hands the viewer module (view_module.cpp), which the
+// executable loads only for `view`: the VTK rendering libraries it needs
+// (OpenGL, interaction, fonts: about 260 shared libraries) would otherwise be
+// loaded and relocated by every `rayscope` process, which took longer than
+// loading the bunny and building its BVH.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "rayscope/scene_io.h"
+
+namespace rayscope::cli {
+
+/// A checked `rayscope view` request: the scene is loaded and every option
+/// that can be checked without a window has been.
+struct ViewRequest {
+  LoadedScene* loaded = nullptr;
+  bool pick = false;
+  int pixel[2] = {-1, -1};  ///< Picked at the start, from the top-left (when pick).
+  std::vector<std::string> keys;
+  std::string screenshot;
+};
+
+/// The module's entry points (extern "C", looked up by name).
+using ViewHelpFn = const char* (*)();
+using ViewRunFn = int (*)(const ViewRequest& request, std::string& error);
+inline constexpr const char* kViewHelpSymbol = "rayscope_view_help";
+inline constexpr const char* kViewRunSymbol = "rayscope_view_run";
+
+}  // namespace rayscope::cli
