@@ -558,7 +558,7 @@ struct BuildRow {
   // device's "threads=N".
   std::vector<std::pair<int, double>> commit_ms, bvh_ms, embree_ms;
   BvhQuality quality;
-  size_t ours_bytes = 0;    ///< Scene::accel().memory_bytes(): nodes, leaf order, records.
+  size_t ours_bytes = 0;     ///< Scene::accel().memory_bytes(): nodes, leaf order, records.
   int64_t embree_bytes = 0;  ///< What Embree's memory monitor counted for the scene.
 };
 

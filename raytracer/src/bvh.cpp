@@ -2,19 +2,17 @@
 // sorted into equal-width bins along each axis and the split between bins with
 // the lowest surface area heuristic cost is taken.
 //
-// One pass over a node's primitives bins them on all three axes at once, a box
-// in two SSE registers (a plain loop without SSE, rounding the same); each bin
-// keeps the box of its primitives, so that the two children's boxes are unions
-// of bins (exact: min and max do not round), and the partition bounds each
-// side's centroids as it moves them, so that no node walks its primitives
-// again to bound them. Only bins that hold a primitive are swept. The
-// primitives are copied into one array of references (box, centroid, index)
-// that the partitions reorder in place, so that a node reads its primitives in
-// order instead of through an index. Subtrees of at least
-// cfg.parallel_min_prims primitives are built in parallel (TBB) into slots of
-// one node array reserved for the most nodes they can have; removing the
-// unused slots leaves the array the serial recursion makes: the tree is the
-// same, node for node, whatever the number of threads.
+// One pass over a node's primitives bins them on all three axes at once; a box is extended by one
+// 8-float min (AVX, two SSE halves, or a plain loop, chosen by cfg.simd; all round the same); each
+// bin keeps the box of its primitives, so that the two children's boxes are unions of bins (exact:
+// min and max do not round), and the partition bounds each side's centroids as it moves them, so
+// that no node walks its primitives again to bound them. Only bins that hold a primitive are swept.
+// The primitives are copied into one array of references (box, centroid, index) that the partitions
+// reorder in place, so that a node reads its primitives in order instead of through an index.
+// Subtrees of at least cfg.parallel_min_prims primitives are built in parallel (TBB) into slots of
+// one node array reserved for the most nodes they can have; removing the unused slots leaves the
+// array the serial recursion makes: the tree is the same, node for node, whatever the number of
+// threads.
 #include "rayscope/bvh.h"
 
 #include <tbb/parallel_invoke.h>
@@ -362,7 +360,7 @@ struct Builder {
   // at least), so the left child's descendants get 2 n_left - 2 slots from
   // the children's pair on and the right child's follow them: the slots they
   // leave unused are the only difference from build_serial's array
-  // (compact_nodes removes them).
+  // (build() removes them).
   void build_parallel(std::span<BvhNode> nodes, uint32_t node, uint32_t cursor, const Range& r,
                       int depth) const {
     const auto scratch = std::make_unique<Scratch>();
