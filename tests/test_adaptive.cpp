@@ -9,9 +9,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <string>
 #include <tuple>
 #include <vector>
 
+#include "rayscope/raytree_format.h"
 #include "rayscope/render.h"
 #include "rayscope/replay.h"
 #include "rayscope/shapes.h"
@@ -187,6 +189,19 @@ TEST(Adaptive, ReplayedAndRecordedPixelsMatchTheRender) {
     int primaries = 0;
     for (const RayRecord& ray : r.rays) primaries += ray.parent < 0;
     EXPECT_EQ(float(primaries), fb.samples[fb.index(x, y)]) << x << "," << y;
+    // The record says how many it took, and so do the text and JSON views.
+    const int taken = int(fb.samples[fb.index(x, y)]);
+    EXPECT_EQ(r.samples_taken, taken);
+    EXPECT_EQ(records[k].samples_taken, taken);
+    const std::string text = format_text(r, scene);
+    if (taken < 64)
+      EXPECT_NE(text.find("8x8 samples (adaptive: took " + std::to_string(taken) + " of 64)"),
+                std::string::npos)
+          << text.substr(0, 80);
+    else
+      EXPECT_EQ(text.find("adaptive"), std::string::npos) << text.substr(0, 80);
+    EXPECT_NE(format_json(r, scene, -1).find("\"samples_taken\":" + std::to_string(taken)),
+              std::string::npos);
   }
   // Statistics are another compiled policy of the same pixel loop.
   RenderSettings st = s;

@@ -38,6 +38,7 @@ struct RecordSelected : FramePolicy {
     r.y = y;
     r.sample = -1;
     r.samples = settings.sample_grid();
+    r.samples_taken = taken;
     r.color = c;
     r.rays = std::move(rec.rays);
     return true;
@@ -62,8 +63,8 @@ PixelRecord record_pixel(const Scene& scene, const RenderSettings& settings, int
   out.sample = sample;
   out.samples = settings.sample_grid();
   out.color = with_scene_features(scene, [&]<bool kShadows, bool kSecondary>() {
-    return render_pixel<RayTreeRecorder, kShadows, kSecondary>(scene, settings, x, y, counters,
-                                                               rec);
+    return render_pixel<RayTreeRecorder, kShadows, kSecondary>(
+        scene, settings, x, y, counters, rec, nullptr, nullptr, &out.samples_taken);
   });
   out.rays = std::move(rec.rays);
   return out;

@@ -431,8 +431,27 @@ TEST(VtkImage, AdaptiveSamplingAndTextureFilter) {
   ASSERT_EQ(update(fixed), 1);
   ASSERT_EQ(update(adaptive), 1);
   expect_same_colors(fixed->GetOutput(), adaptive->GetOutput());
+  // "Samples": what each pixel took, only with adaptive sampling (all 16 at
+  // a target of 0; flat pixels stop after two batches of 4 at 0.02).
+  EXPECT_EQ(fixed->GetOutput()->GetPointData()->GetAbstractArray("Samples"), nullptr);
+  auto samples = [&] {
+    return vtkIntArray::SafeDownCast(
+        adaptive->GetOutput()->GetPointData()->GetAbstractArray("Samples"));
+  };
+  ASSERT_NE(samples(), nullptr);
+  ASSERT_EQ(samples()->GetNumberOfTuples(), 24 * 20);
+  for (vtkIdType i = 0; i < samples()->GetNumberOfTuples(); ++i)
+    ASSERT_EQ(samples()->GetValue(i), 16);
   adaptive->SetTargetError(0.02);
   ASSERT_EQ(update(adaptive), 1);
+  ASSERT_NE(samples(), nullptr);
+  int fewer = 0;
+  for (vtkIdType i = 0; i < samples()->GetNumberOfTuples(); ++i) {
+    const int n = samples()->GetValue(i);
+    ASSERT_TRUE(n == 8 || n == 12 || n == 16) << n;
+    fewer += n < 16;
+  }
+  EXPECT_GT(fewer, 24 * 20 / 2);  // the background, at least
   const rayscope::RenderSettings rs = adaptive->GetRenderSettings();
   EXPECT_EQ(rs.target_error, 0.02f);
   EXPECT_EQ(rs.max_samples, 4);

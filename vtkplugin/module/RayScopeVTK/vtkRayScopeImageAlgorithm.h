@@ -42,6 +42,8 @@
  *   secondary and shadow rays included); with "CostRays", "CostBoxes",
  *   "CostPrimitives". Only when ComputeCost is on (default; it renders with the
  *   core's counting integrator, slightly slower).
+ * - "Samples": int, the samples the pixel took. Only with adaptive sampling
+ *   (MaxSamples > 0).
  *
  * Field data: "RayCounts" (primary, shadow, reflection, refraction rays),
  * "ShadowRaysOccluded", "NodesVisited", "BoxesTested", "PrimitivesTested".
