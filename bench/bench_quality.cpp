@@ -39,6 +39,21 @@
 //                   windows that lie inside the image.
 //     A configuration is on the Pareto front when no other configuration of the
 //     same scene is at least as fast and at least as accurate (and better in one).
+//  4. Beside those fixed-sample configurations, in the same rounds and against
+//     the same reference, for each depth of --frontier-depths and cutoff of
+//     --frontier-cutoffs:
+//       filtered   N x N samples with the checkerboard box-filtered over each
+//                  sample's footprint (RenderSettings::texture_filter), N rising
+//                  as above;
+//       adaptive   adaptive sampling (RenderSettings::max_samples,
+//                  target_error), batches of B x B from an M x M grid for each
+//                  B:M of --adaptive and target of --targets, with and without
+//                  the filter.
+//     The reference is the converged unfiltered image (point-sampled checker,
+//     256 spp): the true pixel integral, so the filter is judged by how close
+//     it gets to that, not to itself. The summary lists, for RMSE thresholds,
+//     the cheapest configuration of each kind and the ratio of the cheapest
+//     fixed-sample time to the cheapest time overall.
 //
 // Peer comparison (--peer-scene, default bunny_glass): the loaded RayScope
 // scene is written as a POV-Ray 3.7 scene (same camera, lights, Phong/Blinn
@@ -138,6 +153,11 @@ struct Options {
   std::vector<int> spp{1, 2, 3, 4, 5, 6, 7, 8};
   std::vector<int> depths{1, 2, 3, 4, 6, 10};
   std::vector<float> cutoffs{0.0f, 1e-3f, 1e-2f};
+  std::vector<int> frontier_depths{4, 6};
+  std::vector<float> frontier_cutoffs{1e-2f};
+  std::vector<std::pair<int, int>> adaptive{{1, 4}, {2, 6}, {2, 8}};  // B:M
+  std::vector<float> targets{0.04f, 0.02f, 0.01f, 0.005f, 0.0025f};
+  bool no_frontier = false;
   int rays_max_depth = 10;
   int rays_runs = 5;
   double max_seconds = 3.0;
@@ -325,8 +345,12 @@ constexpr const char* kRaysHeader =
 // ---------------------------------------------------------------------------
 // Rendering helpers
 
-RenderSettings settings_for(const Options& o, int n, int depth, float cutoff) {
+RenderSettings settings_for(const Options& o, int n, int depth, float cutoff, bool filter = false,
+                            int max_n = 0, float target = 0.0f) {
   RenderSettings rs;
+  rs.texture_filter = filter;
+  rs.max_samples = max_n;
+  rs.target_error = target;
   rs.width = o.width;
   rs.height = o.height;
   rs.samples = n;
@@ -405,6 +429,20 @@ struct QualityRow {
   RayCounters c;
   Metrics m;
   bool pareto_rmse = false, pareto_ssim = false;
+  bool filter = false;  ///< RenderSettings::texture_filter
+  int max_n = 0;        ///< RenderSettings::max_samples (0: fixed N x N)
+  float target = 0.0f;  ///< RenderSettings::target_error
+
+  /// "fixed", "filtered", "adaptive" or "adaptive+filtered".
+  std::string kind() const {
+    if (max_n > 0) return filter ? "adaptive+filtered" : "adaptive";
+    return filter ? "filtered" : "fixed";
+  }
+  /// "16" for fixed N x N, "4..64" (first batch .. most) for adaptive.
+  std::string spp_label() const {
+    return max_n > 0 ? std::to_string(n * n) + ".." + std::to_string(max_n * max_n)
+                     : std::to_string(n * n);
+  }
 };
 
 void mark_pareto(std::vector<QualityRow>& rows, bool by_ssim) {
@@ -791,7 +829,7 @@ std::string peer_comparison(const Options& o, const SceneCase& sc) {
 
 // ---------------------------------------------------------------------------
 
-std::vector<float> parse_floats(const std::string& s) {
+std::vector<float> parse_floats(const std::string& s, const std::string& what = "--cutoffs") {
   std::vector<float> v;
   std::stringstream ss(s);
   std::string t;
@@ -804,7 +842,7 @@ std::vector<float> parse_floats(const std::string& s) {
       used = 0;
     }
     if (used == 0 || used != t.size() || !(f >= 0.0f && f <= 1.0f))
-      throw std::invalid_argument("--cutoffs: expected numbers in [0, 1], got '" + t + "'");
+      throw std::invalid_argument(what + ": expected numbers in [0, 1], got '" + t + "'");
     v.push_back(f);
   }
   return v;
@@ -837,7 +875,7 @@ int run(Options& o) {
           "time_min_s,"
        << kRaysHeader
        << ",depth_cutoffs,weight_cutoffs,mrays_per_s,rmse_linear,psnr_linear_db,ssim_srgb_luma,"
-          "pareto_rmse,pareto_ssim\n";
+          "pareto_rmse,pareto_ssim,kind,texture_filter,max_spp_n,target_error,mean_spp\n";
   rcsv << "scene,width,height,spp,max_depth,min_contribution,time_s," << kRaysHeader
        << ",tree_rays_per_primary,bound_tree_rays_per_primary,lights,triangles_spheres_planes,"
           "bound_rays_total\n";
@@ -984,16 +1022,55 @@ int run(Options& o) {
           prev_rmse = q.m.rmse;
         }
       }
+    const size_t fixed_rows = rows.size();
+    if (!o.no_frontier) {
+      auto measure = [&](QualityRow q) {
+        Framebuffer fb;
+        q.times.push_back(timed_render(
+            scene, settings_for(o, q.n, q.depth, q.cutoff, q.filter, q.max_n, q.target), &q.c,
+            &fb));
+        q.m = compare_linear(to_rgb(fb), ref, o.width, o.height);
+        rows.push_back(q);
+        return q;
+      };
+      for (int d : o.frontier_depths)
+        for (float c : o.frontier_cutoffs) {
+          // Filtered N x N: N rises as for the fixed configurations.
+          const double base = timed_render(scene, settings_for(o, 1, d, c, true), nullptr, nullptr);
+          double prev_rmse = -1;
+          for (int n : spp) {
+            if (base * n * n > o.max_seconds) break;
+            QualityRow q{n, d, c, {}, {}, {}};
+            q.filter = true;
+            q = measure(q);
+            if (prev_rmse >= 0 && q.m.rmse > (1.0 - o.min_gain) * prev_rmse) break;
+            prev_rmse = q.m.rmse;
+          }
+          // Adaptive, with and without the filter.
+          for (auto [b, m] : o.adaptive)
+            for (float t : o.targets)
+              for (bool f : {false, true}) {
+                QualityRow q{b, d, c, {}, {}, {}};
+                q.filter = f;
+                q.max_n = m;
+                q.target = t;
+                measure(q);
+              }
+        }
+    }
     std::printf(
-        "\n  Time against error: %zu configurations rendered; not rendered: %d estimated slower "
-        "than %.2f s, %d beyond an N whose RMSE gain was below %.0f%%\n",
-        rows.size(), over_time, o.max_seconds, saturated, o.min_gain * 100);
+        "\n  Time against error: %zu configurations rendered (%zu fixed-sample, %zu filtered or "
+        "adaptive); not rendered: %d estimated slower than %.2f s, %d beyond an N whose RMSE "
+        "gain was below %.0f%%\n",
+        rows.size(), fixed_rows, rows.size() - fixed_rows, over_time, o.max_seconds, saturated,
+        o.min_gain * 100);
     std::printf("  round 1 done (%.0f s so far)\n", seconds_since(t_start));
     std::fflush(stdout);
     for (int r = 1; r < o.runs; ++r) {
       for (QualityRow& q : rows)
-        q.times.push_back(
-            timed_render(scene, settings_for(o, q.n, q.depth, q.cutoff), nullptr, nullptr));
+        q.times.push_back(timed_render(
+            scene, settings_for(o, q.n, q.depth, q.cutoff, q.filter, q.max_n, q.target), nullptr,
+            nullptr));
       std::printf("  round %d done (%.0f s so far)\n", r + 1, seconds_since(t_start));
       std::fflush(stdout);
     }
@@ -1003,22 +1080,59 @@ int run(Options& o) {
       return median(a.times) < median(b.times);
     });
     std::printf("  Pareto front (time against linear RMSE; * also on the 1-SSIM front):\n");
-    std::printf("  %4s %5s %7s %10s %11s %10s %9s %9s\n", "spp", "depth", "cutoff", "time ms",
-                "rays", "RMSE", "PSNR dB", "SSIM");
+    std::printf("  %-17s %7s %7s %5s %7s %10s %11s %10s %9s %9s\n", "kind", "spp", "target",
+                "depth", "cutoff", "time ms", "rays", "RMSE", "PSNR dB", "SSIM");
+    auto print_row = [&](const QualityRow& q, const char* tail) {
+      std::printf("  %-17s %7s %7s %5d %7s %10.2f %11.4g %10.3e %9.2f %9.5f%s\n", q.kind().c_str(),
+                  q.spp_label().c_str(), q.max_n > 0 ? fmt("%g", double(q.target)).c_str() : "-",
+                  q.depth, cutoff_str(q.cutoff).c_str(), median(q.times) * 1e3,
+                  double(q.c.total_rays()), q.m.rmse, q.m.psnr, q.m.ssim, tail);
+    };
     for (const QualityRow& q : rows) {
       const double t = median(q.times);
-      if (q.pareto_rmse)
-        std::printf("  %4d %5d %7s %10.2f %11.4g %10.3e %9.2f %9.5f%s\n", q.n * q.n, q.depth,
-                    cutoff_str(q.cutoff).c_str(), t * 1e3, double(q.c.total_rays()), q.m.rmse,
-                    q.m.psnr, q.m.ssim, q.pareto_ssim ? " *" : "");
+      if (q.pareto_rmse) print_row(q, q.pareto_ssim ? " *" : "");
       qcsv << sc.name << "," << o.width << "," << o.height << "," << o.threads << "," << q.n << ","
            << q.n * q.n << "," << q.depth << "," << cutoff_str(q.cutoff) << "," << q.times.size()
            << "," << t << "," << *std::min_element(q.times.begin(), q.times.end()) << ","
            << rays_csv(q.c) << "," << q.c.depth_cutoffs << "," << q.c.weight_cutoffs << ","
            << double(q.c.total_rays()) / t * 1e-6 << "," << q.m.rmse << "," << q.m.psnr << ","
-           << q.m.ssim << "," << int(q.pareto_rmse) << "," << int(q.pareto_ssim) << "\n";
+           << q.m.ssim << "," << int(q.pareto_rmse) << "," << int(q.pareto_ssim) << "," << q.kind()
+           << "," << int(q.filter) << "," << q.max_n << "," << q.target << ","
+           << double(q.c.rays[int(RayKind::Primary)]) / pixels << "\n";
     }
     write_atomic(o.out / "quality.csv", qcsv.str());
+    // The cheapest configuration of each kind reaching each RMSE, and the
+    // cheapest fixed-sample time over the cheapest time of all (same run).
+    std::printf(
+        "\n  Cheapest configuration reaching an RMSE (median times of this run; ratio = cheapest "
+        "fixed-sample time / this time):\n");
+    std::printf("  %-8s %-17s %7s %7s %5s %7s %10s %10s %11s %7s\n", "RMSE <=", "kind", "spp",
+                "target", "depth", "cutoff", "time ms", "RMSE", "mean spp", "ratio");
+    for (double thr : {0.035, 0.02, 0.015, 0.01, 0.0075}) {
+      const QualityRow* fixed_best = nullptr;
+      std::map<std::string, const QualityRow*> best;
+      for (const QualityRow& q : rows) {
+        if (q.m.rmse > thr) continue;
+        const QualityRow*& b = best[q.kind()];
+        if (!b || median(q.times) < median(b->times)) b = &q;
+      }
+      if (best.count("fixed")) fixed_best = best["fixed"];
+      for (const char* k : {"fixed", "filtered", "adaptive", "adaptive+filtered"}) {
+        auto it = best.find(k);
+        if (it == best.end()) {
+          std::printf("  %-8g %-17s   (none reaches it)\n", thr, k);
+          continue;
+        }
+        const QualityRow& q = *it->second;
+        std::printf(
+            "  %-8g %-17s %7s %7s %5d %7s %10.2f %10.3e %11.2f %7s\n", thr, k,
+            q.spp_label().c_str(), q.max_n > 0 ? fmt("%g", double(q.target)).c_str() : "-", q.depth,
+            cutoff_str(q.cutoff).c_str(), median(q.times) * 1e3, q.m.rmse,
+            double(q.c.rays[int(RayKind::Primary)]) / pixels,
+            fixed_best ? fmt("%.2f", median(fixed_best->times) / median(q.times)).c_str() : "-");
+      }
+    }
+    std::fflush(stdout);
 
     peer();
     ++done;
@@ -1112,6 +1226,21 @@ int main(int argc, char** argv) {
   app.add_option("--peer-runs", o.peer_runs, "Peer comparison runs (0: --runs)")
       ->capture_default_str()
       ->check(CLI::Range(0, 100));
+  std::string frontier_cutoffs, adaptive, targets;
+  app.add_option("--frontier-depths", o.frontier_depths,
+                 "Filtered and adaptive configurations: maximum depths")
+      ->delimiter(',')
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
+  app.add_option("--frontier-cutoffs", frontier_cutoffs,
+                 "Filtered and adaptive configurations: minimum contributions; default 0.01");
+  app.add_option("--adaptive", adaptive,
+                 "Adaptive sampling configurations B:M (batches of B x B from an M x M grid); "
+                 "default 1:4,2:6,2:8");
+  app.add_option("--targets", targets,
+                 "Adaptive sampling's target errors; default 0.04,0.02,0.01,0.005,0.0025");
+  app.add_flag("--no-frontier", o.no_frontier,
+               "Only the fixed-sample configurations (no filtered or adaptive ones)");
   app.add_flag("--no-peer", o.no_peer, "Skip the POV-Ray comparison");
   app.add_flag("--peer-only", o.peer_only, "Only the POV-Ray comparison (no sweeps)");
   app.add_flag("--quick", o.quick,
@@ -1119,6 +1248,28 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     if (!cutoffs.empty()) o.cutoffs = parse_floats(cutoffs);
+    if (!frontier_cutoffs.empty())
+      o.frontier_cutoffs = parse_floats(frontier_cutoffs, "--frontier-cutoffs");
+    if (!targets.empty()) o.targets = parse_floats(targets, "--targets");
+    if (!adaptive.empty()) {
+      o.adaptive.clear();
+      std::stringstream ss(adaptive);
+      std::string t;
+      while (std::getline(ss, t, ',')) {
+        int b = 0, m = 0, used = 0;
+        RenderSettings probe;
+        if (std::sscanf(t.c_str(), "%d:%d%n", &b, &m, &used) != 2 || size_t(used) != t.size())
+          throw std::invalid_argument("--adaptive: expected B:M pairs, got '" + t + "'");
+        probe.samples = b;
+        probe.max_samples = m;
+        try {
+          probe.validate();
+        } catch (const std::invalid_argument& e) {
+          throw std::invalid_argument("--adaptive " + t + ": " + e.what());
+        }
+        o.adaptive.emplace_back(b, m);
+      }
+    }
     auto dedupe = [](auto& v) {  // keep the first of repeated values, in order
       for (size_t i = 0; i < v.size(); ++i)
         for (size_t j = v.size(); j-- > i + 1;)

@@ -40,8 +40,9 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
   const SceneSummary& sum = scene.summary();
   std::printf("Scene:     %zu triangles, %zu spheres, %zu planes, %zu lights\n", sum.triangles,
               sum.spheres, sum.planes, sum.lights);
-  std::printf("Image:     %dx%d, %dx%d samples per pixel, max depth %d, %d threads\n", rs.width,
-              rs.height, rs.samples, rs.samples, rs.max_depth,
+  std::printf("Image:     %dx%d, %dx%d samples per pixel%s, max depth %d, %d threads\n", rs.width,
+              rs.height, rs.sample_grid(), rs.sample_grid(),
+              rs.max_samples > 0 ? " at most (adaptive)" : "", rs.max_depth,
               rs.threads > 0 ? rs.threads : int(std::thread::hardware_concurrency()));
   const Aggregate& accel = scene.accel();
   std::printf(
@@ -187,7 +188,15 @@ void print_explain(const Scene& scene, const RenderSettings& rs, const RayCounte
     std::printf(
         "- triangles: %zu zero-area (kept, never hit); %zu with non-finite vertices left out\n",
         s.degenerate_triangles, s.skipped_triangles);
-  if (rs.samples == 1)
+  if (rs.max_samples > 0)
+    std::printf(
+        "- sampling: adaptive, %dx%d stratified samples at a time from a %dx%d grid until a "
+        "pixel's standard error is below %s (%llu primary rays, %.2f per pixel of at most "
+        "%d)\n",
+        rs.samples, rs.samples, rs.max_samples, rs.max_samples,
+        shortest_text(rs.target_error).c_str(), u(c.rays[int(RayKind::Primary)]),
+        double(c.rays[int(RayKind::Primary)]) / double(pixels), rs.max_samples * rs.max_samples);
+  else if (rs.samples == 1)
     std::printf(
         "- sampling: 1 sample per pixel at the pixel center (%llu primary rays = "
         "width x height, no jitter)\n",
@@ -215,9 +224,17 @@ int run_render(const RenderOptions& o) {
   fs::path out(o.output);
   check_image_path(out);
 
-  for (const std::string& a : o.aovs)
-    if (a != "cost") throw std::invalid_argument("--aov: unknown AOV '" + a + "' (known: cost)");
-  const bool cost_aov = !o.aovs.empty();
+  bool cost_aov = false, samples_aov = false;
+  for (const std::string& a : o.aovs) {
+    if (a == "cost")
+      cost_aov = true;
+    else if (a == "samples")
+      samples_aov = true;
+    else
+      throw std::invalid_argument("--aov: unknown AOV '" + a + "' (known: cost, samples)");
+  }
+  if (samples_aov && rs.max_samples == 0)
+    throw std::invalid_argument("--aov samples: needs adaptive sampling (--max-spp)");
   rs.statistics = o.stats || cost_aov;
   Scene& scene = loaded.scene;
   // What commit() worked around in the input (non-finite mesh data), one line each.
@@ -232,7 +249,14 @@ int run_render(const RenderOptions& o) {
   // --stats counts the traversal, which fills the cost AOVs too; only --aov
   // cost puts them in the output file.
   if (!cost_aov) fb.cost.clear();
+  if (!samples_aov) fb.samples.clear();
   write_image(out, fb);
+  if (samples_aov) {
+    fs::path heat = out;
+    heat.replace_extension(".samples.png");
+    write_heatmap(heat, fb.samples, fb.width, fb.height, "samples per pixel (adaptive)");
+    if (!o.quiet) std::fprintf(stderr, "wrote %s\n", heat.string().c_str());
+  }
   if (cost_aov) {
     fs::path heat = out;
     heat.replace_extension(".cost.png");
@@ -288,7 +312,9 @@ void add_render_command(CLI::App& app, int& exit_code) {
                 "file is the same as without it)");
   cmd->add_option("--aov", opts->aovs,
                   "Extra outputs: 'cost' writes OUT.cost.png (heat map of BVH nodes visited, with "
-                  "legend) and adds cost.* channels to .exr output");
+                  "legend) and adds cost.* channels to .exr output; 'samples' (with --max-spp) "
+                  "writes OUT.samples.png (heat map of the samples each pixel took) and adds a "
+                  "samples channel to .exr output");
   cmd->add_flag("--explain", opts->explain,
                 "Print what the renderer skipped for this scene and why, with counts");
   cmd->add_flag("-q,--quiet", opts->quiet, "No progress bar or messages");

@@ -110,6 +110,18 @@ void SceneOptions::add_to(CLI::App* cmd, bool render_settings, bool walk_option)
     cmd->add_option("--min-contribution", min_contribution,
                     "Skip secondary rays whose weight within their sample is below this (0.." +
                         shortest_text(RS::kMaxMinContribution) + ")");
+    cmd->add_option("--max-spp", max_samples,
+                    "Adaptive sampling: M, a multiple of --spp N" + in(1, RS::kMaxSamples) +
+                        ": each pixel takes N x N samples at a time from an M x M grid until "
+                        "its estimated error is below --target-error or all M x M are taken");
+    cmd->add_option("--target-error", target_error,
+                    "Adaptive sampling: the standard error of a pixel's mean (linear RGB, "
+                    "largest channel) below which it stops (0.." +
+                        shortest_text(RS::kMaxTargetError) +
+                        "; 0: take all M x M; needs --max-spp)");
+    cmd->add_flag("--texture-filter", texture_filter,
+                  "Box-filter the checkerboard over each primary sample's footprint (ray "
+                  "differentials) instead of point sampling it");
     cmd->add_option("--seed", seed, "Seed of the sample jitter" + in(0, RS::kMaxSeed));
     cmd->add_option("-t,--threads", threads, "Threads, 0: all" + in(0, RS::kMaxThreads));
   }
@@ -221,6 +233,9 @@ LoadedScene SceneOptions::load() const {
   if (max_depth) set("--max-depth", [&] { rs.max_depth = *max_depth; });
   if (min_contribution) set("--min-contribution", [&] { rs.min_contribution = *min_contribution; });
   if (seed) set("--seed", [&] { rs.seed = *seed; });
+  if (max_samples) set("--max-spp", [&] { rs.max_samples = *max_samples; });
+  if (target_error) set("--target-error", [&] { rs.target_error = *target_error; });
+  if (texture_filter) rs.texture_filter = true;
   set("--threads", [&] { rs.threads = threads; });
   if (mesh) frame_mesh(loaded.scene, rs);
   AccelConfig accel_config;
@@ -266,6 +281,10 @@ std::string SceneOptions::replay_args(const std::string& scene, const RenderSett
   a += " --max-depth " + std::to_string(s.max_depth);
   a += " --min-contribution " + shortest_text(s.min_contribution);
   a += " --seed " + std::to_string(s.seed);
+  if (s.max_samples > 0)
+    a += " --max-spp " + std::to_string(s.max_samples) + " --target-error " +
+         shortest_text(s.target_error);
+  if (s.texture_filter) a += " --texture-filter";
   if (accel.kind != AccelKind::Bvh) a += std::string(" --accel ") + to_string(accel.kind);
   if (accel.storage != PrimStorage::EveryCell)
     a += std::string(" --storage ") + to_string(accel.storage);

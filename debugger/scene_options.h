@@ -32,6 +32,9 @@ struct SceneOptions {
   std::optional<int> width, height, samples, max_depth;
   std::optional<uint32_t> seed;
   std::optional<float> min_contribution;
+  std::optional<int> max_samples;
+  std::optional<float> target_error;
+  bool texture_filter = false;
   int threads = 0;
   /// The structure rays walk (rayscope::parse_accel_kind names it): "bvh",
   /// "bvh2" (the binary teaching walk), "kdtree", "grid", "octree", "bsp",

@@ -21,6 +21,9 @@ int run(const ViewRequest& r) {
   scene->SetSamples(rs.samples);
   scene->SetMaxDepth(rs.max_depth);
   scene->SetMinContribution(rs.min_contribution);
+  scene->SetMaxSamples(rs.max_samples);
+  scene->SetTargetError(rs.target_error);
+  scene->SetTextureFilter(rs.texture_filter);
   scene->SetThreads(rs.threads);
   scene->SetSeed(int(rs.seed));
   scene->SetCoreScene(r.loaded->scene);

@@ -23,6 +23,7 @@ void Framebuffer::resize(int w, int h) {
   depth.assign(n, kInfinity);
   normal.assign(n, Vec3(0.0f));
   object_id.assign(n, -1.0f);
+  samples.clear();
 }
 
 float linear_to_srgb(float v) {
@@ -95,12 +96,14 @@ void write_image(const std::filesystem::path& path, const Framebuffer& fb) {
   bool ok;
   if (ext == ".exr") {
     const bool cost = fb.cost.size() == n;
-    const int nc = cost ? 12 : 8;
+    const bool samples = fb.samples.size() == n;
+    const int nc = 8 + (cost ? 4 : 0) + (samples ? 1 : 0);
     OIIO::ImageSpec spec(fb.width, fb.height, nc, OIIO::TypeDesc::FLOAT);
     spec.channelnames = {"R", "G", "B", "Z", "N.x", "N.y", "N.z", "objectId"};
     if (cost)
       for (const char* c : {"cost.rays", "cost.nodes", "cost.boxes", "cost.prims"})
         spec.channelnames.push_back(c);
+    if (samples) spec.channelnames.push_back("samples");
     spec.z_channel = 3;
     spec.attribute("compression", "zip");
     std::vector<float> px(n * nc);
@@ -120,6 +123,7 @@ void write_image(const std::filesystem::path& path, const Framebuffer& fb) {
         p[10] = float(fb.cost[i].boxes);
         p[11] = float(fb.cost[i].prims);
       }
+      if (samples) p[nc - 1] = fb.samples[i];
     }
     ok = out->open(tmp.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, px.data());
   } else {

@@ -183,9 +183,12 @@ nlohmann::json jf(float f) {
 }  // namespace
 
 std::string format_text(const PixelRecord& rec, const Scene& s) {
+  const int grid = rec.samples * rec.samples;
   std::string out =
-      fmt("pixel (%d, %d): %dx%d samples, color ", rec.x, rec.y, rec.samples, rec.samples) +
-      v3(rec.color) + fmt(", %zu rays recorded\n", rec.rays.size());
+      fmt("pixel (%d, %d): %dx%d samples", rec.x, rec.y, rec.samples, rec.samples) +
+      (rec.samples_taken == grid ? std::string()
+                                 : fmt(" (adaptive: took %d of %d)", rec.samples_taken, grid)) +
+      ", color " + v3(rec.color) + fmt(", %zu rays recorded\n", rec.rays.size());
   out += walk_legend(s);
   for (const RayRecord& r : rec.rays)
     if (r.parent < 0) {
@@ -265,9 +268,13 @@ std::string format_json(const PixelRecord& rec, const Scene& s, int indent) {
     }
     rays.push_back(std::move(j));
   }
-  json root = {{"pixel", {rec.x, rec.y}}, {"accel", to_string(s.accel().kind())},
-               {"sample", rec.sample},    {"samples_per_axis", rec.samples},
-               {"color", jv(rec.color)},  {"rays", std::move(rays)}};
+  json root = {{"pixel", {rec.x, rec.y}},
+               {"accel", to_string(s.accel().kind())},
+               {"sample", rec.sample},
+               {"samples_per_axis", rec.samples},
+               {"samples_taken", rec.samples_taken},
+               {"color", jv(rec.color)},
+               {"rays", std::move(rays)}};
   return root.dump(indent);
 }
 

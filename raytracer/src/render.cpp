@@ -24,6 +24,28 @@ Vec2 sample_position(int x, int y, int k, int n, uint32_t seed) {
   return Vec2(float(x) + (float(sx) + u) / float(n), float(y) + (float(sy) + v) / float(n));
 }
 
+void spread_order(int count, int* order) {
+  int bits = 0;
+  while ((1 << bits) < count) ++bits;
+  int m = 0;
+  for (int r = 0; r < (1 << bits); ++r) {
+    int v = 0;
+    for (int i = 0; i < bits; ++i)
+      if (r & (1 << i)) v |= 1 << (bits - 1 - i);
+    if (v < count) order[m++] = v;
+  }
+}
+
+void batch_strata(const RenderSettings& settings, const int* order, int j, int* out) {
+  const int n = settings.sample_grid(), b = settings.samples, kb = n / b;
+  // Batch j's offset within each K x K block: the first K batches lie on the
+  // diagonal of the spread order (distinct rows and columns), the next K on
+  // the next diagonal, and so on.
+  const int ox = order[j % kb], oy = order[(j % kb + j / kb) % kb];
+  for (int by = 0; by < b; ++by)
+    for (int bx = 0; bx < b; ++bx) *out++ = (by * kb + oy) * n + bx * kb + ox;
+}
+
 void prepare_frame(Scene& scene, const RenderSettings& settings) {
   settings.validate();
   scene.camera.prepare(settings.width, settings.height);

@@ -41,6 +41,17 @@ void RenderSettings::validate() const {
          std::to_string(threads));
   if (seed > kMaxSeed)
     fail("seed must be in " + range(0, kMaxSeed) + ", got " + std::to_string(seed));
+  if (max_samples != 0 &&
+      (max_samples < samples || max_samples > kMaxSamples || max_samples % samples != 0))
+    fail("max_samples must be 0 (no adaptive sampling) or a multiple of samples (" +
+         std::to_string(samples) + ") in " + range(samples, kMaxSamples) + ", got " +
+         std::to_string(max_samples));
+  if (!(target_error >= 0.0f && target_error <= kMaxTargetError))
+    fail("target_error must be in 0.." + shortest_text(kMaxTargetError) + ", got " +
+         shortest_text(target_error));
+  if (target_error > 0.0f && max_samples == 0)
+    fail("target_error " + shortest_text(target_error) +
+         " needs adaptive sampling: max_samples must be set (a multiple of samples)");
   if (tile_size < 1 || tile_size > kMaxTileSize)
     fail("tile_size must be in " + range(1, kMaxTileSize) + ", got " + std::to_string(tile_size));
 }

@@ -27,17 +27,18 @@ struct RecordSelected : FramePolicy {
 
   template <bool kShadows, bool kSecondary>
   bool select(int x, int y, const Scene& scene, const RenderSettings& settings, RayCounters& cnt,
-              Color& c, SurfaceHit& hit, bool& any) {
+              Color& c, SurfaceHit& hit, bool& any, int& taken) {
     const int32_t k = slot[size_t(y) * size_t(width) + size_t(x)];
     if (k < 0) return false;
     RayTreeRecorder rec;
     c = render_pixel<RayTreeRecorder, kShadows, kSecondary>(scene, settings, x, y, cnt, rec, &hit,
-                                                            &any);
+                                                            &any, &taken);
     PixelRecord& r = (*records)[size_t(k)];
     r.x = x;
     r.y = y;
     r.sample = -1;
-    r.samples = settings.samples;
+    r.samples = settings.sample_grid();
+    r.samples_taken = taken;
     r.color = c;
     r.rays = std::move(rec.rays);
     return true;
@@ -49,21 +50,21 @@ struct RecordSelected : FramePolicy {
 PixelRecord record_pixel(const Scene& scene, const RenderSettings& settings, int x, int y,
                          int sample) {
   if (x < 0 || y < 0 || x >= settings.width || y >= settings.height) outside(x, y, settings);
-  const int n2 = settings.samples * settings.samples;
+  const int n2 = settings.sample_grid() * settings.sample_grid();
   if (sample < -1 || sample >= n2)
     throw std::out_of_range("sample " + std::to_string(sample) + " is outside 0.." +
-                            std::to_string(n2 - 1) + " (" + std::to_string(settings.samples) + "x" +
-                            std::to_string(settings.samples) + " samples per pixel)");
+                            std::to_string(n2 - 1) + " (" + std::to_string(settings.sample_grid()) +
+                            "x" + std::to_string(settings.sample_grid()) + " samples per pixel)");
   RayTreeRecorder rec(sample);
   RayCounters counters;
   PixelRecord out;
   out.x = x;
   out.y = y;
   out.sample = sample;
-  out.samples = settings.samples;
+  out.samples = settings.sample_grid();
   out.color = with_scene_features(scene, [&]<bool kShadows, bool kSecondary>() {
-    return render_pixel<RayTreeRecorder, kShadows, kSecondary>(scene, settings, x, y, counters,
-                                                               rec);
+    return render_pixel<RayTreeRecorder, kShadows, kSecondary>(
+        scene, settings, x, y, counters, rec, nullptr, nullptr, &out.samples_taken);
   });
   out.rays = std::move(rec.rays);
   return out;

@@ -217,7 +217,9 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
   if (root.contains("render")) {
     // Only types here; the ranges are RenderSettings::validate()'s.
     const json& j = root["render"];
-    r.keys(j, "render", {"width", "height", "samples", "max_depth", "min_contribution", "seed"});
+    r.keys(j, "render",
+           {"width", "height", "samples", "max_depth", "min_contribution", "seed", "max_samples",
+            "target_error", "texture_filter"});
     if (j.contains("width")) rs.width = r.integer<int>(j["width"], "render.width");
     if (j.contains("height")) rs.height = r.integer<int>(j["height"], "render.height");
     if (j.contains("samples")) rs.samples = r.integer<int>(j["samples"], "render.samples");
@@ -225,6 +227,12 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
     if (j.contains("min_contribution"))
       rs.min_contribution = r.number(j["min_contribution"], "render.min_contribution");
     if (j.contains("seed")) rs.seed = r.integer<uint32_t>(j["seed"], "render.seed");
+    if (j.contains("max_samples"))
+      rs.max_samples = r.integer<int>(j["max_samples"], "render.max_samples");
+    if (j.contains("target_error"))
+      rs.target_error = r.number(j["target_error"], "render.target_error");
+    if (j.contains("texture_filter"))
+      rs.texture_filter = r.boolean(j["texture_filter"], "render.texture_filter");
     try {
       rs.validate();
     } catch (const std::invalid_argument& e) {

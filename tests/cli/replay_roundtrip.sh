@@ -4,6 +4,7 @@
 # `rayscope render --pixel X,Y` prints the pixel's value and the exact
 # `rayscope inspect` command that replays it. Passes when
 #  - every setting given to render appears in that command as it was typed
+#    (flags such as --texture-filter too)
 #    (no float noise such as "--min-contribution 0.00100000005"), and any
 #    --min-contribution printed is the shortest text of its float;
 #  - running the command (JSON) gives the same color bit for bit (the value is
@@ -22,11 +23,16 @@ echo "printed: rayscope inspect $cmd"
 args=("$@")
 for ((i = 0; i + 1 < ${#args[@]}; i++)); do
   case "${args[i]}" in
-    --size|--spp|--max-depth|--min-contribution|--seed|--accel|--storage|--loose-factor|--kd-split)
+    --size|--spp|--max-depth|--min-contribution|--seed|--accel|--storage|--loose-factor|--kd-split|--max-spp|--target-error)
       case " $cmd " in
         *" ${args[i]} ${args[i+1]} "*) ;;
         *) echo "FAIL: the command does not repeat '${args[i]} ${args[i+1]}' as typed"; exit 1 ;;
       esac ;;
+  esac
+done
+for flag in --texture-filter; do
+  case " $* " in
+    *" $flag "*) case " $cmd " in *" $flag "*) ;; *) echo "FAIL: the command lacks $flag"; exit 1 ;; esac ;;
   esac
 done
 eval "\"$rs\" inspect $cmd --format json" > "$out/tree.json"
@@ -50,6 +56,10 @@ for r in rays:
     assert r["bvh"]["boxes_tested"] >= 0
 prim = [r for r in rays if r["parent"] == -1]
 n = tree["samples_per_axis"]
-assert len(prim) == n * n, (len(prim), n)
+if "--max-spp" in sys.argv[3]:  # adaptive: whole batches of the N x N grid, at most all
+    b = int(re.search(r"--spp (\d+)", sys.argv[3]).group(1))
+    assert 0 < len(prim) <= n * n and len(prim) % (b * b) == 0, (len(prim), n, b)
+else:
+    assert len(prim) == n * n, (len(prim), n)
 print("replayed color", got, "==", want, "bit for bit, with", len(rays), "rays")
 PY

@@ -168,6 +168,41 @@ TEST(SettingsRanges, MinContributionAgrees) {
   expect_all_refuse(c(std::nextafter(hi, 2.0f * hi)));
 }
 
+TEST(SettingsRanges, AdaptiveSamplingAgrees) {
+  // max_samples: 0 or a multiple of samples up to kMaxSamples. The command's
+  // default scene takes 2 x 2 samples, the core's and the parser's 1: the
+  // command line sets --spp=1 too (applied before --max-spp whatever the order).
+  const int hi = RenderSettings::kMaxSamples;
+  auto m = [](int v) {
+    return Case{"max_samples = " + std::to_string(v), [=](RenderSettings& s) { s.max_samples = v; },
+                "\"max_samples\": " + std::to_string(v), "--max-spp",
+                std::to_string(v) + " --spp=1"};
+  };
+  expect_all_accept(m(1));
+  expect_all_accept(m(hi));
+  expect_all_refuse(m(hi + 1));
+  expect_all_refuse(m(-1));
+  // target_error: 0..kMaxTargetError, with max_samples set (4).
+  const float te = RenderSettings::kMaxTargetError;
+  auto t = [](float v) {
+    return Case{"target_error = " + text(v),
+                [=](RenderSettings& s) {
+                  s.max_samples = 4;
+                  s.target_error = v;
+                },
+                "\"max_samples\": 4, \"target_error\": " + text(v), "--target-error",
+                text(v) + " --max-spp=4"};
+  };
+  expect_all_accept(t(0.0f));
+  expect_all_accept(t(te));
+  expect_all_refuse(t(std::nextafter(0.0f, -1.0f)));
+  expect_all_refuse(t(std::nextafter(te, 2.0f * te)));
+  // A target without adaptive sampling.
+  Case alone{"target_error without max_samples", [](RenderSettings& s) { s.target_error = 0.01f; },
+             "\"target_error\": 0.01", "--target-error", "0.01"};
+  expect_all_refuse(alone);
+}
+
 TEST(SettingsRanges, SeedAgrees) {
   auto c = [](uint32_t v) {
     return Case{"seed = " + std::to_string(v), [=](RenderSettings& s) { s.seed = v; },

@@ -229,4 +229,23 @@ expect_error(rt, ["ViewAngle"], "a view angle of 200 degrees")
 query.QueryType = "Box"
 query.Box = [1, -1, 0, 1, 0, 1]
 expect_error(query, ["range query"], "a box with xmin > xmax")
+
+# ---- Adaptive sampling and the filtered checker, as properties ------------
+rt.ViewAngle = 30.0
+rt.TargetError = 0.02
+expect_error(rt, ["target_error", "max_samples"], "a target error without adaptive sampling")
+rt.Samples = 2
+rt.MaxSamples = 6
+rt.TextureFilter = 1
+apd = fetch(rt).GetPointData()
+counts = apd.GetArray("Samples")
+assert counts is not None, "no Samples array with adaptive sampling"
+taken = [int(counts.GetValue(k)) for k in range(counts.GetNumberOfTuples())]
+# Batches of 2x2 from a 6x6 grid, at least two of them; the flat background
+# at the image's border stops after two, the sphere's outline takes more.
+assert all(v % 4 == 0 and 8 <= v <= 36 for v in taken), sorted(set(taken))
+assert all(taken[k] == 8 for k in border), "the flat background took more than two batches"
+assert max(taken) > 8, "no pixel took more than two batches"
+print(f"adaptive: {sum(taken) / len(taken):.2f} samples per pixel on average, "
+      f"{min(taken)} to {max(taken)} of 36")
 print("OK")

@@ -302,6 +302,19 @@ TEST(VtkImage, RejectsBadParameters) {
       {"min_contribution must be in 0..1, got", [](auto* a) { a->SetMinContribution(-1.0); }},
       {"min_contribution must be in 0..1, got", [](auto* a) { a->SetMinContribution(1.5); }},
       {"threads must be in 0..1024", [](auto* a) { a->SetThreads(1025); }},
+      {"max_samples must be 0 (no adaptive sampling) or a multiple of samples (1) in 1..64, got 65",
+       [](auto* a) { a->SetMaxSamples(65); }},
+      {"max_samples must be 0 (no adaptive sampling) or a multiple of samples (2) in 2..64, got 3",
+       [](auto* a) {
+         a->SetSamples(2);
+         a->SetMaxSamples(3);
+       }},
+      {"target_error must be in 0..1, got -0.5",
+       [](auto* a) {
+         a->SetMaxSamples(4);
+         a->SetTargetError(-0.5);
+       }},
+      {"target_error 0.01 needs adaptive sampling", [](auto* a) { a->SetTargetError(0.01); }},
       // The checks only VTK has.
       {"Position and FocalPoint coincide", [](auto* a) { a->SetPosition(0, 0, 0); }},
       {"ViewUp is zero or parallel", [](auto* a) { a->SetViewUp(0, 0, 1); }},
@@ -398,6 +411,51 @@ TEST(VtkImage, MinContributionRange) {
     EXPECT_EQ(update(alg), 1) << m;
     EXPECT_EQ(alg->GetRenderSettings().min_contribution, float(m));
   }
+}
+
+// Adaptive sampling and the texture filter are properties: they reach the
+// core's settings, and adaptive sampling with a target of 0 is the fixed
+// render of its largest grid.
+TEST(VtkImage, AdaptiveSamplingAndTextureFilter) {
+  vtkNew<vtkSphereSource> s;
+  configure_sphere(s, 0, 0, 0, 0.5, 16);
+  vtkNew<vtkRayScopeImageAlgorithm> fixed, adaptive;
+  for (vtkRayScopeImageAlgorithm* a : {fixed.Get(), adaptive.Get()}) {
+    a->AddInputConnection(s->GetOutputPort());
+    a->SetSize(24, 20);
+    a->TextureFilterOn();
+  }
+  fixed->SetSamples(4);
+  adaptive->SetSamples(2);
+  adaptive->SetMaxSamples(4);
+  ASSERT_EQ(update(fixed), 1);
+  ASSERT_EQ(update(adaptive), 1);
+  expect_same_colors(fixed->GetOutput(), adaptive->GetOutput());
+  // "Samples": what each pixel took, only with adaptive sampling (all 16 at
+  // a target of 0; flat pixels stop after two batches of 4 at 0.02).
+  EXPECT_EQ(fixed->GetOutput()->GetPointData()->GetAbstractArray("Samples"), nullptr);
+  auto samples = [&] {
+    return vtkIntArray::SafeDownCast(
+        adaptive->GetOutput()->GetPointData()->GetAbstractArray("Samples"));
+  };
+  ASSERT_NE(samples(), nullptr);
+  ASSERT_EQ(samples()->GetNumberOfTuples(), 24 * 20);
+  for (vtkIdType i = 0; i < samples()->GetNumberOfTuples(); ++i)
+    ASSERT_EQ(samples()->GetValue(i), 16);
+  adaptive->SetTargetError(0.02);
+  ASSERT_EQ(update(adaptive), 1);
+  ASSERT_NE(samples(), nullptr);
+  int fewer = 0;
+  for (vtkIdType i = 0; i < samples()->GetNumberOfTuples(); ++i) {
+    const int n = samples()->GetValue(i);
+    ASSERT_TRUE(n == 8 || n == 12 || n == 16) << n;
+    fewer += n < 16;
+  }
+  EXPECT_GT(fewer, 24 * 20 / 2);  // the background, at least
+  const rayscope::RenderSettings rs = adaptive->GetRenderSettings();
+  EXPECT_EQ(rs.target_error, 0.02f);
+  EXPECT_EQ(rs.max_samples, 4);
+  EXPECT_TRUE(rs.texture_filter);
 }
 
 // A point with NaN coordinates: its triangles are left out with one warning

@@ -232,7 +232,7 @@ class Aggregate {
   bool walks_structure() const { return use_walk_; }
   /// The binary hierarchy: built for every kind (the tools show it).
   const Bvh& bvh() const { return bvh_; }
-  /// The walked collapse of bvh() (arity 4 for AccelKind::Bvh, 2 for BinaryBvh;
+  /// The walked collapse of bvh() (arity 8 for AccelKind::Bvh, 2 for BinaryBvh;
   /// empty for None, KdTree, Grid, Octree and Bsp).
   const WideBvh& walk() const { return walk_; }
   /// The storage choice the structure was built with (AccelConfig::storage).

@@ -29,6 +29,14 @@ struct Camera {
     return Ray{eye, forward_ + sx * right_ + sy * up_ortho_, kInfinity};
   }
 
+  /// The rays bounding the footprint of the image-plane cell of side `side`
+  /// (in pixels) centred on (cx, cy): through the centre, and one side to the
+  /// right and below.
+  RayDifferential generate_differential(float cx, float cy, float side) const {
+    return RayDifferential{generate_ray(cx, cy), generate_ray(cx + side, cy),
+                           generate_ray(cx, cy + side)};
+  }
+
   /// The inverse of generate_ray(): the image-plane point (px, py), in pixel
   /// units, whose primary ray passes through p. False for a point not in
   /// front of the camera (central projection: at or behind the eye's plane).

@@ -20,7 +20,7 @@
 //   bool tile_selected(size_t tile) const;   tiles holding such a pixel ask
 //   template <bool kShadows, bool kSecondary>
 //   bool select(int x, int y, const Scene&, const RenderSettings&, RayCounters&,
-//               Color&, SurfaceHit&, bool& hit_anything);
+//               Color&, SurfaceHit&, bool& hit_anything, int& samples_taken);
 //                                          renders (x, y) itself and returns
 //                                          true, or returns false for the plain
 //                                          path; tiles without a selected pixel
@@ -54,7 +54,7 @@ struct FramePolicy {
   bool tile_selected(size_t) const { return false; }
   template <bool kShadows, bool kSecondary>
   bool select(int, int, const Scene&, const RenderSettings&, RayCounters&, Color&, SurfaceHit&,
-              bool&) {
+              bool&, int&) {
     return false;
   }
 };
@@ -81,6 +81,8 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
                        const ProgressFn& progress = {}) {
   using Recorder = typename Policy::Recorder;
   fb.resize(settings.width, settings.height);
+  const bool adaptive = settings.max_samples > 0;
+  if (adaptive) fb.samples.assign(fb.color.size(), 0.0f);
   policy.begin(fb);
   const int ts = settings.tile_size;
   const int tiles_x = (settings.width + ts - 1) / ts;
@@ -98,21 +100,23 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
         for (int x = x0; x < x1; ++x) {
           SurfaceHit hit;
           bool any = false;
+          int taken = 0;
           Color c;
           const size_t i = fb.index(x, y);
           bool selected = false;
           if constexpr (kCheck)
             selected = policy.template select<kShadows, kSecondary>(x, y, scene, settings, cnt, c,
-                                                                    hit, any);
+                                                                    hit, any, taken);
           if (!selected) {
             Recorder rec = policy.recorder();
             c = render_pixel<Recorder, kShadows, kSecondary>(scene, settings, x, y, cnt, rec, &hit,
-                                                             &any);
+                                                             &any, &taken);
             policy.finish(i, rec, cnt, fb);
           }
           fb.color[i] = c;
+          if (adaptive) fb.samples[i] = float(taken);
           if (any) {
-            const Vec2 s = sample_position(x, y, 0, settings.samples, settings.seed);
+            const Vec2 s = sample_position(x, y, 0, settings.sample_grid(), settings.seed);
             fb.depth[i] = hit.t * glm::length(scene.camera.generate_ray(s.x, s.y).dir);
             fb.normal[i] = hit.ns;
             fb.object_id[i] = float(hit.object);

@@ -20,6 +20,8 @@ struct Framebuffer {
   std::vector<Vec3> normal;
   std::vector<float> object_id;
   std::vector<PixelCost> cost;  ///< Per-pixel traversal cost; empty unless statistics were on.
+  /// Samples each pixel took; empty unless adaptive sampling was on.
+  std::vector<float> samples;
 
   void resize(int w, int h);
   size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
@@ -31,9 +33,9 @@ float linear_to_srgb(float v);
 /// Writes the framebuffer. The format follows the extension: .png (8-bit sRGB,
 /// color only), .exr (32-bit float, linear color plus Z, N.x/N.y/N.z and
 /// objectId channels, plus cost.rays/cost.nodes/cost.boxes/cost.prims when the
-/// framebuffer has cost AOVs); other formats OpenImageIO knows get 8-bit sRGB color. The
-/// file is written under a temporary name in the same folder and renamed, so an
-/// interrupted run never leaves a half-written file. Throws std::runtime_error.
+/// framebuffer has cost AOVs and `samples` when it has sample counts); other formats OpenImageIO
+/// knows get 8-bit sRGB color. The file is written under a temporary name in the same folder and
+/// renamed, so an interrupted run never leaves a half-written file. Throws std::runtime_error.
 /// check_image_path() runs first.
 void write_image(const std::filesystem::path& path, const Framebuffer& fb);
 

@@ -82,13 +82,17 @@ class WhittedIntegrator {
         settings_(settings),
         counters_(counters),
         rec_(recorder),
-        cutoff_(settings.min_contribution / float(settings.samples * settings.samples)) {}
+        cutoff_(settings.min_contribution /
+                float(settings.sample_grid() * settings.sample_grid())) {}
 
   /// Radiance arriving along `ray`. `weight` is the ray's weight in the pixel
   /// (a primary ray of N x N samples has 1 / N^2).
   /// `first_hit`, when not null, receives the hit of this ray (for AOVs).
+  /// `diff`, when not null, are the ray's differentials: the hit's textures
+  /// are then box-filtered over its footprint (settings.texture_filter; given
+  /// for primary rays only).
   Color trace(const Ray& ray, RayKind kind, int depth, const Color& weight, int parent,
-              SurfaceHit* first_hit = nullptr) {
+              SurfaceHit* first_hit = nullptr, const RayDifferential* diff = nullptr) {
     counters_.rays[int(kind)]++;
     int node = -1;
     if constexpr (Recorder::kActive) node = rec_.begin_ray(kind, ray, depth, weight, parent);
@@ -109,13 +113,14 @@ class WhittedIntegrator {
     if (first_hit) *first_hit = hit;
     counters_.hits++;
     if (kind == RayKind::Primary) counters_.primary_hits++;
-    Color c = shade(ray, hit, depth, weight, node);
+    Color c = shade(ray, hit, depth, weight, node, diff);
     if constexpr (Recorder::kActive) rec_.end_ray(node, c);
     return c;
   }
 
  private:
-  Color shade(const Ray& ray, const SurfaceHit& hit, int depth, const Color& weight, int node) {
+  Color shade(const Ray& ray, const SurfaceHit& hit, int depth, const Color& weight, int node,
+              const RayDifferential* diff) {
     const Material& m = scene_.materials[hit.material];
     const Vec3 d = glm::normalize(ray.dir);
     const Vec3 v = -d;
@@ -123,8 +128,9 @@ class WhittedIntegrator {
     const Vec3 ng = front ? hit.ng : -hit.ng;  // both normals face the incoming ray
     Vec3 ns = front ? hit.ns : -hit.ns;
     if (glm::dot(ns, v) <= 0.0f) ns = ng;
-    const Color albedo =
-        hit.has_vertex_color ? hit.vertex_color : material_color(m, hit.p, scene_.origin);
+    const Color albedo = hit.has_vertex_color ? hit.vertex_color
+                         : diff && m.checker  ? filtered_albedo(m, footprint(*diff, hit.p, hit.ng))
+                                              : material_color(m, hit.p, scene_.origin);
     const float opaque = std::max(0.0f, 1.0f - m.reflectivity - m.transparency);
 
     // Local illumination: ambient + (diffuse + specular) per visible light.
@@ -190,6 +196,10 @@ class WhittedIntegrator {
         rec_.on_light_terms(node, li, radiance * (opaque * m.diffuse * t.diffuse * albedo),
                             radiance * (m.specular * t.specular * m.specular_color));
     }
+  }
+
+  Color filtered_albedo(const Material& m, const Footprint& f) const {
+    return material_color_filtered(m, f.center, f.half_width, scene_.origin);
   }
 
   // Secondary rays: mirror reflection and Fresnel-split refraction.

@@ -19,6 +19,8 @@
 #include <cmath>
 #include <limits>
 
+#include <glm/gtc/type_ptr.hpp>
+
 #include "rayscope/math.h"
 #include "rayscope/ray.h"
 
@@ -29,17 +31,33 @@ struct TrianglePrecomp {
   int kx, ky, kz;
   float sx, sy, sz;
   Vec3 origin;
-  Vec3 dir_k;  ///< The direction permuted to (kx, ky, kz), for the exact test.
+  Vec3 origin_k;  ///< The origin permuted to (kx, ky, kz).
+  Vec3 dir_k;     ///< The direction permuted to (kx, ky, kz), for the exact test.
 
   explicit TrianglePrecomp(const Ray& ray) : origin(ray.origin) {
     kz = max_dimension(glm::abs(ray.dir));
     kx = kz + 1 == 3 ? 0 : kz + 1;
     ky = kx + 1 == 3 ? 0 : kx + 1;
-    Vec3 d(ray.dir[kx], ray.dir[ky], ray.dir[kz]);
+    origin_k = permuted(ray.origin);
+    Vec3 d = permuted(ray.dir);
     dir_k = d;
     sx = -d.x / d.z;
     sy = -d.y / d.z;
     sz = 1.0f / d.z;
+  }
+
+  /// p's components in the order (kx, ky, kz). Read through a pointer, so
+  /// that the per-ray axes pick addresses: Vec3's operator[] is a switch,
+  /// which compiled into a chain of branches per vertex in the leaf loops.
+  Vec3 permuted(const Vec3& p) const {
+    const float* f = glm::value_ptr(p);
+    return Vec3(f[kx], f[ky], f[kz]);
+  }
+  /// p - origin in the order (kx, ky, kz): each component the same one
+  /// subtraction as permuting p - origin.
+  Vec3 translated(const Vec3& p) const {
+    const float* f = glm::value_ptr(p);
+    return Vec3(f[kx] - origin_k.x, f[ky] - origin_k.y, f[kz] - origin_k.z);
   }
 };
 
@@ -111,10 +129,7 @@ struct TriangleHit {
                                                       const Vec3& p0, const Vec3& p1,
                                                       const Vec3& p2, TriangleHit& hit) {
   // Translate to the ray origin, permute so that the ray runs along z, shear.
-  Vec3 a = p0 - pre.origin, b = p1 - pre.origin, c = p2 - pre.origin;
-  Vec3 p0t(a[pre.kx], a[pre.ky], a[pre.kz]);
-  Vec3 p1t(b[pre.kx], b[pre.ky], b[pre.kz]);
-  Vec3 p2t(c[pre.kx], c[pre.ky], c[pre.kz]);
+  Vec3 p0t = pre.translated(p0), p1t = pre.translated(p1), p2t = pre.translated(p2);
   p0t.x += pre.sx * p0t.z;
   p0t.y += pre.sy * p0t.z;
   p1t.x += pre.sx * p1t.z;

@@ -71,29 +71,83 @@ inline float critical_angle(float n1, float n2) {
   return n2 < n1 ? std::asin(n2 / n1) : 0.5f * kPi;
 }
 
+namespace checker_detail {
+/// The cell index of world coordinate `world` in cells of side `size`. A point
+/// on a cell face (a floor at y = 0, any plane at a multiple of the size)
+/// belongs to the cell above it: its world coordinate, rebuilt from the
+/// rounded local one, lies a few float ulps of the face either side, and
+/// flooring that would flip the face's color with the choice of origin or a
+/// last-bit difference. `tol` is that rounding band in cells.
+inline double cell(double world, double size, double tol) {
+  const double u = world / size, r = std::round(u);
+  return std::abs(u - r) <= tol ? r : std::floor(u);
+}
+/// +1 for an even cell index, -1 for an odd one. Converting to an integer
+/// type instead is undefined beyond the type's range and for NaN (found by
+/// fuzz_scene_parser: a checker size of 1e-30); doubles of magnitude >= 2^53
+/// are even integers.
+inline double parity_sign(double cell_index) {
+  const bool odd = std::abs(cell_index) < 9007199254740992.0 && std::fmod(cell_index, 2.0) != 0.0;
+  return odd ? -1.0 : 1.0;
+}
+/// The integral from 0 to u of the square wave (-1)^floor(t): a triangle wave
+/// of period 2 rising from 0 at even integers to 1 at odd ones.
+inline double square_wave_integral(double u) {
+  const double f = u - 2.0 * std::floor(0.5 * u);
+  return f <= 1.0 ? f : 2.0 - f;
+}
+/// The mean of the square wave (-1)^floor(t / size) over [world - half,
+/// world + half]: the per-axis factor of the box-filtered checker. A
+/// footprint within the rounding band `tol` (in cells), or one that lies in
+/// a single cell, gives the point value exactly (+1 or -1).
+inline double box_mean(double world, double half, double size, double tol) {
+  const double point = parity_sign(cell(world, size, tol));
+  if (!(half / size > tol)) return point;  // also NaN footprints
+  const double u0 = (world - half) / size, u1 = (world + half) / size;
+  if (!(u1 > u0) || !std::isfinite(u0) || !std::isfinite(u1) || std::floor(u0) == std::floor(u1))
+    return point;
+  const double m = (square_wave_integral(u1) - square_wave_integral(u0)) / (u1 - u0);
+  return std::clamp(m, -1.0, 1.0);
+}
+}  // namespace checker_detail
+
 /// Surface color of a material at the scene-local point p of a scene whose
 /// local origin is `origin` (Scene::origin): the checkerboard is evaluated in
 /// world space, in double precision, so it stays where it is in the world
 /// whatever origin the scene is traced around.
 inline Color material_color(const Material& m, const Vec3& p, const DVec3& origin) {
   if (!m.checker) return m.color;
-  // The cell of each world coordinate. A point on a cell face (a floor at
-  // y = 0, any plane at a multiple of the size) belongs to the cell above
-  // it: its world coordinate, rebuilt from the rounded local one, lies a few
-  // float ulps of p either side of the face, and flooring that would flip
-  // the face's color with the choice of origin or a last-bit difference.
+  using namespace checker_detail;
   const double size = double(m.checker_size);
   const double tol = 4.0 * double(kMachineEpsilon) * double(max_component(glm::abs(p))) / size;
-  auto cell = [&](double world) {
-    const double u = world / size, r = std::round(u);
-    return std::abs(u - r) <= tol ? r : std::floor(u);
-  };
   const DVec3 w = DVec3(p) + origin;
-  // The parity of each cell index. Converting to an integer type instead is
-  // undefined beyond the type's range and for NaN (found by fuzz_scene_parser:
-  // a checker size of 1e-30); doubles of magnitude >= 2^53 are even integers.
-  auto odd = [](double f) { return std::abs(f) < 9007199254740992.0 && std::fmod(f, 2.0) != 0.0; };
-  return (odd(cell(w.x)) != odd(cell(w.y))) != odd(cell(w.z)) ? m.checker_color : m.color;
+  const double s = parity_sign(cell(w.x, size, tol)) * parity_sign(cell(w.y, size, tol)) *
+                   parity_sign(cell(w.z, size, tol));
+  return s < 0.0 ? m.checker_color : m.color;
+}
+
+/// The box-filtered surface color: the mean of material_color() over the
+/// axis-aligned world box centred on p with half-sides `half_width` (the
+/// bounding box of a pixel's footprint, footprint_half_width()). The 3D
+/// checker is (a + b) / 2 + (a - b) / 2 * s(x) s(y) s(z) with s the square
+/// wave +-1 of each axis, so its mean over a box is the same expression with
+/// each s replaced by its mean over the box's side, a closed form (the
+/// integral of a square wave is a triangle wave). A zero footprint, or one
+/// inside a single cell, gives material_color() exactly.
+inline Color material_color_filtered(const Material& m, const Vec3& p, const Vec3& half_width,
+                                     const DVec3& origin) {
+  if (!m.checker) return m.color;
+  using namespace checker_detail;
+  const double size = double(m.checker_size);
+  const double tol = 4.0 * double(kMachineEpsilon) * double(max_component(glm::abs(p))) / size;
+  const DVec3 w = DVec3(p) + origin;
+  const double s = box_mean(w.x, double(half_width.x), size, tol) *
+                   box_mean(w.y, double(half_width.y), size, tol) *
+                   box_mean(w.z, double(half_width.z), size, tol);
+  if (s == 1.0) return m.color;
+  if (s == -1.0) return m.checker_color;
+  const float f = float(s);
+  return 0.5f * (m.color + m.checker_color) + (0.5f * f) * (m.color - m.checker_color);
 }
 
 /// Phong / Blinn-Phong factors for light arriving from unit direction l, seen

@@ -214,8 +214,10 @@ class RayTreeRecorder {
 /// The recorded ray tree of one pixel.
 struct PixelRecord {
   int x = 0, y = 0;
-  int sample = -1;    ///< The recorded sample, -1 for all.
-  int samples = 1;    ///< N: the pixel took N x N samples.
+  int sample = -1;  ///< The recorded sample, -1 for all.
+  int samples = 1;  ///< N: the samples come from an N x N grid (all of it unless adaptive).
+  /// Samples the pixel took: N x N, or fewer with adaptive sampling.
+  int samples_taken = 1;
   Color color{0.0f};  ///< The pixel's color, exactly as in a full render.
   std::vector<RayRecord> rays;
 };

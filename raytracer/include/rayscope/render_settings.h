@@ -29,6 +29,12 @@ struct RenderSettings {
   static constexpr int kMaxTileSize = 1024;
   /// Largest seed: 2^31 - 1, so that the seed fits every front end's integer.
   static constexpr uint32_t kMaxSeed = 2147483647u;
+  /// Largest target error of adaptive sampling (a standard error of a pixel's
+  /// linear RGB; colors of lit surfaces are of order 1).
+  static constexpr float kMaxTargetError = 1.0f;
+  /// Adaptive sampling estimates a pixel's error only once it has at least
+  /// this many samples, and two batches (a variance of fewer says little).
+  static constexpr int kMinAdaptiveSamples = 4;
 
   // --- Fields -------------------------------------------------------------
   int width = 640;
@@ -44,9 +50,29 @@ struct RenderSettings {
   int threads = 0;    ///< 0: all hardware threads.
   uint32_t seed = 0;  ///< Seed of the stratified jitter (0..kMaxSeed).
   int tile_size = 16;
+  /// Box-filter procedural textures (the checkerboard) over the footprint on
+  /// the surface of each primary sample's cell of the pixel (render_pixel()),
+  /// from ray differentials (camera.h, footprint() in ray.h,
+  /// material_color_filtered()); secondary rays' hits stay point sampled.
+  bool texture_filter = false;
+  /// Adaptive sampling: 0 (off: every pixel takes samples x samples), or M, a
+  /// multiple of `samples` up to kMaxSamples: a pixel then takes its samples
+  /// from the M x M stratified grid in batches of samples x samples (each
+  /// batch spread over the whole pixel), and stops once the standard error of
+  /// its mean (from the variance of the batches' means) is below
+  /// target_error, or when all
+  /// M x M are taken. With target_error 0 it takes all: the M x M render.
+  int max_samples = 0;
+  /// Adaptive sampling's target standard error of a pixel (0..kMaxTargetError);
+  /// needs max_samples > 0.
+  float target_error = 0.0f;
   /// Gather traversal statistics and per-pixel cost AOVs (a separate compiled
   /// path; the plain path has no counting code at all).
   bool statistics = false;
+
+  /// N of the N x N grid a pixel's samples come from: max_samples with
+  /// adaptive sampling, else samples.
+  int sample_grid() const { return max_samples > 0 ? max_samples : samples; }
 
   /// Throws std::invalid_argument naming the first bad field, its range and
   /// the value, e.g. "samples must be in 1..64 (N for N x N per pixel), got 65".

@@ -89,7 +89,7 @@ unsigned char srgb_byte(float v) {
   return (unsigned char)b;
 }
 
-void prepare_image(vtkImageData* image, int w, int h, bool cost) {
+void prepare_image(vtkImageData* image, int w, int h, bool cost, bool samples) {
   const vtkIdType np = vtkIdType(w) * vtkIdType(h);
   vtkPointData* pd = image->GetPointData();
   const int* dims = image->GetDimensions();
@@ -103,6 +103,8 @@ void prepare_image(vtkImageData* image, int w, int h, bool cost) {
   for (const char* name : kCostArrays)
     fits = fits && (cost ? fitting_array<vtkIntArray>(pd, name, 1, np) != nullptr
                          : pd->GetAbstractArray(name) == nullptr);
+  fits = fits && (samples ? fitting_array<vtkIntArray>(pd, "Samples", 1, np) != nullptr
+                          : pd->GetAbstractArray("Samples") == nullptr);
   if (fits) return;
   image->Initialize();
   image->SetExtent(0, w - 1, 0, h - 1, 0, 0);
@@ -116,6 +118,7 @@ void prepare_image(vtkImageData* image, int w, int h, bool cost) {
   pd->AddArray(make_array<vtkIntArray>("ObjectId", 1, np));
   if (cost)
     for (const char* name : kCostArrays) pd->AddArray(make_array<vtkIntArray>(name, 1, np));
+  if (samples) pd->AddArray(make_array<vtkIntArray>("Samples", 1, np));
 }
 
 void framebuffer_rect_to_image(const rayscope::Framebuffer& fb, int x0, int y0, int x1, int y1,
@@ -132,6 +135,8 @@ void framebuffer_rect_to_image(const rayscope::Framebuffer& fb, int x0, int y0, 
   int* cost_rays = cost ? values<vtkIntArray>(pd, "CostRays") : nullptr;
   int* cost_boxes = cost ? values<vtkIntArray>(pd, "CostBoxes") : nullptr;
   int* cost_prims = cost ? values<vtkIntArray>(pd, "CostPrimitives") : nullptr;
+  const bool has_samples = !fb.samples.empty() && pd->GetAbstractArray("Samples");
+  int* samples = has_samples ? values<vtkIntArray>(pd, "Samples") : nullptr;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   for (int y = y0; y < y1; ++y) {
     const size_t j = size_t(h - 1 - y);  // VTK row 0 is the bottom row
@@ -152,6 +157,7 @@ void framebuffer_rect_to_image(const rayscope::Framebuffer& fb, int x0, int y0, 
         cost_boxes[v] = int(fb.cost[c].boxes);
         cost_prims[v] = int(fb.cost[c].prims);
       }
+      if (has_samples) samples[v] = int(fb.samples[c]);
     }
   }
 }
@@ -174,7 +180,7 @@ void counters_to_image(const rayscope::RayCounters& counters, vtkImageData* imag
 void framebuffer_to_image(const rayscope::Framebuffer& fb, const rayscope::RayCounters& counters,
                           vtkImageData* image) {
   image->Initialize();
-  prepare_image(image, fb.width, fb.height, !fb.cost.empty());
+  prepare_image(image, fb.width, fb.height, !fb.cost.empty(), !fb.samples.empty());
   framebuffer_rect_to_image(fb, 0, 0, fb.width, fb.height, image);
   counters_to_image(counters, image);
 }

@@ -18,7 +18,8 @@ namespace rayscope_vtk {
 /// spacing 1, origin 0, row 0 at the bottom (the framebuffer's row h-1-j);
 /// point data "Color" (active scalars), "LinearColor", "Depth", "Normal",
 /// "ObjectId" and, when the framebuffer has costs, "Cost", "CostRays",
-/// "CostBoxes", "CostPrimitives"; field data "RayCounts",
+/// "CostBoxes", "CostPrimitives", and when it has sample counts (adaptive
+/// sampling) "Samples"; field data "RayCounts",
 /// "ShadowRaysOccluded" and, with costs, "NodesVisited", "BoxesTested",
 /// "PrimitivesTested". New arrays every call. The three functions below
 /// make the same image in steps.
@@ -26,10 +27,12 @@ void framebuffer_to_image(const rayscope::Framebuffer& fb, const rayscope::RayCo
                           vtkImageData* image);
 
 /// Gives `image` the geometry and the point-data arrays of a w x h
-/// framebuffer's image (with the cost arrays when `cost`), values not set.
+/// framebuffer's image (with the cost arrays when `cost`, and "Samples" when
+/// `samples`: the samples each pixel took under adaptive sampling), values
+/// not set.
 /// An image that has them already, for that size, is left as it is: an image
 /// filled frame after frame allocates its arrays once.
-void prepare_image(vtkImageData* image, int w, int h, bool cost);
+void prepare_image(vtkImageData* image, int w, int h, bool cost, bool samples = false);
 
 /// Writes the framebuffer's pixels [x0, x1) x [y0, y1) (framebuffer rows, 0 at
 /// the top) into an image prepared for it, as framebuffer_to_image() does.

@@ -48,6 +48,9 @@ vtkRayScopeImageAlgorithm::vtkRayScopeImageAlgorithm()
       Samples(1),
       MaxDepth(5),
       MinContribution(1e-3),
+      MaxSamples(0),
+      TargetError(0.0),
+      TextureFilter(0),
       Threads(0),
       Seed(0),
       ComputeCost(1),
@@ -329,6 +332,9 @@ rayscope::RenderSettings vtkRayScopeImageAlgorithm::GetRenderSettings() {
   s.samples = this->Samples;
   s.max_depth = this->MaxDepth;
   s.min_contribution = float(this->MinContribution);
+  s.max_samples = this->MaxSamples;
+  s.target_error = float(this->TargetError);
+  s.texture_filter = this->TextureFilter != 0;
   s.threads = this->Threads;
   s.seed = uint32_t(this->Seed);
   s.statistics = this->ComputeCost != 0;
@@ -535,6 +541,9 @@ void vtkRayScopeImageAlgorithm::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "Samples: " << this->Samples << "\n";
   os << indent << "MaxDepth: " << this->MaxDepth << "\n";
   os << indent << "MinContribution: " << this->MinContribution << "\n";
+  os << indent << "MaxSamples: " << this->MaxSamples << "\n";
+  os << indent << "TargetError: " << this->TargetError << "\n";
+  os << indent << "TextureFilter: " << this->TextureFilter << "\n";
   os << indent << "Threads: " << this->Threads << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "ComputeCost: " << this->ComputeCost << "\n";

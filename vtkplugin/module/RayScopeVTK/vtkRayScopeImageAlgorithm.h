@@ -42,6 +42,8 @@
  *   secondary and shadow rays included); with "CostRays", "CostBoxes",
  *   "CostPrimitives". Only when ComputeCost is on (default; it renders with the
  *   core's counting integrator, slightly slower).
+ * - "Samples": int, the samples the pixel took. Only with adaptive sampling
+ *   (MaxSamples > 0).
  *
  * Field data: "RayCounts" (primary, shadow, reflection, refraction rays),
  * "ShadowRaysOccluded", "NodesVisited", "BoxesTested", "PrimitivesTested".
@@ -49,10 +51,10 @@
  * Progress is reported per finished tile through UpdateProgress (ProgressEvent
  * observers run on the calling thread). Parameters are checked once per
  * update, before rendering: the render settings (size, Samples, MaxDepth,
- * MinContribution, Threads, Seed) by the core's RenderSettings::validate(),
- * whose named limits (rayscope/render_settings.h) the documentation below
- * quotes, the rest by ValidateParameters(). A bad value gives one
- * vtkErrorMacro naming it and an empty output.
+ * MinContribution, MaxSamples, TargetError, Threads, Seed) by the core's
+ * RenderSettings::validate(), whose named limits (rayscope/render_settings.h) the documentation
+ * below quotes, the rest by ValidateParameters(). A bad value gives one vtkErrorMacro naming it and
+ * an empty output.
  *
  * vtkRayScopeRayTreeSource and vtkRayScopeBVHSource take this algorithm as
  * their scene (SetSceneSource): they see the same scene, camera and sampling.
@@ -115,6 +117,26 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// (0..kMaxMinContribution, i.e. 0..1; default 1e-3).
   vtkSetMacro(MinContribution, double);
   vtkGetMacro(MinContribution, double);
+  ///@}
+
+  ///@{
+  /// Adaptive sampling (RenderSettings::max_samples, target_error): 0 (off;
+  /// default), or M, a multiple of Samples up to kMaxSamples: each pixel takes
+  /// Samples x Samples samples at a time from an M x M grid until the standard
+  /// error of its mean is below TargetError (0..kMaxTargetError, default 0:
+  /// all M x M). TargetError > 0 needs MaxSamples > 0.
+  vtkSetMacro(MaxSamples, int);
+  vtkGetMacro(MaxSamples, int);
+  vtkSetMacro(TargetError, double);
+  vtkGetMacro(TargetError, double);
+  ///@}
+
+  ///@{
+  /// Box-filter the checkerboard over each primary sample's footprint, from
+  /// ray differentials (RenderSettings::texture_filter; default off).
+  vtkSetMacro(TextureFilter, vtkTypeBool);
+  vtkGetMacro(TextureFilter, vtkTypeBool);
+  vtkBooleanMacro(TextureFilter, vtkTypeBool);
   ///@}
 
   ///@{
@@ -448,6 +470,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   int Samples;
   int MaxDepth;
   double MinContribution;
+  int MaxSamples;
+  double TargetError;
+  vtkTypeBool TextureFilter;
   int Threads;
   int Seed;
   vtkTypeBool ComputeCost;

@@ -116,10 +116,11 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
   if (!source) return 0;
   const rayscope::Scene& scene = *source->GetCoreScene();
   const rayscope::RenderSettings settings = source->GetRenderSettings();
-  const int n2 = settings.samples * settings.samples;
+  const int n2 = settings.sample_grid() * settings.sample_grid();
   if (this->Sample < -1 || this->Sample >= n2) {
     vtkErrorMacro(<< "Sample " << this->Sample << " is outside -1.." << n2 - 1 << " ("
-                  << settings.samples << "x" << settings.samples << " samples per pixel)");
+                  << settings.sample_grid() << "x" << settings.sample_grid()
+                  << " samples per pixel)");
     return 0;
   }
   for (auto [i, j] : pixels)
