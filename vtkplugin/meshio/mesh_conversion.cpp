@@ -95,6 +95,16 @@ vtkSmartPointer<vtkPolyData> normals_of_finite_triangles(vtkPolyData* tri,
   return out;
 }
 
+// The point normals of `pd` if they can be used: three components, one per
+// point. A reader can leave another array there: an OBJ file with fewer `vn`
+// lines than points gave a shorter one (found by fuzz_mesh_loader).
+vtkDataArray* usable_normals(vtkPolyData* pd) {
+  vtkDataArray* n = pd->GetPointData()->GetNormals();
+  return n && n->GetNumberOfComponents() == 3 && n->GetNumberOfTuples() == pd->GetNumberOfPoints()
+             ? n
+             : nullptr;
+}
+
 // The surface the mapper would draw: triangles only, with point normals.
 vtkSmartPointer<vtkPolyData> triangulate(vtkDataSet* input, const SurfaceOptions& o) {
   vtkSmartPointer<vtkPolyData> surface = vtkPolyData::SafeDownCast(input);
@@ -111,8 +121,7 @@ vtkSmartPointer<vtkPolyData> triangulate(vtkDataSet* input, const SurfaceOptions
   tf->PassLinesOff();
   tf->Update();
   vtkSmartPointer<vtkPolyData> tri = tf->GetOutput();
-  vtkDataArray* n = tri->GetPointData()->GetNormals();
-  if (o.compute_normals && (!n || n->GetNumberOfComponents() != 3) && tri->GetNumberOfPolys() > 0)
+  if (o.compute_normals && !usable_normals(tri) && tri->GetNumberOfPolys() > 0)
     tri = normals_of_finite_triangles(tri, o);
   return tri;
 }
@@ -171,8 +180,7 @@ ColorSource convert_dataset(vtkDataSet* input, const SurfaceOptions& options, vt
     }
   }
 
-  vtkDataArray* in_normals = tri->GetPointData()->GetNormals();
-  if (in_normals && in_normals->GetNumberOfComponents() != 3) in_normals = nullptr;
+  vtkDataArray* in_normals = usable_normals(tri);
 
   // With cell colors, each (point, color) pair becomes one output point, so a
   // point shared by cells of different colors is duplicated once per color.
