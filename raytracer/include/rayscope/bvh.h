@@ -46,7 +46,7 @@ struct BvhBuildConfig {
   uint32_t max_leaf_size = 8;      ///< Leaves never hold more primitives than this...
   uint32_t min_leaf_size = 1;      ///< ...nor fewer, unless the node is that small.
   float traversal_cost = 1.0f;     ///< SAH cost of visiting an inner node...
-  float intersection_cost = 1.0f;  ///< ...relative to one primitive test.
+  float intersection_cost = 0.5f;  ///< ...relative to one primitive test.
   int max_depth = 56;              ///< Deeper nodes are split at the object median.
   /// Subtrees of at least this many primitives are built as parallel tasks
   /// (TBB), each into its own reserved slots of the node array, compacted
