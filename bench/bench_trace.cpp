@@ -78,6 +78,8 @@ struct Options {
   bool big = true;
   std::string csv;
   std::vector<int> threads{1, 2};
+  /// Our builder's settings (--leaf-cost sets its intersection_cost).
+  AccelConfig accel;
   RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM;
   bool robust = false;  // RTC_SCENE_FLAG_ROBUST (watertight, like ours) instead of none
 };
@@ -108,8 +110,10 @@ const char* quality_name(RTCBuildQuality q) {
       "                        like ours; high adds spatial splits)\n"
       "  --embree-robust       build Embree scenes with RTC_SCENE_FLAG_ROBUST (watertight\n"
       "                        like ours; default: no flags, Embree's fast path)\n"
+      "  --leaf-cost X         our builder's cost of a primitive test relative to a node\n"
+      "                        visit, BvhBuildConfig::intersection_cost (default %g)\n"
       "  --csv FILE            also write all results to FILE\n",
-      kDefaultMesh);
+      kDefaultMesh, double(BvhBuildConfig{}.intersection_cost));
   std::exit(code);
 }
 
@@ -150,6 +154,16 @@ Options parse_options(int argc, char** argv) {
       o.robust = true;
     } else if (a == "--csv") {
       o.csv = value();
+    } else if (a == "--leaf-cost") {
+      const std::string v = value();
+      char* end = nullptr;
+      const float c = std::strtof(v.c_str(), &end);
+      if (end == v.c_str() || *end != '\0' || !(c >= 0.01f && c <= 100.0f)) {
+        std::fprintf(stderr, "bench_trace: --leaf-cost must be a number in 0.01..100, got '%s'\n",
+                     v.c_str());
+        std::exit(2);
+      }
+      o.accel.bvh.intersection_cost = c;
     } else if (a == "--threads") {
       o.threads.clear();
       std::stringstream ss(value());
@@ -592,7 +606,7 @@ void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options
                                       Scene s;
                                       s.meshes.push_back(mesh);
                                       const auto t0 = Clock::now();
-                                      s.commit();
+                                      s.commit(opt.accel);
                                       return seconds_since(t0);
                                     }));
   }
@@ -612,7 +626,7 @@ void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options
       build.bvh_ms.emplace_back(n, 1e3 * median_seconds(opt.runs, [&] {
                                      Bvh bvh;
                                      const auto t0 = Clock::now();
-                                     bvh.build(bounds, centroids);
+                                     bvh.build(bounds, centroids, opt.accel.bvh);
                                      return seconds_since(t0);
                                    }));
     }
@@ -644,7 +658,7 @@ void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options
   // --- Scenes used for tracing.
   Scene scene;
   scene.meshes.push_back(mesh);
-  scene.commit();
+  scene.commit(opt.accel);
   build.quality = scene.bvh().quality();
   build.ours_bytes = scene.accel().memory_bytes();
 
@@ -716,8 +730,11 @@ void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options
 // Output
 
 void print_tables(const Results& r, const Options& opt) {
-  std::printf("\nBuild (median of %d; Embree quality %s; ours: binned SAH, 16 bins, leaves <= 8)\n",
-              opt.runs, quality_name(opt.quality));
+  std::printf(
+      "\nBuild (median of %d; Embree quality %s; ours: binned SAH, %d bins, leaves <= %u, "
+      "leaf cost %g)\n",
+      opt.runs, quality_name(opt.quality), opt.accel.bvh.bins, opt.accel.bvh.max_leaf_size,
+      double(opt.accel.bvh.intersection_cost));
   std::printf("%-11s %9s %7s %10s %10s %10s %12s\n", "mesh", "tris", "threads", "commit ms",
               "bvh ms", "Embree ms", "commit/Embree");
   for (const BuildRow& b : r.builds)
@@ -727,20 +744,24 @@ void print_tables(const Results& r, const Options& opt) {
                   b.commit_ms[k].first, b.commit_ms[k].second, b.bvh_ms[k].second, embree,
                   b.commit_ms[k].second / embree);
     }
-  std::printf("%-11s %9s %6s %9s %8s %8s %11s %11s\n", "mesh", "nodes", "depth", "leaf avg",
-              "max leaf", "SAH", "ours B/tri", "Embree B/tri");
+  std::printf("%-11s %9s %6s %9s %8s %8s %8s %11s %11s\n", "mesh", "nodes", "depth", "leaf avg",
+              "max leaf", "SAH", "SAH 1:1", "ours B/tri", "Embree B/tri");
   for (const BuildRow& b : r.builds)
-    std::printf("%-11s %9u %6u %9.2f %8u %8.2f %11.1f %11.1f\n", b.mesh.c_str(), b.quality.nodes,
-                b.quality.depth, b.quality.mean_leaf_prims, b.quality.max_leaf_prims,
-                b.quality.sah_cost, double(b.ours_bytes) / double(b.tris),
-                double(b.embree_bytes) / double(b.tris));
+    std::printf("%-11s %9u %6u %9.2f %8u %8.2f %8.2f %11.1f %11.1f\n", b.mesh.c_str(),
+                b.quality.nodes, b.quality.depth, b.quality.mean_leaf_prims,
+                b.quality.max_leaf_prims, b.quality.sah_cost, b.quality.sah_cost_1to1,
+                double(b.ours_bytes) / double(b.tris), double(b.embree_bytes) / double(b.tris));
   std::printf(
       "(commit = Scene::commit(): validation, bounds, Bvh::build, WideBvh collapse, leaf "
       "records;\n bvh = Bvh::build() alone; ours limited to N threads by tbb::global_control;\n "
       "Embree N = rtcNewScene .. rtcCommitScene incl. buffer copy with device \"threads=N\";\n "
+      "SAH = the tree's expected cost of a random ray with the build's costs (a primitive test\n "
+      "%g of a node visit); SAH 1:1 = the same with equal costs, comparable across cost "
+      "settings;\n "
       "B/tri = bytes per triangle: ours every byte the aggregate holds (binary and wide nodes,\n "
-      "leaf order, leaf records with the vertices), Embree the net bytes its memory monitor\n "
-      "reported while the scene was built)\n");
+      "leaf order, leaf records with the vertices, the leaves' triangle blocks), Embree the net\n "
+      "bytes its memory monitor reported while the scene was built)\n",
+      double(opt.accel.bvh.intersection_cost / opt.accel.bvh.traversal_cost));
 
   std::printf(
       "\nTrace throughput (Mrays/s, median of %d after 1 warm-up, ours and Embree passes "
@@ -793,6 +814,8 @@ void write_csv(const Results& r, const std::string& path) {
     f << b.mesh << ',' << b.tris << ",bvh_leaves,1,0," << b.quality.leaves << ",,,count\n";
     f << b.mesh << ',' << b.tris << ",bvh_depth,1,0," << b.quality.depth << ",,,count\n";
     f << b.mesh << ',' << b.tris << ",bvh_sah_cost,1,0," << b.quality.sah_cost << ",,,cost\n";
+    f << b.mesh << ',' << b.tris << ",bvh_sah_cost_1to1,1,0," << b.quality.sah_cost_1to1
+      << ",,,cost\n";
   }
   for (const TraceRow& t : r.traces)
     f << t.mesh << ',' << t.tris << ',' << t.kind << ',' << t.threads << ',' << t.rays << ','

@@ -201,8 +201,16 @@ TEST(Aggregate, MemoryCountsEveryStructure) {
   scene.commit();
   const Aggregate& a = scene.accel();
   EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.walk().memory_bytes() +
+                                  a.triangle_block_bytes() +
                                   a.records().size() * sizeof(PrimRecord) + sizeof(PlaneRecord));
   EXPECT_GT(a.walk().memory_bytes(), 0u);
+  // One block per started group of TriangleBlock::kLanes records of each leaf.
+  size_t blocks = 0;
+  for (const BvhNode& n : a.bvh().nodes)
+    if (n.is_leaf()) blocks += (n.count + TriangleBlock::kLanes - 1) / TriangleBlock::kLanes;
+  EXPECT_EQ(a.triangle_blocks().size(), blocks);
+  EXPECT_EQ(a.triangle_block_bytes(),
+            blocks * sizeof(TriangleBlock) + a.records().size() * sizeof(uint32_t));
 }
 
 TEST(Aggregate, TinyScenesSkipTheStructureUnlessAsked) {

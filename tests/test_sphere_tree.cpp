@@ -385,7 +385,13 @@ TEST(SphereTree, EachPrimitiveTestedOncePerRayAndTheObserverSeesTheWalk) {
       }
     }
   }
-  scene.commit();  // the BVH, for comparison
+  // The BVH, for comparison, built with the sphere tree's cost constants and
+  // leaf limit, so that the two differ in their bounding volumes only.
+  AccelConfig bvh_config;
+  bvh_config.bvh.traversal_cost = SphereTreeBuildConfig{}.traversal_cost;
+  bvh_config.bvh.intersection_cost = SphereTreeBuildConfig{}.intersection_cost;
+  bvh_config.bvh.max_leaf_size = SphereTreeBuildConfig{}.max_leaf_size;
+  scene.commit(bvh_config);
   for (const Ray& r : rays) {
     rstest::CountingObserver obs(scene.bvh().nodes.size() + 8, prims);
     PrimHit hit;

@@ -89,6 +89,8 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
   grid_ = UniformGrid{};
   bsp_ = BspTree{};
   sphere_tree_ = SphereTree{};
+  blocks_.clear();
+  leaf_blocks_.clear();
   if (config.kind == AccelKind::Bsp) {
     // Over the records (leaf order), with their geometry: the BSP tree's
     // planes go through the triangles.
@@ -142,9 +144,38 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
     }
   } else if (config.kind != AccelKind::None) {
     walk_.build(bvh_, config.kind == AccelKind::BinaryBvh ? 2 : WideBvh::kRenderArity);
+    build_triangle_blocks();
     build_seconds_ = std::chrono::duration<double>(Clock::now() - start).count();
   } else {
     build_seconds_ = 0.0;
+  }
+}
+
+void Aggregate::build_triangle_blocks() {
+  constexpr int kLanes = TriangleBlock::kLanes;
+  size_t count = 0;
+  for (const BvhNode& n : bvh_.nodes)
+    if (n.is_leaf()) count += (n.count + kLanes - 1) / kLanes;
+  blocks_.assign(count, TriangleBlock{});
+  leaf_blocks_.assign(records_.size(), ~0u);
+  uint32_t next = 0;
+  for (const BvhNode& n : bvh_.nodes) {
+    if (!n.is_leaf()) continue;
+    leaf_blocks_[n.index] = next;
+    for (uint32_t j = 0; j < n.count; ++j) {
+      TriangleBlock& b = blocks_[next + j / kLanes];
+      const unsigned lane = j % kLanes;
+      const PrimRecord& r = records_[n.index + j];
+      if (r.id >= num_triangles_) {
+        b.others |= uint8_t(1u << lane);
+        continue;
+      }
+      b.triangles |= uint8_t(1u << lane);
+      const Vec3* p[3] = {&r.a, &r.b, &r.c};
+      for (int i = 0; i < 3; ++i)
+        for (int axis = 0; axis < 3; ++axis) b.v[i][axis][lane] = (*p[i])[axis];
+    }
+    next += (n.count + kLanes - 1) / kLanes;
   }
 }
 
@@ -158,7 +189,7 @@ AccelFigures Aggregate::figures() const {
     case AccelKind::Bvh:
     case AccelKind::BinaryBvh: {
       const BvhQuality q = bvh_.quality();
-      f.memory_bytes = walk_.memory_bytes() + records;
+      f.memory_bytes = walk_.memory_bytes() + triangle_block_bytes() + records;
       f.nodes = walk_.nodes.size() + q.leaves;  // inner wide nodes and the leaves they hold
       f.leaves = q.leaves;
       f.depth = walk_.depth();
@@ -221,9 +252,10 @@ AccelFigures Aggregate::figures() const {
 
 size_t Aggregate::memory_bytes() const {
   return bvh_.nodes.size() * sizeof(BvhNode) + bvh_.prim_indices.size() * sizeof(uint32_t) +
-         walk_.memory_bytes() + kdtree_.memory_bytes() + grid_.memory_bytes() +
-         octree_.memory_bytes() + bsp_.memory_bytes() + sphere_tree_.memory_bytes() +
-         records_.size() * sizeof(PrimRecord) + planes_.size() * sizeof(PlaneRecord);
+         walk_.memory_bytes() + triangle_block_bytes() + kdtree_.memory_bytes() +
+         grid_.memory_bytes() + octree_.memory_bytes() + bsp_.memory_bytes() +
+         sphere_tree_.memory_bytes() + records_.size() * sizeof(PrimRecord) +
+         planes_.size() * sizeof(PlaneRecord);
 }
 
 }  // namespace rayscope

@@ -468,8 +468,10 @@ BvhQuality Bvh::quality() const {
       q.min_leaf_prims = std::min(q.min_leaf_prims, n.count);
       q.max_leaf_prims = std::max(q.max_leaf_prims, n.count);
       q.sah_cost += rel * config.intersection_cost * n.count;
+      q.sah_cost_1to1 += rel * n.count;
     } else {
       q.sah_cost += rel * config.traversal_cost;
+      q.sah_cost_1to1 += rel;
       stack.push_back({n.index, d + 1});
       stack.push_back({n.index + 1, d + 1});
     }

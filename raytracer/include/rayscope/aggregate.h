@@ -33,6 +33,7 @@
 #include "rayscope/range_query.h"
 #include "rayscope/sphere_tree.h"
 #include "rayscope/traversal.h"
+#include "rayscope/triangle_block.h"
 #include "rayscope/wide_bvh.h"
 
 namespace rayscope {
@@ -255,11 +256,19 @@ class Aggregate {
   /// unless the kind is AccelKind::Bsp.
   const BspTree& bsp() const { return bsp_; }
   const std::vector<PrimRecord>& records() const { return records_; }
+  /// The walk's leaves by coordinate (triangle_block.h): each leaf's records
+  /// from its first block on, TriangleBlock::kLanes per block (empty unless
+  /// walk() is built).
+  const std::vector<TriangleBlock>& triangle_blocks() const { return blocks_; }
+  /// Bytes of triangle_blocks() and of the index from leaves to their blocks.
+  size_t triangle_block_bytes() const {
+    return blocks_.size() * sizeof(TriangleBlock) + leaf_blocks_.size() * sizeof(uint32_t);
+  }
   /// The unbounded planes, with unit normals, in the scene's order.
   const std::vector<PlaneRecord>& plane_records() const { return planes_; }
   /// Every byte the aggregate holds: binary nodes, leaf order, wide nodes,
-  /// kD-tree, grid, octree or sphere tree nodes or cells and references, primitive records
-  /// and planes.
+  /// triangle blocks, kD-tree, grid, octree or sphere tree nodes or cells and references, primitive
+  /// records and planes.
   size_t memory_bytes() const;
   /// Figures of the structure the rays walk (the kind asked for, also for a
   /// tiny scene that skips it).
@@ -289,16 +298,23 @@ class Aggregate {
     return true;
   }
 
-  /// Tests the primitives the ray can hit with `prim(record, tmax)`, which
-  /// returns true on a hit (lowering tmax, or ending an any-hit query): the
-  /// BVH's leaves (contiguous record ranges), the kD-tree's, grid's, octree's
-  /// or BSP tree's cells (reference lists, each record once per ray except for
-  /// the BSP tree's fragments), the sphere tree's leaves (each record once), or
-  /// all records without a structure.
+  /// Tests the primitives the ray can hit with `prim(record, tmax, decided)`,
+  /// which returns true on a hit (lowering tmax, or ending an any-hit query):
+  /// the BVH's leaves (contiguous record ranges), the kD-tree's, grid's,
+  /// octree's or BSP tree's cells (reference lists, each record once per ray
+  /// except for the BSP tree's fragments), the sphere tree's leaves (each
+  /// record once), or all records without a structure. `decided` is null, or
+  /// the hit test_prim() would report (at t <= tmax), already found.
+  ///
+  /// The BVH's leaves go through their triangle blocks (triangle_block.h):
+  /// `prim` is called for the records the block test hits (with the hit) or
+  /// leaves undecided, in record order, so it finds what the plain loop finds.
+  /// An active observer sees the plain loop, every record tested.
   /// The lambdas are forced inline so that the BVH's leaf loop compiles as
   /// one loop, as when it was written as one.
   template <bool AnyHit, class Observer, class PrimFn>
-  bool walk_prims(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const {
+  bool walk_prims(const Ray& ray, const TrianglePrecomp& pre, float& tmax, PrimFn&& prim,
+                  Observer& obs) const {
     auto range = [&prim](uint32_t first, uint32_t count, float& t) __attribute__((always_inline)) {
       bool found = false;
       for (uint32_t i = first; i < first + count; ++i)
@@ -315,8 +331,39 @@ class Aggregate {
     if (config_.kind == AccelKind::Bsp) return bsp_.traverse<AnyHit>(ray, tmax, prim, obs);
     if (config_.kind == AccelKind::Spheres)
       return sphere_tree_.traverse<AnyHit>(ray, tmax, prim, obs);
-    return walk_.traverse<AnyHit>(ray, tmax, range, obs);
+    if constexpr (Observer::kActive) {
+      return walk_.traverse<AnyHit>(ray, tmax, range, obs);
+    } else {
+      const TriangleBlockRay block_ray(pre);
+      auto blocks = [&](uint32_t first, uint32_t count, float& t) __attribute__((always_inline)) {
+        bool found = false;
+        const TriangleBlock* b = &blocks_[leaf_blocks_[first]];
+        TriangleBlockResult res;
+        for (uint32_t base = first; base < first + count; base += TriangleBlock::kLanes, ++b) {
+          test_triangle_block(*b, block_ray, t, res);
+          for (unsigned m = res.hits | res.undecided; m != 0; m &= m - 1) {
+            const unsigned k = unsigned(__builtin_ctz(m));
+            TriangleHit th;
+            const TriangleHit* decided = nullptr;
+            if ((res.hits >> k) & 1u) {
+              th = res.hit(k);
+              if (!(th.t <= t)) continue;  // beyond a hit found in this block
+              decided = &th;
+            }
+            if (prim(base + k, t, decided)) {
+              found = true;
+              if constexpr (AnyHit) return true;
+            }
+          }
+        }
+        return found;
+      };
+      return walk_.traverse<AnyHit>(ray, tmax, blocks, obs);
+    }
   }
+
+  /// Fills blocks_ and leaf_blocks_ from the binary leaves and records_.
+  void build_triangle_blocks();
 
   /// The one primitive test of box queries (exact, see range_query.h).
   bool record_overlaps(const PrimRecord& r, const Bounds3& box) const {
@@ -362,6 +409,12 @@ class Aggregate {
   BspTree bsp_;
   SphereTree sphere_tree_;
   std::vector<PrimRecord> records_;  ///< Leaf order.
+  /// The records of the walk's leaves by coordinate, kLanes at a time, each
+  /// leaf starting a new block (empty unless walk_ is built).
+  std::vector<TriangleBlock> blocks_;
+  /// leaf_blocks_[first]: the first block of the leaf whose records start at
+  /// `first` (other entries unused; empty unless walk_ is built).
+  std::vector<uint32_t> leaf_blocks_;
   std::vector<PlaneRecord> planes_;
   uint32_t num_triangles_ = 0;
   bool use_walk_ = false;
@@ -378,11 +431,12 @@ bool Aggregate::intersect(const Ray& ray, PrimHit& hit, Observer& obs) const {
   const TrianglePrecomp pre(ray);
   // A hit at exactly the closest t so far replaces it only if it wins the tie
   // (spheres are tested with the closed bound once something was hit).
-  auto prim = [&](uint32_t i, float& t) __attribute__((always_inline)) {
+  auto prim = [&](uint32_t i, float& t, const TriangleHit* decided = nullptr)
+      __attribute__((always_inline)) {
     const PrimRecord& r = records_[i];
     if constexpr (Observer::kActive) obs.on_prim_test(r.id);
     TriangleHit th;
-    if (test_prim(r, ray, pre, t, best != ~0u, th) &&
+    if ((decided ? (th = *decided, true) : test_prim(r, ray, pre, t, best != ~0u, th)) &&
         (th.t < t || best == ~0u || wins_tie(r.id, best_id))) {
       if constexpr (Observer::kActive) obs.on_prim_hit(r.id);
       t = th.t;
@@ -393,7 +447,7 @@ bool Aggregate::intersect(const Ray& ray, PrimHit& hit, Observer& obs) const {
     }
     return false;
   };
-  walk_prims<false>(ray, tmax, prim, obs);
+  walk_prims<false>(ray, pre, tmax, prim, obs);
   int best_plane = -1;
   for (size_t k = 0; k < planes_.size(); ++k) {
     float tp;
@@ -437,16 +491,17 @@ bool Aggregate::occluded(const Ray& ray, Observer& obs, PrimHit* which) const {
   float tmax = ray.tmax;
   const TrianglePrecomp pre(ray);
   uint32_t hit_record = ~0u;
-  auto prim = [&](uint32_t i, float& t) __attribute__((always_inline)) {
+  auto prim = [&](uint32_t i, float& t, const TriangleHit* decided = nullptr)
+      __attribute__((always_inline)) {
     const PrimRecord& r = records_[i];
     if constexpr (Observer::kActive) obs.on_prim_test(r.id);
     TriangleHit th;
-    if (!test_prim(r, ray, pre, t, false, th)) return false;
+    if (!decided && !test_prim(r, ray, pre, t, false, th)) return false;
     if constexpr (Observer::kActive) obs.on_prim_hit(r.id);
     hit_record = i;
     return true;
   };
-  if (!walk_prims<true>(ray, tmax, prim, obs)) return false;
+  if (!walk_prims<true>(ray, pre, tmax, prim, obs)) return false;
   if (which) {
     *which = PrimHit{};
     which->record = hit_record;

@@ -42,12 +42,17 @@ static_assert(sizeof(BvhNode) == 32);
 
 /// Settings of the binned SAH builder, with the defaults used by RayScope.
 struct BvhBuildConfig {
-  int bins = 16;                   ///< Candidate split planes per axis are bins - 1.
-  uint32_t max_leaf_size = 8;      ///< Leaves never hold more primitives than this...
-  uint32_t min_leaf_size = 1;      ///< ...nor fewer, unless the node is that small.
-  float traversal_cost = 1.0f;     ///< SAH cost of visiting an inner node...
-  float intersection_cost = 1.0f;  ///< ...relative to one primitive test.
-  int max_depth = 56;              ///< Deeper nodes are split at the object median.
+  int bins = 16;                ///< Candidate split planes per axis are bins - 1.
+  uint32_t max_leaf_size = 8;   ///< Leaves never hold more primitives than this...
+  uint32_t min_leaf_size = 1;   ///< ...nor fewer, unless the node is that small.
+  float traversal_cost = 1.0f;  ///< SAH cost of visiting an inner node...
+  /// ...relative to one primitive test. 0.5, not 1: the render walk tests a
+  /// leaf's triangles four at a time (triangle_block.h). Its leaves of about
+  /// 2.8 triangles (1.9 at 1) traced bunny rays 13% (primary) and 7% (shadow)
+  /// faster than at 1, and 7% and 5% faster than at 0.3 (4.8 per leaf), same
+  /// runs (bench_trace --leaf-cost, docs/benchmarks.md).
+  float intersection_cost = 0.5f;
+  int max_depth = 56;  ///< Deeper nodes are split at the object median.
   /// Subtrees of at least this many primitives are built as parallel tasks
   /// (TBB), each into its own reserved slots of the node array, compacted
   /// into the serial order: the tree is the same for every value and thread
@@ -66,6 +71,9 @@ struct BvhQuality {
   uint32_t min_leaf_prims = 0, max_leaf_prims = 0;
   double mean_leaf_prims = 0.0;
   double sah_cost = 0.0;  ///< Expected cost of a random ray, with the build's cost constants.
+  /// The same with a primitive test costing as much as a node visit (1:1):
+  /// comparable between trees built with different constants.
+  double sah_cost_1to1 = 0.0;
   size_t memory_bytes = 0;
 };
 
