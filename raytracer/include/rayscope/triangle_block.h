@@ -1,18 +1,19 @@
 // A BVH leaf's triangles four at a time: their vertices stored by coordinate
 // (structure of arrays), so that one SSE instruction does one step of
-// intersect_triangle() for all four, and a cull that drops the lanes the
-// watertight test would reject.
+// intersect_triangle() for all four lanes.
 //
-// The cull decides nothing by itself that intersect_triangle() would not: it
-// repeats the float test's first steps lane by lane with the same operations
-// in the same order (translation, shear, edge functions, the miss path's error
-// bound, det, the scaled distance and t against tmax), and drops a lane only
-// where intersect_triangle() returns false at one of those steps. Every other
-// lane (an edge function exactly 0, a miss within the rounding error, a hit
-// within range, a sphere) is left to the scalar test of the whole primitive,
-// which decides it as before. So the hits, and their order, are the same bit
-// for bit, with or without the cull and with any instruction set; only the
-// misses, most of the tests a ray does, cost a quarter of a scalar test.
+// The block test decides nothing differently from intersect_triangle(): it
+// repeats the float test lane by lane with the same operations in the same
+// order (translation, shear, edge functions, the miss path's error bound, det,
+// the scaled distance, t against tmax, t against its error bound). A lane is
+// a miss only where intersect_triangle() returns false at one of those steps,
+// and a hit only where it returns true, with the same t and barycentrics, bit
+// for bit. Every other lane is left undecided, for the scalar test of the whole
+// primitive: an edge function exactly 0 (recomputed in double), a miss within
+// the rounding error or a t within its error bound of 0 (the exact test), and
+// the lanes of other primitives. So the hits, and their order, are the same
+// with or without blocks and with any instruction set; a lane decided here
+// costs about a quarter of a scalar test.
 #pragma once
 
 #include <cmath>
