@@ -1,17 +1,22 @@
 #include "rayscope/image.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cstdlib>
 #include <cstring>
-#include <memory>
+#include <functional>
+#include <future>
 #include <stdexcept>
 #include <string>
 #include <system_error>
 
+#include <tbb/parallel_for.h>
+#include <tbb/tbb_allocator.h>
+
+#include <dlfcn.h>
 #include <unistd.h>
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/imageio.h>
+#include "image_file_module.h"
 
 namespace rayscope {
 
@@ -34,21 +39,69 @@ float linear_to_srgb(float v) {
 
 namespace {
 
-// Writes `buf` (any format OIIO knows by extension) to a temporary file, then
-// renames it over `path`.
-void write_buf_atomic(const std::filesystem::path& path, OIIO::ImageBuf& buf) {
-  namespace fs = std::filesystem;
-  static std::atomic<unsigned> counter{0};
-  fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-  std::string tmp_name(".");
-  tmp_name += path.stem().string();
-  tmp_name += ".tmp" + std::to_string(::getpid()) + "_h" + std::to_string(counter++) +
-              path.extension().string();
-  fs::path tmp = dir / tmp_name;
+namespace fs = std::filesystem;
+using image_files::Functions;
+
+// Loads the image-file module (image_file_module.h): RAYSCOPE_IMAGE_MODULE
+// when it is set, else the build tree's copy, else the installed one. Throws
+// std::runtime_error naming the module and the problem.
+const Functions* load_image_module() {
+  std::vector<std::string> paths;
+  if (const char* env = std::getenv("RAYSCOPE_IMAGE_MODULE"); env && *env)
+    paths = {env};
+  else
+    paths = {RAYSCOPE_IMAGE_MODULE_BUILD_PATH, RAYSCOPE_IMAGE_MODULE_INSTALL_PATH};
   std::error_code ec;
-  if (!buf.write(tmp.string())) {
+  const auto found = std::find_if(paths.begin(), paths.end(),
+                                  [&](const std::string& p) { return fs::exists(p, ec); });
+  if (found == paths.end())
+    throw std::runtime_error("the image module " + paths.front() + " is missing");
+  void* handle = dlopen(found->c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!handle) {
+    const char* why = dlerror();
+    throw std::runtime_error("cannot load the image module " + *found + " (" +
+                             (why ? why : "unknown error") + ")");
+  }
+  const auto entry =
+      reinterpret_cast<image_files::EntryFn>(dlsym(handle, image_files::kEntrySymbol));
+  const Functions* f = entry ? entry() : nullptr;
+  if (!f || f->version != image_files::kVersion)
+    throw std::runtime_error(*found + " is not this build's image module");
+  return f;
+}
+
+// The module, loading on a thread of its own from the first call on.
+const std::shared_future<const Functions*>& image_module_loading() {
+  static const std::shared_future<const Functions*> loading =
+      std::async(std::launch::async, load_image_module).share();
+  return loading;
+}
+
+// The loaded module; a failure to load it names `file`, the image at hand.
+const Functions& image_module(const fs::path& file) {
+  try {
+    return *image_module_loading().get();
+  } catch (const std::exception& e) {
+    throw std::runtime_error(file.string() + ": " + e.what());
+  }
+}
+
+// Runs `write_to(temporary)` (returning "" or the problem) on a temporary
+// file in the folder of `path`, with its extension, then renames it over
+// `path`: an interrupted or failed write never leaves a half-written file.
+void write_atomically(const fs::path& path,
+                      const std::function<std::string(const std::string&)>& write_to) {
+  static std::atomic<unsigned> counter{0};
+  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  std::string name(".");  // built by appending: GCC 12 warns (-Wrestrict) on "." + string
+  name += path.stem().string();
+  name += ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
+  name += path.extension().string();
+  const fs::path tmp = dir / name;
+  std::error_code ec;
+  if (const std::string problem = write_to(tmp.string()); !problem.empty()) {
     fs::remove(tmp, ec);
-    throw std::runtime_error(path.string() + ": cannot write image: " + buf.geterror());
+    throw std::runtime_error(path.string() + ": " + problem);
   }
   fs::rename(tmp, path, ec);
   if (ec) {
@@ -57,13 +110,24 @@ void write_buf_atomic(const std::filesystem::path& path, OIIO::ImageBuf& buf) {
   }
 }
 
-std::string lower_ext(const std::filesystem::path& p) {
+std::string lower_ext(const fs::path& p) {
   std::string e = p.extension().string();
   for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
   return e;
 }
 
 }  // namespace
+
+void preload_image_files() {
+  // dlopen() holds the dynamic loader's lock for the whole load, so a dlopen()
+  // on this thread would wait for the module. TBB makes two on first use (its
+  // memory allocator, through tbb_allocator, and its thread server), which
+  // VTK's readers and the BVH build reach: made here, before the load starts.
+  tbb::tbb_allocator<char> allocator;
+  allocator.deallocate(allocator.allocate(1), 1);
+  tbb::parallel_for(0, 2, [](int) {});
+  image_module_loading();
+}
 
 void check_image_path(const std::filesystem::path& path) {
   namespace fs = std::filesystem;
@@ -78,37 +142,26 @@ void check_image_path(const std::filesystem::path& path) {
 }
 
 void write_image(const std::filesystem::path& path, const Framebuffer& fb) {
-  namespace fs = std::filesystem;
   if (fb.width <= 0 || fb.height <= 0) throw std::runtime_error(path.string() + ": empty image");
   check_image_path(path);
-  const std::string ext = lower_ext(path);
-  static std::atomic<unsigned> counter{0};
-  fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-  std::string tmp_name(".");
-  tmp_name += path.stem().string();
-  tmp_name += ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + ext;
-  fs::path tmp = dir / tmp_name;
-  auto out = OIIO::ImageOutput::create(tmp.string());
-  if (!out)
-    throw std::runtime_error(path.string() + ": cannot write this image format (" +
-                             OIIO::geterror() + ")");
   const size_t n = size_t(fb.width) * size_t(fb.height);
-  bool ok;
-  if (ext == ".exr") {
+  image_files::Pixels px;
+  px.width = fb.width;
+  px.height = fb.height;
+  std::vector<float> values;
+  std::vector<unsigned char> codes;
+  if (lower_ext(path) == ".exr") {
     const bool cost = fb.cost.size() == n;
     const bool samples = fb.samples.size() == n;
-    const int nc = 8 + (cost ? 4 : 0) + (samples ? 1 : 0);
-    OIIO::ImageSpec spec(fb.width, fb.height, nc, OIIO::TypeDesc::FLOAT);
-    spec.channelnames = {"R", "G", "B", "Z", "N.x", "N.y", "N.z", "objectId"};
+    px.channel_names = {"R", "G", "B", "Z", "N.x", "N.y", "N.z", "objectId"};
     if (cost)
       for (const char* c : {"cost.rays", "cost.nodes", "cost.boxes", "cost.prims"})
-        spec.channelnames.push_back(c);
-    if (samples) spec.channelnames.push_back("samples");
-    spec.z_channel = 3;
-    spec.attribute("compression", "zip");
-    std::vector<float> px(n * nc);
+        px.channel_names.push_back(c);
+    if (samples) px.channel_names.push_back("samples");
+    const size_t nc = px.channel_names.size();
+    values.resize(n * nc);
     for (size_t i = 0; i < n; ++i) {
-      float* p = &px[i * nc];
+      float* p = &values[i * nc];
       p[0] = fb.color[i].r;
       p[1] = fb.color[i].g;
       p[2] = fb.color[i].b;
@@ -125,30 +178,21 @@ void write_image(const std::filesystem::path& path, const Framebuffer& fb) {
       }
       if (samples) p[nc - 1] = fb.samples[i];
     }
-    ok = out->open(tmp.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, px.data());
+    px.data = values.data();
+    px.float_data = px.float_file = true;
+    px.z_channel = 3;
+    px.zip = true;
   } else {
-    OIIO::ImageSpec spec(fb.width, fb.height, 3, OIIO::TypeDesc::UINT8);
-    spec.attribute("oiio:ColorSpace", "sRGB");
-    std::vector<unsigned char> px(n * 3);
+    px.channel_names = {"R", "G", "B"};
+    codes.resize(n * 3);
     for (size_t i = 0; i < n; ++i)
       for (int c = 0; c < 3; ++c)
-        px[i * 3 + c] = (unsigned char)std::lround(255.0f * linear_to_srgb(fb.color[i][c]));
-    ok = out->open(tmp.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, px.data());
+        codes[i * 3 + c] = (unsigned char)std::lround(255.0f * linear_to_srgb(fb.color[i][c]));
+    px.data = codes.data();
+    px.srgb = true;
   }
-  std::string err = ok ? std::string() : out->geterror();
-  ok = out->close() && ok;
-  if (!ok) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw std::runtime_error(path.string() +
-                             ": cannot write image: " + (err.empty() ? out->geterror() : err));
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error(path.string() + ": cannot rename temporary file: " + ec.message());
-  }
+  const Functions& m = image_module(path);
+  write_atomically(path, [&](const std::string& tmp) { return m.write(tmp, px, {}, {}); });
 }
 
 Color heat_color(float t) {
@@ -172,7 +216,6 @@ void write_heatmap(const std::filesystem::path& path, const std::vector<float>& 
   for (float v : values)
     if (std::isfinite(v)) vmax = std::max(vmax, v);
   const int legend = 44;
-  OIIO::ImageBuf buf(OIIO::ImageSpec(width, height + legend, 3, OIIO::TypeDesc::UINT8));
   std::vector<float> px(size_t(width) * size_t(height + legend) * 3, 1.0f);
   auto put = [&](int x, int y, const Color& c) {
     float* p = &px[(size_t(y) * size_t(width) + size_t(x)) * 3];
@@ -189,36 +232,39 @@ void write_heatmap(const std::filesystem::path& path, const std::vector<float>& 
   for (int x = x0; x < x1; ++x)
     for (int y = by0; y < by1; ++y)
       put(x, y, heat_color(float(x - x0) / float(std::max(1, x1 - x0 - 1))));
-  buf.set_pixels(OIIO::ROI(0, width, 0, height + legend), OIIO::TypeDesc::FLOAT, px.data());
-  const char* font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  image_files::Pixels image;
+  image.width = width;
+  image.height = height + legend;
+  image.channel_names = {"R", "G", "B"};
+  image.data = px.data();
+  image.float_data = true;
+  const std::string font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
   std::error_code ec;
-  if (std::filesystem::exists(font, ec)) {
-    const float black[3] = {0.0f, 0.0f, 0.0f};
-    const int size = 11, ty = height + 32;
-    char hi[64];
-    std::snprintf(hi, sizeof hi, "%.6g", double(vmax));
-    OIIO::ImageBufAlgo::render_text(buf, x0, ty, "0", size, font, black);
-    OIIO::ImageBufAlgo::render_text(buf, x1 - 8 * int(std::strlen(hi)), ty, hi, size, font, black);
-    OIIO::ImageBufAlgo::render_text(buf, width / 2 - 3 * int(title.size()), ty + 10, title, size,
-                                    font, black, OIIO::ImageBufAlgo::TextAlignX::Left);
-  }
-  write_buf_atomic(path, buf);
+  const bool have_font = fs::exists(font, ec);
+  char hi[64];
+  std::snprintf(hi, sizeof hi, "%.6g", double(vmax));
+  const int ty = height + 32;
+  const std::vector<image_files::Label> labels = {
+      {x0, ty, "0"},
+      {x1 - 8 * int(std::strlen(hi)), ty, hi},
+      {width / 2 - 3 * int(title.size()), ty + 10, title}};
+  const Functions& m = image_module(path);
+  write_atomically(path, [&](const std::string& tmp) {
+    return m.write(tmp, image, labels, have_font ? font : std::string());
+  });
 }
 
 std::vector<float> read_image_rgb(const std::filesystem::path& path, int& width, int& height) {
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in)
-    throw std::runtime_error(path.string() + ": cannot read image (" + OIIO::geterror() + ")");
-  const OIIO::ImageSpec& spec = in->spec();
-  width = spec.width;
-  height = spec.height;
-  if (spec.nchannels < 3) throw std::runtime_error(path.string() + ": fewer than 3 channels");
-  std::vector<float> all(size_t(width) * height * spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
-    throw std::runtime_error(path.string() + ": " + in->geterror());
+  int channels = 0;
+  std::vector<float> all;
+  if (const std::string problem =
+          image_module(path).read(path.string(), width, height, channels, all);
+      !problem.empty())
+    throw std::runtime_error(path.string() + ": " + problem);
+  if (channels < 3) throw std::runtime_error(path.string() + ": fewer than 3 channels");
   std::vector<float> rgb(size_t(width) * height * 3);
   for (size_t i = 0; i < size_t(width) * height; ++i)
-    for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = all[i * spec.nchannels + c];
+    for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = all[i * size_t(channels) + c];
   return rgb;
 }
 

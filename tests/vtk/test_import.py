@@ -1,5 +1,5 @@
 """`import vtk, rayscope` works (from the build tree, or from an install when
-PYTHONPATH points there) and exposes every class."""
+PYTHONPATH points there), exposes every class and does not load OpenImageIO."""
 import vtk  # noqa: F401
 import rayscope
 
@@ -16,4 +16,8 @@ assert rayscope.vtkRayScopeRayTreeSource().IsA("vtkPolyDataAlgorithm")
 assert alg.GetConverter().GetMapper().IsA("vtkMapper")
 assert rayscope.vtkRayScopePass().IsA("vtkRenderPass")
 assert rayscope.vtkRayScopePass().GetImageAlgorithm().IsA("vtkRayScopeImageAlgorithm")
+# The module links the core, which loads OpenImageIO (about 260 libraries)
+# only when an image file is read or written (image.h), never here.
+with open("/proc/self/maps") as maps:
+    assert "libOpenImageIO" not in maps.read(), "import rayscope loaded OpenImageIO"
 print("rayscope", rayscope.__file__)

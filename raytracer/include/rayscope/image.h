@@ -1,4 +1,7 @@
 // The framebuffer (color plus AOVs) and image files through OpenImageIO.
+// OpenImageIO lives in a module the core loads on first use
+// (src/image_file_module.h), not in every program that links the core: its
+// libraries took longer to load than the bunny scene takes to render.
 #pragma once
 
 #include <filesystem>
@@ -55,6 +58,14 @@ void write_heatmap(const std::filesystem::path& path, const std::vector<float>& 
 /// The heat map's color for t in [0, 1] (a perceptually ordered map, dark blue
 /// through green to yellow).
 Color heat_color(float t);
+
+/// Starts loading the image-file module (OpenImageIO) on a thread of its own
+/// and returns at once, so that a program that will write an image can load
+/// the module while it reads its scene and builds the BVH. Optional: the
+/// first read or write loads it otherwise. A module that cannot be loaded is
+/// reported by that read or write (set RAYSCOPE_IMAGE_MODULE to load another
+/// copy of the module than the build tree's or the installed one).
+void preload_image_files();
 
 /// Reads an image's first three channels as floats (as stored: sRGB values for
 /// 8-bit formats). Throws std::runtime_error.

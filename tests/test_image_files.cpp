@@ -1,0 +1,124 @@
+// Image files (image.h) through the image-file module: OpenImageIO is not in
+// a process that links the core until an image is read or written (its ~260
+// libraries once cost every RayScope program 0.35 s before main()), and what
+// the module writes reads back as written: 8-bit sRGB codes in PNG, every
+// float channel in OpenEXR, a heat map's colors and legend.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+
+#include "rayscope/image.h"
+
+namespace {
+
+using namespace rayscope;
+namespace fs = std::filesystem;
+
+// Whether a shared library whose file name contains `name` is mapped into
+// this process.
+bool library_loaded(const std::string& name) {
+  std::ifstream maps("/proc/self/maps");
+  std::string line;
+  while (std::getline(maps, line))
+    if (line.find(name) != std::string::npos) return true;
+  return false;
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("rayscope_image_files_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+Framebuffer gradient(int w, int h) {
+  Framebuffer fb;
+  fb.resize(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = fb.index(x, y);
+      fb.color[i] = Color(float(x) / float(w - 1), float(y) / float(h - 1), 0.25f);
+      fb.depth[i] = 1.0f + float(x + y);
+      fb.normal[i] = Vec3(0.0f, 1.0f, 0.0f);
+      fb.object_id[i] = float(x % 3);
+    }
+  return fb;
+}
+
+TEST(ImageFiles, OpenImageIOIsLoadedOnlyWhenAnImageIsWritten) {
+  // This test program links the core and not OpenImageIO.
+  ASSERT_FALSE(library_loaded("libOpenImageIO")) << "loaded before any image was used";
+  const fs::path png = scratch("gradient.png");
+  const Framebuffer fb = gradient(16, 8);
+  write_image(png, fb);
+  EXPECT_TRUE(library_loaded("libOpenImageIO"));
+  EXPECT_TRUE(library_loaded("rayscope_image_files"));
+  // Read back: the 8-bit sRGB code of each linear value, as write_image()
+  // documents.
+  int w = 0, h = 0;
+  const std::vector<float> rgb = read_image_rgb(png, w, h);
+  ASSERT_EQ(w, 16);
+  ASSERT_EQ(h, 8);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const float code = std::round(255.0f * linear_to_srgb(fb.color[fb.index(x, y)][c]));
+        EXPECT_EQ(std::round(255.0f * rgb[(size_t(y) * w + x) * 3 + c]), code)
+            << x << "," << y << "," << c;
+      }
+  fs::remove_all(png.parent_path());
+}
+
+TEST(ImageFiles, ExrKeepsEveryFloatAndPreloadingChangesNothing) {
+  preload_image_files();
+  preload_image_files();  // a second call waits for nothing and loads nothing twice
+  const fs::path exr = scratch("gradient.exr");
+  const Framebuffer fb = gradient(9, 7);
+  write_image(exr, fb);
+  int w = 0, h = 0;
+  const std::vector<float> rgb = read_image_rgb(exr, w, h);
+  ASSERT_EQ(w, 9);
+  ASSERT_EQ(h, 7);
+  for (size_t i = 0; i < fb.color.size(); ++i)
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(rgb[i * 3 + c], fb.color[i][c]) << i;
+  fs::remove_all(exr.parent_path());
+}
+
+TEST(ImageFiles, HeatMapHasTheMapsColorsAndALegendBelow) {
+  const fs::path png = scratch("heat.png");
+  const int w = 40, h = 10;
+  std::vector<float> values(size_t(w) * h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) values[size_t(y) * w + x] = float(x);
+  write_heatmap(png, values, w, h, "test");
+  int rw = 0, rh = 0;
+  const std::vector<float> rgb = read_image_rgb(png, rw, rh);
+  ASSERT_EQ(rw, w);
+  ASSERT_GT(rh, h);  // the legend strip
+  // The first and last columns: the map's ends (8-bit quantised).
+  for (int x : {0, w - 1}) {
+    const Color want = heat_color(float(x) / float(w - 1));
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(rgb[(size_t(h / 2) * w + x) * 3 + c], want[c], 0.5f / 255.0f + 1e-6f) << x;
+  }
+  fs::remove_all(png.parent_path());
+}
+
+TEST(ImageFiles, AFailedWriteNamesTheFileAndLeavesNothing) {
+  const fs::path bad = scratch("gradient.notaformat");
+  try {
+    write_image(bad, gradient(4, 4));
+    FAIL() << "an unknown format was written";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(bad.string() + ": ", 0), 0u) << e.what();
+  }
+  EXPECT_TRUE(fs::is_empty(bad.parent_path())) << "a temporary file was left";
+  fs::remove_all(bad.parent_path());
+}
+
+}  // namespace
