@@ -15,6 +15,8 @@
 // threads.
 #include "rayscope/bvh.h"
 
+#include "rayscope/huge_pages.h"
+
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
@@ -391,11 +393,14 @@ struct Builder {
     constexpr uint32_t kUnused = ~0u;
     BvhNode unused{};
     unused.count = kUnused;
+    reserve_huge(nodes, 2 * size_t(all.count()) - 1);
     nodes.assign(2 * size_t(all.count()) - 1, unused);
     build_parallel(nodes, 0, 1, all, 0);
     // Compacted in place, in order (a node only moves down): then the array is
     // build_serial's, node for node.
-    std::vector<uint32_t> new_index(nodes.size());
+    std::vector<uint32_t> new_index;
+    reserve_huge(new_index, nodes.size());
+    new_index.resize(nodes.size());
     uint32_t used = 0;
     for (size_t i = 0; i < nodes.size(); ++i)
       if (nodes[i].count != kUnused) new_index[i] = used++;
@@ -405,8 +410,12 @@ struct Builder {
       if (!node.is_leaf()) node.index = new_index[node.index];
       nodes[new_index[i]] = node;
     }
-    nodes.resize(used);
-    nodes.shrink_to_fit();
+    // Into an array of the final size (what shrink_to_fit would copy to),
+    // with huge pages.
+    std::vector<BvhNode> compact;
+    reserve_huge(compact, used);
+    compact.assign(nodes.begin(), nodes.begin() + used);
+    nodes.swap(compact);
   }
 };
 
@@ -420,7 +429,9 @@ void Bvh::build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids
   prim_indices.clear();
   const size_t n = bounds.size();
   if (n == 0) return;
-  std::vector<PrimRef> refs(n);
+  std::vector<PrimRef> refs;
+  reserve_huge(refs, n);
+  refs.resize(n);
   Range all{0, uint32_t(n), {}, {}};
   for (size_t i = 0; i < n; ++i) {
     const Vec3 &lo = bounds[i].lo, &hi = bounds[i].hi, &c = centroids[i];
@@ -443,6 +454,7 @@ void Bvh::build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids
       Builder<kScalar>{refs, cfg, bins}.build(all, nodes);
       break;
   }
+  reserve_huge(prim_indices, n);
   prim_indices.resize(n);
   for (size_t i = 0; i < n; ++i) prim_indices[i] = refs[i].id();
 }

@@ -1,5 +1,7 @@
 #include "rayscope/scene.h"
 
+#include "rayscope/huge_pages.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -53,9 +55,9 @@ void Scene::commit(const AccelConfig& config) {
   std::vector<Bounds3> bounds;
   std::vector<Vec3> centroids;
   std::vector<uint32_t> ids;
-  bounds.reserve(ntri + spheres.size());
-  centroids.reserve(ntri + spheres.size());
-  ids.reserve(ntri + spheres.size());
+  reserve_huge(bounds, ntri + spheres.size());
+  reserve_huge(centroids, ntri + spheres.size());
+  reserve_huge(ids, ntri + spheres.size());
   auto warn = [&](const TriangleMesh& m, size_t n, const std::string& what) {
     if (n) summary_.warnings.push_back("mesh '" + m.name + "': " + std::to_string(n) + " " + what);
   };
@@ -96,7 +98,9 @@ void Scene::commit(const AccelConfig& config) {
     centroids.push_back(s.center);
     ids.push_back(ntri + uint32_t(si));
   }
-  std::vector<PrimRecord> records(ids.size());
+  std::vector<PrimRecord> records;
+  reserve_huge(records, ids.size());
+  records.resize(ids.size());
   for (size_t i = 0; i < ids.size(); ++i) {
     const uint32_t id = ids[i];
     PrimRecord& r = records[i];

@@ -6,6 +6,8 @@
 // replaced: each wide node is one binary node.
 #include "rayscope/wide_bvh.h"
 
+#include "rayscope/huge_pages.h"
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -32,8 +34,8 @@ void WideBvh::build(const Bvh& bvh, int arity) {
     root_child_ = WideBvhNode::kLeaf | root.index;
     root_count_ = root.count;
   } else {
-    nodes.reserve(bvh.nodes.size() / 2 + 1);
-    slot_source.reserve(nodes.capacity() * WideBvhNode::kWidth);
+    reserve_huge(nodes, bvh.nodes.size() / 2 + 1);
+    reserve_huge(slot_source, nodes.capacity() * WideBvhNode::kWidth);
     root_child_ = collapse(bvh, 0, 1);
     root_count_ = 0;
   }
