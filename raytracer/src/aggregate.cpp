@@ -81,8 +81,7 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
   bvh_.build(bounds, centroids, config.bvh);
-  reserve_huge(records_, records.size());
-  records_.resize(records.size());
+  assign_huge(records_, records.size());
   for (size_t i = 0; i < bvh_.prim_indices.size(); ++i) records_[i] = records[bvh_.prim_indices[i]];
   use_walk_ = config.kind != AccelKind::None &&
               (!config.allow_brute_force || records_.size() > kBruteForceMax);
@@ -159,10 +158,8 @@ void Aggregate::build_triangle_blocks() {
   size_t count = 0;
   for (const BvhNode& n : bvh_.nodes)
     if (n.is_leaf()) count += (n.count + kLanes - 1) / kLanes;
-  reserve_huge(blocks_, count);
-  blocks_.assign(count, TriangleBlock{});
-  reserve_huge(leaf_blocks_, records_.size());
-  leaf_blocks_.assign(records_.size(), ~0u);
+  assign_huge(blocks_, count);
+  assign_huge(leaf_blocks_, records_.size(), ~0u);
   uint32_t next = 0;
   for (const BvhNode& n : bvh_.nodes) {
     if (!n.is_leaf()) continue;

@@ -393,14 +393,12 @@ struct Builder {
     constexpr uint32_t kUnused = ~0u;
     BvhNode unused{};
     unused.count = kUnused;
-    reserve_huge(nodes, 2 * size_t(all.count()) - 1);
-    nodes.assign(2 * size_t(all.count()) - 1, unused);
+    assign_huge(nodes, 2 * size_t(all.count()) - 1, unused);
     build_parallel(nodes, 0, 1, all, 0);
     // Compacted in place, in order (a node only moves down): then the array is
     // build_serial's, node for node.
     std::vector<uint32_t> new_index;
-    reserve_huge(new_index, nodes.size());
-    new_index.resize(nodes.size());
+    assign_huge(new_index, nodes.size());
     uint32_t used = 0;
     for (size_t i = 0; i < nodes.size(); ++i)
       if (nodes[i].count != kUnused) new_index[i] = used++;
@@ -430,8 +428,7 @@ void Bvh::build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids
   const size_t n = bounds.size();
   if (n == 0) return;
   std::vector<PrimRef> refs;
-  reserve_huge(refs, n);
-  refs.resize(n);
+  assign_huge(refs, n);
   Range all{0, uint32_t(n), {}, {}};
   for (size_t i = 0; i < n; ++i) {
     const Vec3 &lo = bounds[i].lo, &hi = bounds[i].hi, &c = centroids[i];
@@ -454,8 +451,7 @@ void Bvh::build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids
       Builder<kScalar>{refs, cfg, bins}.build(all, nodes);
       break;
   }
-  reserve_huge(prim_indices, n);
-  prim_indices.resize(n);
+  assign_huge(prim_indices, n);
   for (size_t i = 0; i < n; ++i) prim_indices[i] = refs[i].id();
 }
 

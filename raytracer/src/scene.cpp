@@ -99,8 +99,7 @@ void Scene::commit(const AccelConfig& config) {
     ids.push_back(ntri + uint32_t(si));
   }
   std::vector<PrimRecord> records;
-  reserve_huge(records, ids.size());
-  records.resize(ids.size());
+  assign_huge(records, ids.size());
   for (size_t i = 0; i < ids.size(); ++i) {
     const uint32_t id = ids[i];
     PrimRecord& r = records[i];

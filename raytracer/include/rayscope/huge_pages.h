@@ -24,11 +24,18 @@ inline constexpr size_t kHugePageMinBytes = size_t(4) << 20;
 void advise_huge_pages(const void* p, size_t bytes);
 
 /// v.reserve(n), then huge pages advised for its storage: call it on an
-/// array before filling it (resize, assign, push_back).
+/// array before filling it (assign, push_back).
 template <class T>
 void reserve_huge(std::vector<T>& v, size_t n) {
   v.reserve(n);
   advise_huge_pages(v.data(), v.capacity() * sizeof(T));
+}
+
+/// v.assign(n, value) into storage with huge pages advised (reserve_huge()).
+template <class T>
+void assign_huge(std::vector<T>& v, size_t n, const T& value = T()) {
+  reserve_huge(v, n);
+  v.assign(n, value);
 }
 
 }  // namespace rayscope
