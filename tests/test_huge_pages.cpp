@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -51,6 +53,35 @@ TEST(HugePages, ALargeArrayReservedHugeIsBackedByHugePages) {
   // The advice covers the 2 MiB-aligned middle of the array (the kernel then
   // maps it separately from the unaligned ends): look there.
   EXPECT_GT(huge_kb_of_mapping(v.data() + v.size() / 2), 0) << "THP setting: " << setting;
+}
+
+// use_huge_pages_for_heap() (what the rayscope program calls first): an
+// allocation of a few MiB, which glibc would otherwise map on its own with
+// 4 KiB pages, comes from the advised heap and is backed by huge pages. This
+// test changes the process's malloc settings, so it runs in this program only.
+TEST(HugePages, TheProgramsHeapIsBackedByHugePages) {
+#if !defined(__GLIBC__)
+  GTEST_SKIP() << "not glibc: use_huge_pages_for_heap() does nothing here";
+#endif
+  const std::string setting = thp_setting();
+  if (setting.empty() || setting.find("[never]") != std::string::npos)
+    GTEST_SKIP() << "transparent huge pages are off here: '" << setting << "'";
+  const size_t advised = use_huge_pages_for_heap();
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "the sanitizer's allocator replaces malloc";
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  GTEST_SKIP() << "the sanitizer's allocator replaces malloc";
+#endif
+#endif
+  ASSERT_GE(advised, kHugePageMinBytes);
+  EXPECT_LE(advised, kHugeHeapBytes + (size_t(2) << 20));
+  const size_t bytes = size_t(16) << 20;  // above glibc's default mmap threshold
+  char* p = static_cast<char*>(std::malloc(bytes));
+  ASSERT_NE(p, nullptr);
+  std::memset(p, 1, bytes);
+  EXPECT_GT(huge_kb_of_mapping(p + bytes / 2), 0) << "THP setting: " << setting;
+  std::free(p);
 }
 
 }  // namespace

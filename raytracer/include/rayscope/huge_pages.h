@@ -23,6 +23,23 @@ inline constexpr size_t kHugePageMinBytes = size_t(4) << 20;
 /// below kHugePageMinBytes or where the call is not supported; never fails.
 void advise_huge_pages(const void* p, size_t bytes);
 
+/// Virtual address space use_huge_pages_for_heap() reserves by default. Pages
+/// are backed only when written, so an unused reserve costs no memory.
+inline constexpr size_t kHugeHeapBytes = size_t(512) << 20;
+
+/// For programs, not libraries: it changes how the whole process's malloc
+/// works. The small and middle-sized allocations of everything else a program
+/// runs (VTK's readers and filters, the scene's containers) come from the
+/// main heap, which grows 4 KiB page by page, one page fault each: page
+/// faults were 18% of the CPU time of a cold `rayscope render` of the bunny
+/// (perf; docs/benchmarks.md). This grows the main heap by `bytes` now and
+/// advises huge pages for it, keeps allocations of up to 32 MiB on that heap
+/// (instead of a fresh mapping each), and keeps freed memory for reuse.
+/// glibc only (mallopt); elsewhere, or under a sanitizer's allocator, it does
+/// nothing. Call it at the start of main(), before other threads start.
+/// Returns the bytes advised (0: nothing done).
+size_t use_huge_pages_for_heap(size_t bytes = kHugeHeapBytes);
+
 /// v.reserve(n), then huge pages advised for its storage: call it on an
 /// array before filling it (assign, push_back).
 template <class T>
