@@ -26,6 +26,7 @@
 
 #include "rayscope_vtk/mesh_checks.h"
 #include "rayscope_vtk/mesh_conversion.h"
+#include "rayscope_vtk/plain_obj.h"
 
 namespace rayscope_vtk {
 namespace {
@@ -224,10 +225,13 @@ vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path)
     r->SetFileName(f.c_str());
     data = read_with(r, f);
   } else if (ext == ".obj") {
-    check_obj_file(path);
-    vtkNew<vtkOBJReader> r;
-    r->SetFileName(f.c_str());
-    data = read_with(r, f);
+    data = read_plain_obj_file(path);
+    if (!data) {
+      check_obj_file(path);
+      vtkNew<vtkOBJReader> r;
+      r->SetFileName(f.c_str());
+      data = read_with(r, f);
+    }
   } else if (ext == ".vtk") {
     check_legacy_vtk_file(path);
     vtkNew<vtkDataSetReader> r;
