@@ -222,8 +222,9 @@ int run_render(const RenderOptions& o) {
   if (!o.pixel.empty()) parse_pixel_option(o.pixel, pxy);
   const int px = pxy[0], py = pxy[1];
   // The image module (OpenImageIO) loads on the other core while the scene
-  // loads: it took longer than the bunny scene's render (image.h).
-  preload_image_files();
+  // loads: it took longer than the bunny scene's render (image.h). A PNG
+  // without heat maps does not need it.
+  if (image_needs_module(o.output) || !o.aovs.empty()) preload_image_files();
   auto t0 = std::chrono::steady_clock::now();
   LoadedScene loaded = o.scene.load();
   auto t1 = std::chrono::steady_clock::now();

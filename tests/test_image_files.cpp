@@ -1,17 +1,20 @@
-// Image files (image.h) through the image-file module: OpenImageIO is not in
-// a process that links the core until an image is read or written (its ~260
-// libraries once cost every RayScope program 0.35 s before main()), and what
-// the module writes reads back as written: 8-bit sRGB codes in PNG, every
-// float channel in OpenEXR, a heat map's colors and legend.
+// Image files (image.h): a PNG is written by the core (libpng) without
+// OpenImageIO; the other formats and reading go through the image-file
+// module, which is not in a process that links the core until it is needed
+// (its ~260 libraries once cost every RayScope program 0.35 s before main()).
+// What is written reads back as written: 8-bit sRGB codes in PNG, every float
+// channel in OpenEXR, a heat map's colors and legend.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <unistd.h>
 
+#include "../raytracer/src/png_file.h"
 #include "rayscope/image.h"
 
 namespace {
@@ -50,14 +53,19 @@ Framebuffer gradient(int w, int h) {
   return fb;
 }
 
-TEST(ImageFiles, OpenImageIOIsLoadedOnlyWhenAnImageIsWritten) {
-  // This test program links the core and not OpenImageIO.
+TEST(ImageFiles, APngIsWrittenWithoutOpenImageIO) {
+  // This test program links the core and not OpenImageIO. A PNG is the
+  // core's own (libpng); reading it back is OpenImageIO's, through the module.
   ASSERT_FALSE(library_loaded("libOpenImageIO")) << "loaded before any image was used";
   const fs::path png = scratch("gradient.png");
   const Framebuffer fb = gradient(16, 8);
   write_image(png, fb);
-  EXPECT_TRUE(library_loaded("libOpenImageIO"));
-  EXPECT_TRUE(library_loaded("rayscope_image_files"));
+  EXPECT_FALSE(library_loaded("libOpenImageIO")) << "writing a PNG loaded OpenImageIO";
+  EXPECT_FALSE(library_loaded("rayscope_image_files"));
+  EXPECT_FALSE(image_needs_module(png));
+  EXPECT_FALSE(image_needs_module("A.PNG"));
+  EXPECT_TRUE(image_needs_module("a.exr"));
+  EXPECT_TRUE(image_needs_module("a.jpg"));
   // Read back: the 8-bit sRGB code of each linear value, as write_image()
   // documents.
   int w = 0, h = 0;
@@ -71,6 +79,31 @@ TEST(ImageFiles, OpenImageIOIsLoadedOnlyWhenAnImageIsWritten) {
         EXPECT_EQ(std::round(255.0f * rgb[(size_t(y) * w + x) * 3 + c]), code)
             << x << "," << y << "," << c;
       }
+  EXPECT_TRUE(library_loaded("libOpenImageIO"));
+  EXPECT_TRUE(library_loaded("rayscope_image_files"));
+  fs::remove_all(png.parent_path());
+}
+
+// The PNG's chunks: 8-bit RGB, tagged sRGB (with the gAMA and cHRM fallbacks
+// that OpenImageIO's writer also wrote).
+TEST(ImageFiles, APngIsEightBitRgbTaggedSrgb) {
+  const fs::path png = scratch("tags.png");
+  write_image(png, gradient(5, 3));
+  std::ifstream f(png, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 33u);
+  EXPECT_EQ(bytes.substr(1, 3), "PNG");
+  EXPECT_EQ(bytes.substr(12, 4), "IHDR");
+  auto be32 = [&](size_t at) {
+    return (uint32_t(uint8_t(bytes[at])) << 24) | (uint32_t(uint8_t(bytes[at + 1])) << 16) |
+           (uint32_t(uint8_t(bytes[at + 2])) << 8) | uint32_t(uint8_t(bytes[at + 3]));
+  };
+  EXPECT_EQ(be32(16), 5u);
+  EXPECT_EQ(be32(20), 3u);
+  EXPECT_EQ(int(bytes[24]), 8);  // bit depth
+  EXPECT_EQ(int(bytes[25]), 2);  // color type RGB
+  for (const char* chunk : {"sRGB", "gAMA", "cHRM", "IDAT", "IEND"})
+    EXPECT_NE(bytes.find(chunk), std::string::npos) << chunk;
   fs::remove_all(png.parent_path());
 }
 
@@ -119,6 +152,34 @@ TEST(ImageFiles, AFailedWriteNamesTheFileAndLeavesNothing) {
   }
   EXPECT_TRUE(fs::is_empty(bad.parent_path())) << "a temporary file was left";
   fs::remove_all(bad.parent_path());
+}
+
+TEST(ImageFiles, AFailedPngWriteNamesTheFileAndLeavesNothing) {
+  if (::geteuid() == 0) GTEST_SKIP() << "root writes into read-only folders";
+  const fs::path dir = scratch("readonly");
+  fs::create_directories(dir);
+  fs::permissions(dir, fs::perms::owner_read | fs::perms::owner_exec);
+  const fs::path png = dir / "x.png";
+  try {
+    write_image(png, gradient(4, 4));
+    FAIL() << "written into a read-only folder";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(png.string() + ": ", 0), 0u) << e.what();
+  }
+  fs::permissions(dir, fs::perms::owner_all);
+  EXPECT_TRUE(fs::is_empty(dir));
+  fs::remove_all(dir.parent_path());
+}
+
+// A PNG that cannot be completed (the disk is full: /dev/full takes the
+// open and fails every write) is an error, not a short file called done.
+TEST(ImageFiles, APngOnAFullDiskIsAnError) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const std::vector<unsigned char> rgb(64 * 64 * 3, 128);
+  const std::string problem = write_png_rgb8("/dev/full", 64, 64, rgb.data(), true);
+  EXPECT_NE(problem, "");
+  EXPECT_EQ(write_png_rgb8(scratch("ok.png").string(), 64, 64, rgb.data(), true), "");
+  fs::remove_all(scratch("ok.png").parent_path());
 }
 
 }  // namespace

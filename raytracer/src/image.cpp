@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "image_file_module.h"
+#include "png_file.h"
 
 namespace rayscope {
 
@@ -116,6 +117,28 @@ std::string lower_ext(const fs::path& p) {
   return e;
 }
 
+// Writes `px`, 8-bit RGB or floats, atomically: a PNG by the core itself
+// (png_file.h), any other format through the module.
+void write_pixels(const fs::path& path, const image_files::Pixels& px) {
+  if (!image_needs_module(path)) {
+    write_atomically(path, [&](const std::string& tmp) {
+      return write_png_rgb8(tmp, px.width, px.height, static_cast<const unsigned char*>(px.data),
+                            px.srgb);
+    });
+    return;
+  }
+  const Functions& m = image_module(path);
+  write_atomically(path, [&](const std::string& tmp) { return m.write(tmp, px); });
+}
+
+// 8-bit codes of values in [0, 1], rounded to nearest as OpenImageIO converts.
+std::vector<unsigned char> to_codes(const std::vector<float>& values) {
+  std::vector<unsigned char> codes(values.size());
+  for (size_t i = 0; i < values.size(); ++i)
+    codes[i] = (unsigned char)std::lround(255.0f * std::clamp(values[i], 0.0f, 1.0f));
+  return codes;
+}
+
 }  // namespace
 
 void preload_image_files() {
@@ -127,6 +150,10 @@ void preload_image_files() {
   allocator.deallocate(allocator.allocate(1), 1);
   tbb::parallel_for(0, 2, [](int) {});
   image_module_loading();
+}
+
+bool image_needs_module(const std::filesystem::path& path) {
+  return lower_ext(path) != ".png";
 }
 
 void check_image_path(const std::filesystem::path& path) {
@@ -191,8 +218,7 @@ void write_image(const std::filesystem::path& path, const Framebuffer& fb) {
     px.data = codes.data();
     px.srgb = true;
   }
-  const Functions& m = image_module(path);
-  write_atomically(path, [&](const std::string& tmp) { return m.write(tmp, px, {}, {}); });
+  write_pixels(path, px);
 }
 
 Color heat_color(float t) {
@@ -232,12 +258,6 @@ void write_heatmap(const std::filesystem::path& path, const std::vector<float>& 
   for (int x = x0; x < x1; ++x)
     for (int y = by0; y < by1; ++y)
       put(x, y, heat_color(float(x - x0) / float(std::max(1, x1 - x0 - 1))));
-  image_files::Pixels image;
-  image.width = width;
-  image.height = height + legend;
-  image.channel_names = {"R", "G", "B"};
-  image.data = px.data();
-  image.float_data = true;
   const std::string font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
   std::error_code ec;
   const bool have_font = fs::exists(font, ec);
@@ -248,10 +268,18 @@ void write_heatmap(const std::filesystem::path& path, const std::vector<float>& 
       {x0, ty, "0"},
       {x1 - 8 * int(std::strlen(hi)), ty, hi},
       {width / 2 - 3 * int(title.size()), ty + 10, title}};
-  const Functions& m = image_module(path);
-  write_atomically(path, [&](const std::string& tmp) {
-    return m.write(tmp, image, labels, have_font ? font : std::string());
-  });
+  if (have_font)
+    if (const std::string problem =
+            image_module(path).draw_text(width, height + legend, px.data(), labels, font);
+        !problem.empty())
+      throw std::runtime_error(path.string() + ": " + problem);
+  const std::vector<unsigned char> codes = to_codes(px);
+  image_files::Pixels image;
+  image.width = width;
+  image.height = height + legend;
+  image.channel_names = {"R", "G", "B"};
+  image.data = codes.data();
+  write_pixels(path, image);
 }
 
 std::vector<float> read_image_rgb(const std::filesystem::path& path, int& width, int& height) {

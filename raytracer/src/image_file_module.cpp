@@ -15,8 +15,7 @@ namespace {
 using rayscope::image_files::Label;
 using rayscope::image_files::Pixels;
 
-std::string write(const std::string& file, const Pixels& px, const std::vector<Label>& labels,
-                  const std::string& font) {
+std::string write(const std::string& file, const Pixels& px) {
   const int nc = int(px.channel_names.size());
   OIIO::ImageSpec spec(px.width, px.height, nc,
                        px.float_file ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
@@ -28,12 +27,6 @@ std::string write(const std::string& file, const Pixels& px, const std::vector<L
   const OIIO::TypeDesc type = px.float_data ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8;
   if (!buf.set_pixels(OIIO::ROI(0, px.width, 0, px.height, 0, 1, 0, nc), type, px.data))
     return "cannot write image: " + buf.geterror();
-  if (!font.empty()) {
-    const std::vector<float> black(size_t(nc), 0.0f);
-    for (const Label& l : labels)
-      if (!OIIO::ImageBufAlgo::render_text(buf, l.x, l.y, l.text, l.size, font, black))
-        return "cannot draw text: " + buf.geterror();
-  }
   std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(file);
   if (!out) return "cannot write this image format (" + OIIO::geterror() + ")";
   bool ok = out->open(file, spec) && buf.write(out.get());
@@ -41,6 +34,17 @@ std::string write(const std::string& file, const Pixels& px, const std::vector<L
   ok = out->close() && ok;
   if (!ok && error.empty()) error = out->geterror();
   return ok ? std::string() : "cannot write image: " + error;
+}
+
+std::string draw_text(int width, int height, float* rgb, const std::vector<Label>& labels,
+                      const std::string& font) {
+  // Wraps the caller's pixels: the text is drawn into them.
+  OIIO::ImageBuf buf(OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::FLOAT), rgb);
+  const float black[3] = {0.0f, 0.0f, 0.0f};
+  for (const Label& l : labels)
+    if (!OIIO::ImageBufAlgo::render_text(buf, l.x, l.y, l.text, l.size, font, black))
+      return "cannot draw text: " + buf.geterror();
+  return {};
 }
 
 std::string read(const std::string& file, int& width, int& height, int& channels,
@@ -69,8 +73,13 @@ std::string guarded(F&& f) {
 
 const rayscope::image_files::Functions kFunctions = {
     rayscope::image_files::kVersion,
-    [](const std::string& file, const Pixels& px, const std::vector<Label>& labels,
-       const std::string& font) { return guarded([&] { return write(file, px, labels, font); }); },
+    [](const std::string& file, const Pixels& px) {
+      return guarded([&] { return write(file, px); });
+    },
+    [](int width, int height, float* rgb, const std::vector<Label>& labels,
+       const std::string& font) {
+      return guarded([&] { return draw_text(width, height, rgb, labels, font); });
+    },
     [](const std::string& file, int& w, int& h, int& c, std::vector<float>& v) {
       return guarded([&] { return read(file, w, h, c, v); });
     }};

@@ -6,7 +6,8 @@
 // that linked the core: more than the bunny scene's render. The core loads the
 // module (dlopen) when an image is first read or written, or in the background
 // from preload_image_files(). Front ends that never touch an image file (the
-// VTK module, the ParaView plugin, `rayscope inspect`) never load it.
+// VTK module, the ParaView plugin, `rayscope inspect`) never load it, and
+// neither does a PNG file: the core writes those itself (png_file.h).
 #pragma once
 
 #include <string>
@@ -37,10 +38,13 @@ struct Label {
 /// (OpenImageIO's message); exceptions stay inside the module.
 struct Functions {
   int version;
-  /// Writes `px`, with `labels` drawn in `font` (a TrueType file; no labels
-  /// when it is empty), to `file`, in the format its extension names.
-  std::string (*write)(const std::string& file, const Pixels& px, const std::vector<Label>& labels,
-                       const std::string& font);
+  /// Writes `px` to `file`, in the format its extension names. (PNG files
+  /// are the core's own: png_file.h.)
+  std::string (*write)(const std::string& file, const Pixels& px);
+  /// Draws `labels` in black, in `font` (a TrueType file), over `rgb`:
+  /// width x height pixels of 3 floats, rows from the top.
+  std::string (*draw_text)(int width, int height, float* rgb, const std::vector<Label>& labels,
+                           const std::string& font);
   /// Reads every channel of `file` as floats.
   std::string (*read)(const std::string& file, int& width, int& height, int& channels,
                       std::vector<float>& values);
@@ -48,7 +52,7 @@ struct Functions {
 
 /// Bumped whenever Pixels, Label or Functions change: a module of another
 /// build is refused by name, not called.
-inline constexpr int kVersion = 1;
+inline constexpr int kVersion = 2;
 /// The module's one exported symbol, extern "C": `const Functions* ()`.
 inline constexpr const char* kEntrySymbol = "rayscope_image_files";
 using EntryFn = const Functions* (*)();

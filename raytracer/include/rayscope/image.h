@@ -1,7 +1,8 @@
-// The framebuffer (color plus AOVs) and image files through OpenImageIO.
-// OpenImageIO lives in a module the core loads on first use
-// (src/image_file_module.h), not in every program that links the core: its
-// libraries took longer to load than the bunny scene takes to render.
+// The framebuffer (color plus AOVs) and image files: PNG through libpng, in
+// the core (src/png_file.h), the other formats through OpenImageIO. OpenImageIO
+// lives in a module the core loads on first use (src/image_file_module.h), not
+// in every program that links the core: its libraries took longer to load
+// than the bunny scene takes to render.
 #pragma once
 
 #include <filesystem>
@@ -34,12 +35,12 @@ struct Framebuffer {
 float linear_to_srgb(float v);
 
 /// Writes the framebuffer. The format follows the extension: .png (8-bit sRGB,
-/// color only), .exr (32-bit float, linear color plus Z, N.x/N.y/N.z and
-/// objectId channels, plus cost.rays/cost.nodes/cost.boxes/cost.prims when the
-/// framebuffer has cost AOVs and `samples` when it has sample counts); other formats OpenImageIO
-/// knows get 8-bit sRGB color. The file is written under a temporary name in the same folder and
-/// renamed, so an interrupted run never leaves a half-written file. Throws std::runtime_error.
-/// check_image_path() runs first.
+/// color only; written by the core through libpng, without the module), .exr (32-bit float, linear
+/// color plus Z, N.x/N.y/N.z and objectId channels, plus cost.rays/cost.nodes/cost.boxes/cost.prims
+/// when the framebuffer has cost AOVs and `samples` when it has sample counts); other formats
+/// OpenImageIO knows get 8-bit sRGB color. The file is written under a temporary name in the same
+/// folder and renamed, so an interrupted run never leaves a half-written file. Throws
+/// std::runtime_error. check_image_path() runs first.
 void write_image(const std::filesystem::path& path, const Framebuffer& fb);
 
 /// The one check of an output image path, before anything is rendered or
@@ -58,6 +59,11 @@ void write_heatmap(const std::filesystem::path& path, const std::vector<float>& 
 /// The heat map's color for t in [0, 1] (a perceptually ordered map, dark blue
 /// through green to yellow).
 Color heat_color(float t);
+
+/// Whether writing `path` loads the image-file module (OpenImageIO): every
+/// format but PNG, which the core writes itself. A heat map's legend text
+/// loads it too.
+bool image_needs_module(const std::filesystem::path& path);
 
 /// Starts loading the image-file module (OpenImageIO) on a thread of its own
 /// and returns at once, so that a program that will write an image can load
