@@ -10,6 +10,7 @@
 #include <string>
 #include <system_error>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/tbb_allocator.h>
 
@@ -212,9 +213,15 @@ void write_image(const std::filesystem::path& path, const Framebuffer& fb) {
   } else {
     px.channel_names = {"R", "G", "B"};
     codes.resize(n * 3);
-    for (size_t i = 0; i < n; ++i)
-      for (int c = 0; c < 3; ++c)
-        codes[i * 3 + c] = (unsigned char)std::lround(255.0f * linear_to_srgb(fb.color[i][c]));
+    // On every core: one powf per channel took 19 ms of an 800x600 render's
+    // 0.29 s command on one.
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        for (size_t i = r.begin(); i < r.end(); ++i)
+                          for (int c = 0; c < 3; ++c)
+                            codes[i * 3 + c] =
+                                (unsigned char)std::lround(255.0f * linear_to_srgb(fb.color[i][c]));
+                      });
     px.data = codes.data();
     px.srgb = true;
   }

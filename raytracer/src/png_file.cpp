@@ -9,6 +9,13 @@
 namespace rayscope {
 namespace {
 
+// zlib's level 2 and the Sub filter on every row: on the bunny scene's
+// 800x600 render, 8 ms against 33 ms for libpng's default (level 6, a filter
+// chosen per row), for a file 16% larger (185 KB against 159 KB). A render
+// command writes its image once; the time is the user's.
+constexpr int kPngCompressionLevel = 2;
+constexpr int kPngFilters = PNG_FILTER_SUB;
+
 // libpng reports errors through longjmp: the message is kept here, and no
 // object with a destructor lives in the frames it jumps over.
 struct ErrorSink {
@@ -39,6 +46,8 @@ bool write_rows(std::FILE* f, int width, int height, png_bytepp rows, bool srgb,
   png_init_io(png, f);
   png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8, PNG_COLOR_TYPE_RGB,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_compression_level(png, kPngCompressionLevel);
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, kPngFilters);
   if (srgb) png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
   png_write_info(png, info);
   png_write_image(png, rows);

@@ -20,8 +20,10 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkPolyDataNormals.h>
 #include <vtkQuadraticTetra.h>
 #include <vtkSphereSource.h>
+#include <vtkTriangleFilter.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 
@@ -151,6 +153,106 @@ TEST(VtkConverter, Normals) {
   rayscope::TriangleMesh mesh;
   conv->MeshFromPolyData(out, mesh);
   EXPECT_TRUE(mesh.normals.empty());  // the tracer then shades flat, as VTK does
+}
+
+namespace {
+
+// What VTK's own filters give: vtkTriangleFilter, then vtkPolyDataNormals
+// with its consistency pass on (the converter skips that pass only where it
+// would change nothing).
+vtkSmartPointer<vtkPolyData> vtk_normals(vtkPolyData* in) {
+  vtkNew<vtkTriangleFilter> tf;
+  tf->SetInputData(in);
+  tf->PassVertsOff();
+  tf->PassLinesOff();
+  vtkNew<vtkPolyDataNormals> pn;
+  pn->SetInputConnection(tf->GetOutputPort());
+  pn->ConsistencyOn();
+  pn->SplittingOn();
+  pn->SetFeatureAngle(30.0);
+  pn->ComputePointNormalsOn();
+  pn->ComputeCellNormalsOff();
+  pn->AutoOrientNormalsOff();
+  pn->Update();
+  return pn->GetOutput();
+}
+
+void expect_same_surface(vtkPolyData* ours, vtkPolyData* vtk, const char* what) {
+  ASSERT_EQ(ours->GetNumberOfPoints(), vtk->GetNumberOfPoints()) << what;
+  ASSERT_EQ(ours->GetNumberOfPolys(), vtk->GetNumberOfPolys()) << what;
+  vtkDataArray* na = ours->GetPointData()->GetNormals();
+  vtkDataArray* nb = vtk->GetPointData()->GetNormals();
+  ASSERT_TRUE(na && nb) << what;
+  for (vtkIdType i = 0; i < vtk->GetNumberOfPoints(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_EQ(ours->GetPoint(i)[k], vtk->GetPoint(i)[k]) << what << ": point " << i;
+      ASSERT_EQ(na->GetComponent(i, k), nb->GetComponent(i, k)) << what << ": normal " << i;
+    }
+  vtkNew<vtkIdList> a, b;
+  for (vtkIdType c = 0; c < vtk->GetNumberOfPolys(); ++c) {
+    ours->GetPolys()->GetCellAtId(c, a);
+    vtk->GetPolys()->GetCellAtId(c, b);
+    ASSERT_EQ(a->GetNumberOfIds(), b->GetNumberOfIds()) << what << ": triangle " << c;
+    for (vtkIdType k = 0; k < a->GetNumberOfIds(); ++k)
+      ASSERT_EQ(a->GetId(k), b->GetId(k)) << what << ": triangle " << c;
+  }
+}
+
+}  // namespace
+
+// Computed normals are vtkPolyDataNormals' with its consistency pass, on
+// meshes already ordered consistently (where the converter skips the pass)
+// and on meshes that are not (a triangle flipped, an edge shared by three
+// triangles, a triangle naming a point twice): the same points, normals and
+// triangles, id for id.
+TEST(VtkConverter, NormalsAsVtkMakesThemWithConsistentOrder) {
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(40);
+  sphere->SetPhiResolution(20);
+  sphere->Update();
+  auto consistent = vtkSmartPointer<vtkPolyData>::New();
+  consistent->DeepCopy(sphere->GetOutput());
+  consistent->GetPointData()->Initialize();
+
+  auto flipped = vtkSmartPointer<vtkPolyData>::New();
+  flipped->DeepCopy(consistent);
+  for (vtkIdType c : {vtkIdType(5), vtkIdType(200), vtkIdType(333)}) flipped->ReverseCell(c);
+
+  // Three triangles on the edge of points 0 and 1 of a fan: non-manifold.
+  vtkNew<vtkPoints> fan_points;
+  for (const std::array<double, 3>& p :
+       {std::array<double, 3>{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}})
+    fan_points->InsertNextPoint(p.data());
+  vtkNew<vtkCellArray> fan_cells;
+  for (std::array<vtkIdType, 3> t : {std::array<vtkIdType, 3>{0, 1, 2}, {1, 0, 3}, {1, 0, 4}})
+    fan_cells->InsertNextCell(3, t.data());
+  vtkNew<vtkPolyData> fan;
+  fan->SetPoints(fan_points);
+  fan->SetPolys(fan_cells);
+
+  auto repeated = vtkSmartPointer<vtkPolyData>::New();
+  repeated->DeepCopy(consistent);
+  const vtkIdType twice[3] = {7, 7, 8};
+  repeated->GetPolys()->InsertNextCell(3, twice);
+
+  vtkNew<vtkRayScopeMeshConverter> conv;
+  vtkNew<vtkPolyData> out;
+  const std::pair<const char*, vtkPolyData*> cases[] = {
+      {"consistent sphere", consistent},
+      {"three triangles flipped", flipped},
+      {"non-manifold fan", fan},
+      {"a triangle naming a point twice", repeated}};
+  for (const auto& [what, mesh] : cases) {
+    ASSERT_EQ(conv->Convert(mesh, out), 1) << what;
+    expect_same_surface(out, vtk_normals(mesh), what);
+  }
+  // The flipped triangles were turned back: the consistency pass ran.
+  ASSERT_EQ(conv->Convert(flipped, out), 1);
+  vtkNew<vtkIdList> a, b;
+  out->GetPolys()->GetCellAtId(200, a);
+  consistent->GetPolys()->GetCellAtId(200, b);
+  EXPECT_EQ(a->GetId(0), b->GetId(0));
+  EXPECT_EQ(a->GetId(1), b->GetId(1));
 }
 
 namespace {
