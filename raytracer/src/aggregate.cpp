@@ -7,7 +7,17 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace rayscope {
+namespace {
+
+// Primitives per task of the parallel fills below (records, leaf blocks):
+// large enough that a task's work dwarfs TBB's cost of handing it out.
+constexpr size_t kParallelGrain = 16384;
+
+}  // namespace
 
 const char* to_string(AccelKind kind) {
   switch (kind) {
@@ -67,10 +77,10 @@ std::string accel_storage_error(AccelKind kind, PrimStorage storage) {
 }
 
 void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids,
-                      std::span<const PrimRecord> records, uint32_t num_triangles,
+                      const std::function<PrimRecord(size_t)>& record_of, uint32_t num_triangles,
                       std::vector<PlaneRecord> planes, const AccelConfig& config) {
-  if (bounds.size() != records.size() || centroids.size() != records.size())
-    throw std::invalid_argument("Aggregate::build: bounds, centroids and records differ in size");
+  if (centroids.size() != bounds.size())
+    throw std::invalid_argument("Aggregate::build: bounds and centroids differ in size");
   if (const std::string e = accel_storage_error(config.kind, config.storage); !e.empty())
     throw std::invalid_argument(e);
   if (const std::string e = loose_factor_error(config.loose_factor); !e.empty())
@@ -81,8 +91,13 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
   bvh_.build(bounds, centroids, config.bvh);
-  assign_huge(records_, records.size());
-  for (size_t i = 0; i < bvh_.prim_indices.size(); ++i) records_[i] = records[bvh_.prim_indices[i]];
+  reserve_huge(records_, bounds.size());
+  records_.resize(bounds.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, records_.size(), kParallelGrain),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t i = r.begin(); i < r.end(); ++i)
+                        records_[i] = record_of(bvh_.prim_indices[i]);
+                    });
   use_walk_ = config.kind != AccelKind::None &&
               (!config.allow_brute_force || records_.size() > kBruteForceMax);
   walk_ = WideBvh{};
@@ -155,30 +170,39 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
 
 void Aggregate::build_triangle_blocks() {
   constexpr int kLanes = TriangleBlock::kLanes;
-  size_t count = 0;
-  for (const BvhNode& n : bvh_.nodes)
-    if (n.is_leaf()) count += (n.count + kLanes - 1) / kLanes;
-  assign_huge(blocks_, count);
+  // Each leaf's first block (leaves in node order), then the blocks filled
+  // leaf by leaf on every core: each leaf writes only its own blocks.
+  std::vector<uint32_t> leaves;
   assign_huge(leaf_blocks_, records_.size(), ~0u);
-  uint32_t next = 0;
-  for (const BvhNode& n : bvh_.nodes) {
+  uint32_t count = 0;
+  for (uint32_t i = 0; i < bvh_.nodes.size(); ++i) {
+    const BvhNode& n = bvh_.nodes[i];
     if (!n.is_leaf()) continue;
-    leaf_blocks_[n.index] = next;
-    for (uint32_t j = 0; j < n.count; ++j) {
-      TriangleBlock& b = blocks_[next + j / kLanes];
-      const unsigned lane = j % kLanes;
-      const PrimRecord& r = records_[n.index + j];
-      if (r.id >= num_triangles_) {
-        b.others |= uint8_t(1u << lane);
-        continue;
-      }
-      b.triangles |= uint8_t(1u << lane);
-      const Vec3* p[3] = {&r.a, &r.b, &r.c};
-      for (int i = 0; i < 3; ++i)
-        for (int axis = 0; axis < 3; ++axis) b.v[i][axis][lane] = (*p[i])[axis];
-    }
-    next += (n.count + kLanes - 1) / kLanes;
+    leaves.push_back(i);
+    leaf_blocks_[n.index] = count;
+    count += (n.count + kLanes - 1) / kLanes;
   }
+  assign_huge(blocks_, count);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), kParallelGrain / 4),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t l = range.begin(); l < range.end(); ++l) {
+                        const BvhNode& n = bvh_.nodes[leaves[l]];
+                        const uint32_t first = leaf_blocks_[n.index];
+                        for (uint32_t j = 0; j < n.count; ++j) {
+                          TriangleBlock& b = blocks_[first + j / kLanes];
+                          const unsigned lane = j % kLanes;
+                          const PrimRecord& r = records_[n.index + j];
+                          if (r.id >= num_triangles_) {
+                            b.others |= uint8_t(1u << lane);
+                            continue;
+                          }
+                          b.triangles |= uint8_t(1u << lane);
+                          const Vec3* p[3] = {&r.a, &r.b, &r.c};
+                          for (int i = 0; i < 3; ++i)
+                            for (int axis = 0; axis < 3; ++axis) b.v[i][axis][lane] = (*p[i])[axis];
+                        }
+                      }
+                    });
 }
 
 AccelFigures Aggregate::figures() const {

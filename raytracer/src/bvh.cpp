@@ -408,12 +408,8 @@ struct Builder {
       if (!node.is_leaf()) node.index = new_index[node.index];
       nodes[new_index[i]] = node;
     }
-    // Into an array of the final size (what shrink_to_fit would copy to),
-    // with huge pages.
-    std::vector<BvhNode> compact;
-    reserve_huge(compact, used);
-    compact.assign(nodes.begin(), nodes.begin() + used);
-    nodes.swap(compact);
+    nodes.resize(used);
+    shrink_huge(nodes);
   }
 };
 

@@ -98,11 +98,9 @@ void Scene::commit(const AccelConfig& config) {
     centroids.push_back(s.center);
     ids.push_back(ntri + uint32_t(si));
   }
-  std::vector<PrimRecord> records;
-  assign_huge(records, ids.size());
-  for (size_t i = 0; i < ids.size(); ++i) {
+  auto record_of = [&](size_t i) {
     const uint32_t id = ids[i];
-    PrimRecord& r = records[i];
+    PrimRecord r;
     r.id = id;
     r.pad = 0;
     if (id < ntri) {
@@ -117,13 +115,14 @@ void Scene::commit(const AccelConfig& config) {
       r.b = Vec3(s.radius, 0.0f, 0.0f);
       r.c = Vec3(0.0f);
     }
-  }
+    return r;
+  };
   std::vector<PlaneRecord> plane_records;
   // The unit normal goes into the aggregate's record; the scene's plane keeps
   // the normal it was given, so that committing again gives the same record
   // (normalizing a normalized vector may move it by an ulp).
   for (const Plane& p : planes) plane_records.push_back({p.point, normalize_any_length(p.normal)});
-  accel_.build(bounds, centroids, records, ntri, std::move(plane_records), config);
+  accel_.build(bounds, centroids, record_of, ntri, std::move(plane_records), config);
 
   summary_.bvh_used = accel_.walks_structure();
   summary_.triangles = ntri - summary_.skipped_triangles;

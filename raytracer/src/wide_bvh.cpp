@@ -39,8 +39,8 @@ void WideBvh::build(const Bvh& bvh, int arity) {
     root_child_ = collapse(bvh, 0, 1);
     root_count_ = 0;
   }
-  nodes.shrink_to_fit();
-  slot_source.shrink_to_fit();
+  shrink_huge(nodes);
+  shrink_huge(slot_source);
   if (uint32_t(kMaxArity - 1) * depth_ > uint32_t(kStackSize))
     throw std::length_error("WideBvh: " + std::to_string(depth_) +
                             " levels exceed the traversal stack");

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -173,11 +174,15 @@ class Aggregate {
   /// thread): 1-3 spheres render 2-8% faster without a BVH, 4 spheres 2% slower.
   static constexpr size_t kBruteForceMax = 3;
 
-  /// Builds the chosen structure. records[i] is primitive i, with bounds[i] and
-  /// centroids[i] (the builder sees only those); records with id <
-  /// num_triangles are triangles, the others spheres. Replaces what was built.
+  /// Builds the chosen structure. record_of(i) is primitive i, with bounds[i]
+  /// and centroids[i] (the builder sees only those); records with id <
+  /// num_triangles are triangles, the others spheres. record_of is called
+  /// once per primitive, in leaf order, from several threads at once: the
+  /// records are made where they are kept, with no copy in the caller's order
+  /// (on 1.1M triangles that copy was 53 MB to fill and reorder). Replaces
+  /// what was built.
   void build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids,
-             std::span<const PrimRecord> records, uint32_t num_triangles,
+             const std::function<PrimRecord(size_t)>& record_of, uint32_t num_triangles,
              std::vector<PlaneRecord> planes, const AccelConfig& config = {});
 
   /// Closest hit within (0, ray.tmax). When several primitives are hit at
