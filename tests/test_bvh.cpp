@@ -180,9 +180,9 @@ void expect_same_tree(const Bvh& bvh, const Bvh& ref) {
   EXPECT_EQ(bvh.prim_indices, ref.prim_indices);
 }
 
-// The parallel build writes its subtrees into reserved slots and compacts
-// them into the order the serial recursion makes: the same nodes (bit for bit)
-// and primitive order for every task threshold and thread count.
+// The parallel build keeps each task's subtree apart and then places them in
+// the order the serial recursion makes: the same nodes (bit for bit) and
+// primitive order for every task threshold and thread count.
 TEST(BvhBuild, ParallelBuildIsTheSerialTreeNodeForNode) {
   Rng rng(3);
   for (const auto& [name, p] : tree_inputs(rng, 60000, 30000)) {

@@ -54,9 +54,8 @@ struct BvhBuildConfig {
   float intersection_cost = 0.5f;
   int max_depth = 56;  ///< Deeper nodes are split at the object median.
   /// Subtrees of at least this many primitives are built as parallel tasks
-  /// (TBB), each into its own reserved slots of the node array, compacted
-  /// into the serial order: the tree is the same for every value and thread
-  /// count (~0u: one task).
+  /// (TBB), each task's subtree then placed in the serial order: the tree is
+  /// the same for every value and thread count (~0u: one task).
   uint32_t parallel_min_prims = 4096;
   /// The instructions that bin and bound the boxes: every choice builds the
   /// same tree, bit for bit (the tests compare them). Best: the widest the
