@@ -5,6 +5,8 @@
 // an X display (run under xvfb-run).
 #include <gtest/gtest.h>
 
+#include "needs_display.h"
+
 #include <cmath>
 #include <string>
 
@@ -177,9 +179,12 @@ int max_byte_difference(vtkImageData* shown, vtkImageData* traced) {
 
 }  // namespace
 
+// Skipped without an X display (needs_display.h).
+class VtkPass : public rayscope_test::DisplayTest {};
+
 // The window shows, byte for byte, what the image algorithm renders for the
 // hand-made description of the renderer's scene.
-TEST(VtkPass, WindowEqualsImageAlgorithm) {
+TEST_F(VtkPass, WindowEqualsImageAlgorithm) {
   RendererScene r;
   vtkSmartPointer<vtkImageData> shown = r.render_and_read();
   EXPECT_EQ(r.pass->GetNumberOfRenderedProps(), 3);
@@ -198,7 +203,7 @@ TEST(VtkPass, WindowEqualsImageAlgorithm) {
 // Moving the camera, changing a property and hiding an actor between renders
 // give the image of the changed scene (the pass keeps its scene between renders
 // and must notice every change).
-TEST(VtkPass, FollowsChanges) {
+TEST_F(VtkPass, FollowsChanges) {
   RendererScene r;
   r.render_and_read();
   HandScene h(r);
@@ -222,7 +227,7 @@ TEST(VtkPass, FollowsChanges) {
 }
 
 // A parallel camera, the renderer's automatic headlight and a camera light.
-TEST(VtkPass, ParallelCameraHeadlightAndCameraLight) {
+TEST_F(VtkPass, ParallelCameraHeadlightAndCameraLight) {
   RendererScene r;
   r.renderer->RemoveAllLights();
   vtkNew<vtkLight> head, cam;
@@ -265,7 +270,7 @@ TEST(VtkPass, ParallelCameraHeadlightAndCameraLight) {
 
 // Statistics and the cost display: the traced image carries the cost arrays,
 // the window shows the heat map instead of the colors.
-TEST(VtkPass, StatisticsAndCostDisplay) {
+TEST_F(VtkPass, StatisticsAndCostDisplay) {
   RendererScene r;
   r.pass->GetImageAlgorithm()->ComputeCostOn();
   vtkSmartPointer<vtkImageData> colors = r.render_and_read();
@@ -284,7 +289,7 @@ TEST(VtkPass, StatisticsAndCostDisplay) {
 // The pass has no render settings of its own: it renders with its image
 // algorithm's, which CopyRenderer() leaves alone. Cost starts off; the cost
 // display switches it on.
-TEST(VtkPass, RendersWithTheImageAlgorithmSettings) {
+TEST_F(VtkPass, RendersWithTheImageAlgorithmSettings) {
   RendererScene r;
   vtkRayScopeImageAlgorithm* alg = r.pass->GetImageAlgorithm();
   EXPECT_FALSE(alg->GetComputeCost());
@@ -318,7 +323,7 @@ TEST(VtkPass, RendersWithTheImageAlgorithmSettings) {
 }
 
 // Bad settings: one error from the algorithm, no crash, the background shows.
-TEST(VtkPass, BadSettingsReportAnError) {
+TEST_F(VtkPass, BadSettingsReportAnError) {
   RendererScene r;
   vtkNew<ErrorCatcher> errors;
   r.pass->GetImageAlgorithm()->AddObserver(vtkCommand::ErrorEvent, errors);
@@ -336,7 +341,7 @@ TEST(VtkPass, BadSettingsReportAnError) {
 
 // The pass draws into its own viewport only: an OpenGL renderer beside it in
 // the same window keeps its image, and the pass's half is the traced image.
-TEST(VtkPass, DrawsIntoItsViewportOnly) {
+TEST_F(VtkPass, DrawsIntoItsViewportOnly) {
   RendererScene r;
   r.window->SetSize(2 * kWidth, kHeight);
   r.renderer->SetViewport(0.5, 0.0, 1.0, 1.0);

@@ -4,6 +4,8 @@
 // under xvfb-run.
 #include <gtest/gtest.h>
 
+#include "needs_display.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -155,8 +157,11 @@ bool png_varies(const std::string& file) {
 
 }  // namespace
 
+// Skipped without an X display (needs_display.h).
+class Viewer : public rayscope_test::DisplayTest {};
+
 // The progressive render shows exactly the image the image algorithm makes.
-TEST(Viewer, ShownImageEqualsTheImageAlgorithm) {
+TEST_F(Viewer, ShownImageEqualsTheImageAlgorithm) {
   Fixture f;
   ASSERT_TRUE(f.start()) << f.viewer->GetMessage();
   vtkNew<vtkRayScopeImageAlgorithm> ref;
@@ -181,7 +186,7 @@ TEST(Viewer, ShownImageEqualsTheImageAlgorithm) {
 
 // A synthesized click on the image picks that pixel; the overlay has as many
 // rays of each kind as the recorder, and hit points at the recorded points.
-TEST(Viewer, ClickOnTheImageShowsTheRecordedTree) {
+TEST_F(Viewer, ClickOnTheImageShowsTheRecordedTree) {
   Fixture f;
   ASSERT_TRUE(f.start());
   int x, y;
@@ -236,7 +241,7 @@ TEST(Viewer, ClickOnTheImageShowsTheRecordedTree) {
 
 // A click outside the image (in the image viewport's margin or past the
 // image) changes nothing.
-TEST(Viewer, ClickOutsideTheImageDoesNothing) {
+TEST_F(Viewer, ClickOutsideTheImageDoesNothing) {
   Fixture f;
   ASSERT_TRUE(f.start());
   EXPECT_EQ(f.viewer->PickPixel(kW, 3), 0);
@@ -252,7 +257,7 @@ TEST(Viewer, ClickOutsideTheImageDoesNothing) {
 }
 
 // Clicking a surface in the 3D view picks the pixel that sees that point.
-TEST(Viewer, ClickOnASurfaceIn3DPicksItsPixel) {
+TEST_F(Viewer, ClickOnASurfaceIn3DPicksItsPixel) {
   Fixture f;
   ASSERT_TRUE(f.start());
   const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
@@ -272,7 +277,7 @@ TEST(Viewer, ClickOnASurfaceIn3DPicksItsPixel) {
 
 // Up/Down grow and shrink the tree by depth, Right/Left step ray by ray, k
 // shows one kind: the overlay follows, and the ends of each range say so.
-TEST(Viewer, KeysStepThroughTheTree) {
+TEST_F(Viewer, KeysStepThroughTheTree) {
   Fixture f;
   ASSERT_TRUE(f.start_on_glass());
   const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
@@ -320,7 +325,7 @@ TEST(Viewer, KeysStepThroughTheTree) {
 // t plays the selected ray's walk: after N steps the entered boxes are the
 // first N nodes the recorder logged; boxes missed and culled on the way are
 // marked, the hit leaf when it is reached; T steps back.
-TEST(Viewer, PlaysTheSelectedRaysBvhWalk) {
+TEST_F(Viewer, PlaysTheSelectedRaysBvhWalk) {
   for (bool binary : {false, true}) {
     Fixture f;
     if (binary) f.alg->SetAccelToBinaryBvh();
@@ -370,7 +375,7 @@ bool has_label(const std::vector<std::string>& labels, const std::string& text) 
   return std::find(labels.begin(), labels.end(), text) != labels.end();
 }
 
-TEST(Viewer, BvhLevelsImageModesScreenshotAndExport) {
+TEST_F(Viewer, BvhLevelsImageModesScreenshotAndExport) {
   Fixture f;
   ASSERT_TRUE(f.start_on_glass());
   f.key("b");
@@ -428,12 +433,13 @@ TEST(Viewer, BvhLevelsImageModesScreenshotAndExport) {
 // rayscope view --accel: the viewer draws the structure the rays walk (every
 // node or cell), names it in its messages and legend, walks its levels, and
 // plays the selected ray's walk through its cells as through the BVH's nodes.
-TEST(Viewer, DrawsNamesAndPlaysTheChosenStructure) {
-  const std::pair<int, std::string> kinds[] = {{vtkRayScopeImageAlgorithm::ACCEL_KDTREE, "kdtree"},
-                                               {vtkRayScopeImageAlgorithm::ACCEL_GRID, "grid"},
-                                               {vtkRayScopeImageAlgorithm::ACCEL_OCTREE, "octree"},
-                                               {vtkRayScopeImageAlgorithm::ACCEL_BSP, "bsp"},
-                                               {vtkRayScopeImageAlgorithm::ACCEL_SPHERES, "spheres"}};
+TEST_F(Viewer, DrawsNamesAndPlaysTheChosenStructure) {
+  const std::pair<int, std::string> kinds[] = {
+      {vtkRayScopeImageAlgorithm::ACCEL_KDTREE, "kdtree"},
+      {vtkRayScopeImageAlgorithm::ACCEL_GRID, "grid"},
+      {vtkRayScopeImageAlgorithm::ACCEL_OCTREE, "octree"},
+      {vtkRayScopeImageAlgorithm::ACCEL_BSP, "bsp"},
+      {vtkRayScopeImageAlgorithm::ACCEL_SPHERES, "spheres"}};
   for (const auto& [accel, name] : kinds) {
     SCOPED_TRACE(name);
     Fixture f;
@@ -481,7 +487,7 @@ TEST(Viewer, DrawsNamesAndPlaysTheChosenStructure) {
 
 // +/- and ]/[ change the samples and the depth and re-render; at the ends of
 // their ranges they do nothing and say so.
-TEST(Viewer, SamplesAndDepthKeysRerender) {
+TEST_F(Viewer, SamplesAndDepthKeysRerender) {
   Fixture f(1);
   ASSERT_TRUE(f.start_on_glass());
   f.key("minus");
@@ -511,7 +517,7 @@ TEST(Viewer, SamplesAndDepthKeysRerender) {
 
 // d labels every shown ray with its id, depth and weight; p switches to a
 // parallel projection (all primary rays parallel) and back, re-rendering.
-TEST(Viewer, LabelsAndProjectionKeys) {
+TEST_F(Viewer, LabelsAndProjectionKeys) {
   Fixture f;
   ASSERT_TRUE(f.start_on_glass());
   f.key("d");
@@ -545,7 +551,7 @@ TEST(Viewer, LabelsAndProjectionKeys) {
 
 // r takes the 3D view's camera (after orbiting it) as the ray-tracing camera
 // and re-renders: the primary ray of the picked pixel starts at that camera.
-TEST(Viewer, CameraKeyRerendersFromThe3DView) {
+TEST_F(Viewer, CameraKeyRerendersFromThe3DView) {
   Fixture f;
   ASSERT_TRUE(f.start_on_glass());
   vtkCamera* cam = f.viewer->GetSceneRenderer()->GetActiveCamera();
@@ -563,7 +569,7 @@ TEST(Viewer, CameraKeyRerendersFromThe3DView) {
 }
 
 // A scene source without a scene: Initialize fails with a message, no crash.
-TEST(Viewer, NoSceneFailsCleanly) {
+TEST_F(Viewer, NoSceneFailsCleanly) {
   vtkNew<vtkRayScopeImageAlgorithm> empty;
   vtkNew<vtkRayScopeViewer> viewer;
   viewer->SetSceneSource(empty);
