@@ -63,11 +63,20 @@ void check_block(const TriangleBlock& b, const Tri* tris, int n, int others, con
                  float tmax, Counts& c) {
   const TrianglePrecomp pre(ray);
   const TriangleBlockRay r(pre);
-  TriangleBlockResult fast, portable;
+  TriangleBlockResult fast, early, portable;
   test_triangle_block(b, r, tmax, fast);
+  test_triangle_block<true>(b, r, tmax, early);
   test_triangle_block_scalar(b, r, tmax, portable);
   ASSERT_EQ(fast.hits, portable.hits);
   ASSERT_EQ(fast.undecided, portable.undecided);
+  ASSERT_EQ(early.hits, portable.hits);
+  ASSERT_EQ(early.undecided, portable.undecided);
+  for (unsigned m = early.hits; m != 0; m &= m - 1) {
+    const unsigned k = unsigned(__builtin_ctz(m));
+    const TriangleHit e = early.hit(k), f = fast.hit(k);
+    EXPECT_TRUE(same_bits(e.t, f.t) && same_bits(e.b0, f.b0) && same_bits(e.b1, f.b1) &&
+                same_bits(e.b2, f.b2));
+  }
   const unsigned other_lanes = ((1u << others) - 1u) << n;
   EXPECT_EQ(fast.undecided & other_lanes, other_lanes);
   EXPECT_EQ(fast.hits & other_lanes, 0u);

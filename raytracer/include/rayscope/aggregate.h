@@ -345,7 +345,7 @@ class Aggregate {
         const TriangleBlock* b = &blocks_[leaf_blocks_[first]];
         TriangleBlockResult res;
         for (uint32_t base = first; base < first + count; base += TriangleBlock::kLanes, ++b) {
-          test_triangle_block(*b, block_ray, t, res);
+          test_triangle_block<!AnyHit>(*b, block_ray, t, res);
           for (unsigned m = res.hits | res.undecided; m != 0; m &= m - 1) {
             const unsigned k = unsigned(__builtin_ctz(m));
             TriangleHit th;
