@@ -233,7 +233,7 @@ template <bool EarlyMiss = false>
 ///
 /// EarlyMiss: see test_triangle_block_sse(). Closest-hit walks use it: most
 /// blocks a primary ray reaches miss in every lane, and skipping the hit path
-/// there made bench_trace's primary rays 10% faster on the bunny. Shadow rays
+/// there made bench_trace's primary rays 8-12% faster on the bunny. Shadow rays
 /// do not: the branch made them 10% slower (probably because they start on a
 /// surface, so the first blocks they test hold the triangle they leave, a
 /// lane left undecided; not verified).
