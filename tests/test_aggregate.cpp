@@ -209,8 +209,7 @@ TEST(Aggregate, MemoryCountsEveryStructure) {
   for (const BvhNode& n : a.bvh().nodes)
     if (n.is_leaf()) blocks += (n.count + TriangleBlock::kLanes - 1) / TriangleBlock::kLanes;
   EXPECT_EQ(a.triangle_blocks().size(), blocks);
-  EXPECT_EQ(a.triangle_block_bytes(),
-            blocks * sizeof(TriangleBlock) + a.records().size() * sizeof(uint32_t));
+  EXPECT_EQ(a.triangle_block_bytes(), blocks * sizeof(TriangleBlock));
 }
 
 TEST(Aggregate, TinyScenesSkipTheStructureUnlessAsked) {

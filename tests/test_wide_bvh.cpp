@@ -46,8 +46,9 @@ INSTANTIATE_TEST_SUITE_P(Arity, WideBvhArity, ::testing::Values(2, 4, 8),
 // slots come last, have empty boxes and no primitives; slot_source names the
 // binary node of every slot; no node has more children than the arity (with
 // arity 2: exactly one wide node per binary inner node); the depth fits the
-// stack.
-void check_collapse(const Bvh& bvh, const WideBvh& w) {
+// stack. A leaf child holds its first primitive, or its label where `label`
+// is given (build()'s leaf_label).
+void check_collapse(const Bvh& bvh, const WideBvh& w, std::span<const uint32_t> label = {}) {
   if (bvh.empty()) {
     EXPECT_TRUE(w.empty());
     EXPECT_TRUE(w.nodes.empty());
@@ -99,7 +100,7 @@ void check_collapse(const Bvh& bvh, const WideBvh& w) {
       EXPECT_EQ(node.hi_y[k], b.hi.y);
       EXPECT_EQ(node.hi_z[k], b.hi.z);
       if (b.is_leaf()) {
-        EXPECT_EQ(node.child[k], WideBvhNode::kLeaf | b.index);
+        EXPECT_EQ(node.child[k], WideBvhNode::kLeaf | (label.empty() ? b.index : label[b.index]));
         EXPECT_EQ(node.count[k], b.count);
         EXPECT_TRUE(seen_leaves.insert(src).second) << "binary leaf " << src << " twice";
       } else {
@@ -138,7 +139,37 @@ TEST_P(WideBvhArity, CollapseKeepsEveryLeafAndBox) {
         EXPECT_EQ(w.arity(), GetParam());
         check_collapse(bvh, w);
         if (HasFatalFailure()) return;
+        // The same collapse with leaves labelled (as the aggregate labels them
+        // by their first block): only the leaf children change.
+        std::vector<uint32_t> label(bvh.prim_indices.size());
+        for (size_t i = 0; i < label.size(); ++i) label[i] = uint32_t(7 * i + 3);
+        WideBvh labelled;
+        labelled.build(bvh, GetParam(), label);
+        check_collapse(bvh, labelled, label);
+        if (HasFatalFailure()) return;
       }
+}
+
+TEST(WideBvhBuild, RejectsLeafLabelsOfTheWrongSizeOrTooLarge) {
+  Prims p;
+  p.add(Bounds3(Vec3(0), Vec3(1)));
+  p.add(Bounds3(Vec3(2), Vec3(3)));
+  Bvh bvh;
+  bvh.build(p.bounds, p.centroids, {1, 1, 1, 1.0f, 1.0f, 56});
+  ASSERT_FALSE(bvh.nodes[0].is_leaf());
+  WideBvh w;
+  const std::vector<uint32_t> one(1, 0u), too_large(2, WideBvhNode::kLeaf);
+  EXPECT_THROW(w.build(bvh, 8, one), std::invalid_argument);
+  EXPECT_THROW(w.build(bvh, 8, too_large), std::length_error);
+  const std::vector<uint32_t> ok{5u, 9u};
+  w.build(bvh, 8, ok);
+  // The walk passes the labels to the leaf function.
+  std::set<uint32_t> labels;
+  auto leaf = [&](uint32_t label, uint32_t, float&) { return labels.insert(label), false; };
+  float tmax = kInfinity;
+  NullTraversalObserver obs;
+  w.traverse<false>(Ray{Vec3(-1.0f), normalize(Vec3(1.0f)), kInfinity}, tmax, leaf, obs);
+  EXPECT_EQ(labels, (std::set<uint32_t>{5u, 9u}));
 }
 
 TEST(WideBvhBuild, RejectsArityOutside2To8) {

@@ -107,7 +107,6 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
   bsp_ = BspTree{};
   sphere_tree_ = SphereTree{};
   blocks_.clear();
-  leaf_blocks_.clear();
   if (config.kind == AccelKind::Bsp) {
     // Over the records (leaf order), with their geometry: the BSP tree's
     // planes go through the triangles.
@@ -160,37 +159,40 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
       build_seconds_ = octree_.quality().build_seconds;
     }
   } else if (config.kind != AccelKind::None) {
-    walk_.build(bvh_, config.kind == AccelKind::BinaryBvh ? 2 : WideBvh::kRenderArity);
-    build_triangle_blocks();
+    build_walk(config.kind == AccelKind::BinaryBvh ? 2 : WideBvh::kRenderArity);
     build_seconds_ = std::chrono::duration<double>(Clock::now() - start).count();
   } else {
     build_seconds_ = 0.0;
   }
 }
 
-void Aggregate::build_triangle_blocks() {
+void Aggregate::build_walk(int arity) {
   constexpr int kLanes = TriangleBlock::kLanes;
-  // Each leaf's first block (leaves in node order), then the blocks filled
-  // leaf by leaf on every core: each leaf writes only its own blocks.
+  // Each leaf's first block (leaves in node order), the walk labelled with
+  // them, then the blocks filled leaf by leaf on every core: each leaf writes
+  // only its own blocks.
   std::vector<uint32_t> leaves;
-  assign_huge(leaf_blocks_, records_.size(), ~0u);
+  std::vector<uint32_t> leaf_blocks;  // [first record of a leaf]: its first block
+  assign_huge(leaf_blocks, records_.size(), ~0u);
   uint32_t count = 0;
   for (uint32_t i = 0; i < bvh_.nodes.size(); ++i) {
     const BvhNode& n = bvh_.nodes[i];
     if (!n.is_leaf()) continue;
     leaves.push_back(i);
-    leaf_blocks_[n.index] = count;
+    leaf_blocks[n.index] = count;
     count += (n.count + kLanes - 1) / kLanes;
   }
+  walk_.build(bvh_, arity, leaf_blocks);
   assign_huge(blocks_, count);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), kParallelGrain / 4),
                     [&](const tbb::blocked_range<size_t>& range) {
                       for (size_t l = range.begin(); l < range.end(); ++l) {
                         const BvhNode& n = bvh_.nodes[leaves[l]];
-                        const uint32_t first = leaf_blocks_[n.index];
+                        const uint32_t first = leaf_blocks[n.index];
                         for (uint32_t j = 0; j < n.count; ++j) {
                           TriangleBlock& b = blocks_[first + j / kLanes];
                           const unsigned lane = j % kLanes;
+                          if (lane == 0) b.first = n.index + j;
                           const PrimRecord& r = records_[n.index + j];
                           if (r.id >= num_triangles_) {
                             b.others |= uint8_t(1u << lane);

@@ -14,10 +14,24 @@
 
 namespace rayscope {
 
-void WideBvh::build(const Bvh& bvh, int arity) {
+namespace {
+
+uint32_t leaf_child(std::span<const uint32_t> leaf_label, const BvhNode& leaf) {
+  const uint32_t label = leaf_label.empty() ? leaf.index : leaf_label[leaf.index];
+  if (label & WideBvhNode::kLeaf) throw std::length_error("WideBvh: a leaf label is too large");
+  return WideBvhNode::kLeaf | label;
+}
+
+}  // namespace
+
+void WideBvh::build(const Bvh& bvh, int arity, std::span<const uint32_t> leaf_label) {
   if (arity < 2 || arity > kMaxArity)
     throw std::invalid_argument("WideBvh: arity " + std::to_string(arity) + " is outside 2.." +
                                 std::to_string(kMaxArity));
+  if (!leaf_label.empty() && leaf_label.size() != bvh.prim_indices.size())
+    throw std::invalid_argument("WideBvh: " + std::to_string(leaf_label.size()) +
+                                " leaf labels for " + std::to_string(bvh.prim_indices.size()) +
+                                " primitives");
   arity_ = arity;
   nodes.clear();
   slot_source.clear();
@@ -31,12 +45,12 @@ void WideBvh::build(const Bvh& bvh, int arity) {
   root_lo_ = root.lo;
   root_hi_ = root.hi;
   if (root.is_leaf()) {
-    root_child_ = WideBvhNode::kLeaf | root.index;
+    root_child_ = leaf_child(leaf_label, root);
     root_count_ = root.count;
   } else {
     reserve_huge(nodes, bvh.nodes.size() / 2 + 1);
     reserve_huge(slot_source, nodes.capacity() * WideBvhNode::kWidth);
-    root_child_ = collapse(bvh, 0, 1);
+    root_child_ = collapse(bvh, leaf_label, 0, 1);
     root_count_ = 0;
   }
   // Not shrunk: the reserve above is address space, backed only where nodes
@@ -47,7 +61,8 @@ void WideBvh::build(const Bvh& bvh, int arity) {
                             " levels exceed the traversal stack");
 }
 
-uint32_t WideBvh::collapse(const Bvh& bvh, uint32_t binary_node, uint32_t level) {
+uint32_t WideBvh::collapse(const Bvh& bvh, std::span<const uint32_t> leaf_label,
+                           uint32_t binary_node, uint32_t level) {
   depth_ = std::max(depth_, level);
   const BvhNode& bn = bvh.nodes[binary_node];
   uint32_t kids[kMaxArity] = {bn.index, bn.index + 1};
@@ -88,11 +103,10 @@ uint32_t WideBvh::collapse(const Bvh& bvh, uint32_t binary_node, uint32_t level)
     const BvhNode& c = bvh.nodes[kids[k]];
     uint32_t child, count;
     if (c.is_leaf()) {
-      if (c.index & WideBvhNode::kLeaf) throw std::length_error("WideBvh: too many primitives");
-      child = WideBvhNode::kLeaf | c.index;
+      child = leaf_child(leaf_label, c);
       count = c.count;
     } else {
-      child = collapse(bvh, kids[k], level + 1);  // may reallocate `nodes`
+      child = collapse(bvh, leaf_label, kids[k], level + 1);  // may reallocate `nodes`
       count = 0;
     }
     WideBvhNode& w = nodes[me];

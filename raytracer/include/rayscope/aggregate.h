@@ -265,10 +265,8 @@ class Aggregate {
   /// from its first block on, TriangleBlock::kLanes per block (empty unless
   /// walk() is built).
   const std::vector<TriangleBlock>& triangle_blocks() const { return blocks_; }
-  /// Bytes of triangle_blocks() and of the index from leaves to their blocks.
-  size_t triangle_block_bytes() const {
-    return blocks_.size() * sizeof(TriangleBlock) + leaf_blocks_.size() * sizeof(uint32_t);
-  }
+  /// Bytes of triangle_blocks().
+  size_t triangle_block_bytes() const { return blocks_.size() * sizeof(TriangleBlock); }
   /// The unbounded planes, with unit normals, in the scene's order.
   const std::vector<PlaneRecord>& plane_records() const { return planes_; }
   /// Every byte the aggregate holds: binary nodes, leaf order, wide nodes,
@@ -336,13 +334,18 @@ class Aggregate {
     if (config_.kind == AccelKind::Bsp) return bsp_.traverse<AnyHit>(ray, tmax, prim, obs);
     if (config_.kind == AccelKind::Spheres)
       return sphere_tree_.traverse<AnyHit>(ray, tmax, prim, obs);
+    // The walk's leaves are labelled by their first block (build()).
     if constexpr (Observer::kActive) {
-      return walk_.traverse<AnyHit>(ray, tmax, range, obs);
+      auto leaf = [&](uint32_t block, uint32_t count, float& t) __attribute__((always_inline)) {
+        return range(blocks_[block].first, count, t);
+      };
+      return walk_.traverse<AnyHit>(ray, tmax, leaf, obs);
     } else {
       const TriangleBlockRay block_ray(pre);
-      auto blocks = [&](uint32_t first, uint32_t count, float& t) __attribute__((always_inline)) {
+      auto blocks = [&](uint32_t block, uint32_t count, float& t) __attribute__((always_inline)) {
         bool found = false;
-        const TriangleBlock* b = &blocks_[leaf_blocks_[first]];
+        const TriangleBlock* b = &blocks_[block];
+        const uint32_t first = b->first;
         TriangleBlockResult res;
         for (uint32_t base = first; base < first + count; base += TriangleBlock::kLanes, ++b) {
           test_triangle_block<!AnyHit>(*b, block_ray, t, res);
@@ -367,8 +370,9 @@ class Aggregate {
     }
   }
 
-  /// Fills blocks_ and leaf_blocks_ from the binary leaves and records_.
-  void build_triangle_blocks();
+  /// Builds walk_ with `arity` and blocks_, from bvh_ and records_: walk_'s
+  /// leaves are labelled by their first block.
+  void build_walk(int arity);
 
   /// The one primitive test of box queries (exact, see range_query.h).
   bool record_overlaps(const PrimRecord& r, const Bounds3& box) const {
@@ -417,9 +421,6 @@ class Aggregate {
   /// The records of the walk's leaves by coordinate, kLanes at a time, each
   /// leaf starting a new block (empty unless walk_ is built).
   std::vector<TriangleBlock> blocks_;
-  /// leaf_blocks_[first]: the first block of the leaf whose records start at
-  /// `first` (other entries unused; empty unless walk_ is built).
-  std::vector<uint32_t> leaf_blocks_;
   std::vector<PlaneRecord> planes_;
   uint32_t num_triangles_ = 0;
   bool use_walk_ = false;

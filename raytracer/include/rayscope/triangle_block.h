@@ -35,7 +35,13 @@ struct alignas(16) TriangleBlock {
   uint8_t triangles = 0;
   /// Lanes holding another primitive (a sphere): always left to the scalar test.
   uint8_t others = 0;
+  /// The record in lane 0; lane k holds record first + k. A leaf's blocks
+  /// follow one another, so its record i is in block i / kLanes, lane i % kLanes.
+  /// (Kept here, in the block's padding, so that a walk reaching a leaf by its
+  /// first block needs no other load to find the records.)
+  uint32_t first = 0;
 };
+static_assert(sizeof(TriangleBlock) == 160, "the record index lives in the padding");
 
 /// Per-ray constants of the cull, from the triangle test's TrianglePrecomp.
 struct TriangleBlockRay {

@@ -26,6 +26,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -42,12 +43,13 @@ namespace rayscope {
 struct alignas(64) WideBvhNode {
   /// Child slots per node: the lanes of one box test.
   static constexpr int kWidth = 8;
-  /// Set in `child` for a leaf child: the low bits are then the offset of its
-  /// first primitive in Bvh::prim_indices, and `count` the number of them.
+  /// Set in `child` for a leaf child: the low bits are then its label (see
+  /// WideBvh::build()), and `count` the number of its primitives.
   static constexpr uint32_t kLeaf = 0x80000000u;
 
   float lo_x[kWidth], hi_x[kWidth], lo_y[kWidth], hi_y[kWidth], lo_z[kWidth], hi_z[kWidth];
-  /// Inner child: index of its WideBvhNode. Leaf child: kLeaf | first primitive.
+  /// Inner child: index of its WideBvhNode. Leaf child: kLeaf | its label
+  /// (WideBvh::build(): the leaf's first primitive, or what the owner maps it to).
   /// Empty slot (nodes with fewer than kWidth children; always the last
   /// slots): kLeaf with count 0 and an empty box (lo = +inf, hi = -inf) that
   /// no ray with a finite origin hits.
@@ -71,10 +73,16 @@ class WideBvh {
 
   /// Collapses `bvh` into nodes of at most `arity` children (2..kMaxArity; 2
   /// keeps the binary tree's shape). Everything needed is copied. An empty
-  /// `bvh` gives an empty hierarchy that every ray misses. Throws
-  /// std::invalid_argument for a bad arity, std::length_error if the tree were
-  /// too deep for the traversal stack.
-  void build(const Bvh& bvh, int arity = kMaxArity);
+  /// `bvh` gives an empty hierarchy that every ray misses. A leaf is labelled
+  /// by its first primitive `f` (the offset in Bvh::prim_indices), or by
+  /// leaf_label[f] when leaf_label is given (one entry per primitive; only
+  /// the leaves' first entries are read): the label is what traverse() passes
+  /// to `leaf` (the aggregate labels a leaf by its first triangle block, so
+  /// that the walk reaches the block with no other load). Throws
+  /// std::invalid_argument for a bad arity or a leaf_label of the wrong size,
+  /// std::length_error if the tree were too deep for the traversal stack or a
+  /// label did not fit beside kLeaf.
+  void build(const Bvh& bvh, int arity = kMaxArity, std::span<const uint32_t> leaf_label = {});
 
   bool empty() const { return root_child_ == kNone; }
   /// Children per node at most (what build() was given).
@@ -86,8 +94,9 @@ class WideBvh {
   }
 
   /// Walks the nodes the ray [origin, origin + tmax * dir] can reach.
-  /// `leaf(first, count, tmax)` tests the primitives prim_indices[first ..
-  /// first + count) of the binary hierarchy and returns true on a hit, lowering
+  /// `leaf(label, count, tmax)` tests the `count` primitives of the leaf
+  /// labelled `label` (build(): without labels, prim_indices[label .. label +
+  /// count) of the binary hierarchy) and returns true on a hit, lowering
   /// tmax to the hit distance. Children whose boxes are hit are visited nearest
   /// first (ties: in the binary tree's child order); with AnyHit the walk stops
   /// at the first hit (shadow rays) and does not order children; otherwise it
@@ -114,7 +123,8 @@ class WideBvh {
 
  private:
   static constexpr uint32_t kNone = ~0u;
-  uint32_t collapse(const Bvh& bvh, uint32_t binary_node, uint32_t level);
+  uint32_t collapse(const Bvh& bvh, std::span<const uint32_t> leaf_label, uint32_t binary_node,
+                    uint32_t level);
 
   Vec3 root_lo_{kInfinity}, root_hi_{-kInfinity};
   uint32_t root_child_ = kNone;  ///< 0 (wide node 0), kLeaf | first, or kNone when empty.
