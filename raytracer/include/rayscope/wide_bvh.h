@@ -127,7 +127,7 @@ class WideBvh {
                     uint32_t level);
 
   Vec3 root_lo_{kInfinity}, root_hi_{-kInfinity};
-  uint32_t root_child_ = kNone;  ///< 0 (wide node 0), kLeaf | first, or kNone when empty.
+  uint32_t root_child_ = kNone;  ///< 0 (wide node 0), kLeaf | label, or kNone when empty.
   uint32_t root_count_ = 0;
   uint32_t depth_ = 0;
   int arity_ = kMaxArity;
