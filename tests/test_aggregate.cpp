@@ -212,6 +212,45 @@ TEST(Aggregate, MemoryCountsEveryStructure) {
   EXPECT_EQ(a.triangle_block_bytes(), blocks * sizeof(TriangleBlock));
 }
 
+TEST(Aggregate, WalkLeavesNameTheirFirstBlockAndItsRecords) {
+  // Every leaf child of the walk holds its leaf's first triangle block, and
+  // each of the leaf's blocks names the record of its lane 0 and holds that
+  // record's vertices, lane by lane. Leaves of up to 16 records (cheap
+  // primitives in the SAH), so that most take more than one block.
+  Scene scene;
+  scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
+  AccelConfig cfg;
+  cfg.bvh.max_leaf_size = 16;
+  cfg.bvh.intersection_cost = 0.05f;
+  scene.commit(cfg);
+  const Aggregate& a = scene.accel();
+  const WideBvh& walk = a.walk();
+  const auto& blocks = a.triangle_blocks();
+  constexpr int W = WideBvhNode::kWidth, L = TriangleBlock::kLanes;
+  int leaves = 0;
+  for (size_t n = 0; n < walk.nodes.size(); ++n)
+    for (int k = 0; k < W; ++k) {
+      const uint32_t src = walk.slot_source[W * n + k];
+      const uint32_t child = walk.nodes[n].child[k];
+      if (src == ~0u || !(child & WideBvhNode::kLeaf)) continue;
+      ++leaves;
+      const BvhNode& leaf = a.bvh().nodes[src];
+      const uint32_t block = child & ~WideBvhNode::kLeaf;
+      ASSERT_EQ(walk.nodes[n].count[k], leaf.count);
+      for (uint32_t j = 0; j < leaf.count; ++j) {
+        ASSERT_LT(block + j / L, blocks.size());
+        const TriangleBlock& b = blocks[block + j / L];
+        EXPECT_EQ(b.first, leaf.index + j - j % L);
+        const PrimRecord& r = a.records()[leaf.index + j];
+        EXPECT_EQ(b.v[0][0][j % L], r.a.x);
+        EXPECT_EQ(b.v[1][1][j % L], r.b.y);
+        EXPECT_EQ(b.v[2][2][j % L], r.c.z);
+      }
+    }
+  EXPECT_GT(leaves, 1);
+  EXPECT_GT(a.bvh().quality().max_leaf_prims, uint32_t(L));
+}
+
 TEST(Aggregate, TinyScenesSkipTheStructureUnlessAsked) {
   Scene scene;
   for (int k = 0; k < int(Aggregate::kBruteForceMax); ++k)
