@@ -520,9 +520,17 @@ std::string check_cell_point_ids(vtkDataSet* data) {
                (it->second > 0 ? " instead of " + std::to_string(it->second) : "");
     }
     // Polyhedra list their faces in a separate stream: per cell, the number
-    // of faces, then per face the number of points and the point ids.
+    // of faces, then per face the number of points and the point ids. A
+    // polyhedron without a place in that stream (no stream, or a negative
+    // location; a file whose 'faceoffsets' say no cell has faces) crashed
+    // VTK's surface filter, which reads its faces unchecked.
     vtkIdTypeArray* faces = ug->GetFaces();
     vtkIdTypeArray* locations = ug->GetFaceLocations();
+    for (vtkIdType c = 0; cells && c < ug->GetNumberOfCells(); ++c)
+      if (ug->GetCellType(c) == VTK_POLYHEDRON &&
+          (!faces || !locations || c >= locations->GetNumberOfValues() ||
+           locations->GetValue(c) < 0))
+        return "cell " + std::to_string(c) + " is a polyhedron without faces";
     if (faces && locations) {
       const vtkIdType n = faces->GetNumberOfValues();
       for (vtkIdType c = 0; c < locations->GetNumberOfValues(); ++c) {
