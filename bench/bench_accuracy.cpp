@@ -13,7 +13,7 @@
 //             rayscope/intersect.h and the hit point Scene::surface_hit uses
 //             (plane_point: o + t*d re-projected onto the plane;
 //             triangle_point: barycentric interpolation of the vertices;
-//             sphere_point: o + t*d re-projected onto the sphere),
+//             sphere_point: o + t*d re-projected onto the sphere in double),
 // and compared with the exact answer for the same float inputs, computed in
 // __float128 (long double when libquadmath is missing; the program says which).
 //
@@ -377,8 +377,7 @@ CellResult run_cell(const Cell& cell, int rays, uint32_t seed) {
         hit[kNaive] = naive_sphere(ray, sm.a, sm.radius, t[kNaive]);
         hit[kRayScope] = intersect_sphere(ray, sm.a, sm.radius, kInfinity, t[kRayScope]);
         if (hit[kRayScope]) {
-          p[kRayScope] = sphere_point(ray, t[kRayScope], sm.a, sm.radius, p_error);
-          ng = (p[kRayScope] - sm.a) / sm.radius;  // as Scene::surface_hit
+          p[kRayScope] = sphere_point(ray, t[kRayScope], sm.a, sm.radius, p_error, ng);
         }
         break;
     }

@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "rayscope/huge_pages.h"
+#include "rayscope/printable_text.h"
 
 int main(int argc, char** argv) {
   // Before anything allocates much: the scene's loading runs on a heap backed
@@ -42,7 +43,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "rayscope: error: %s (see rayscope --help)\n", e.what());
     return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "rayscope: error: %s\n", e.what());
+    // Messages quote files' bytes: printable, and one line however long.
+    std::fprintf(stderr, "rayscope: error: %s\n",
+                 rayscope::printable_text(e.what(), rayscope::kMaxMessageBytes).c_str());
     return 1;
   }
   return exit_code;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "rayscope/ray_estimate.h"
 #include "rayscope/render.h"
 #include "scene_options.h"
 
@@ -145,7 +146,8 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
   std::fflush(stdout);
 }
 
-void print_explain(const Scene& scene, const RenderSettings& rs, const RayCounters& c) {
+void print_explain(const Scene& scene, const RenderSettings& rs, const RayCounters& c,
+                   const RayEstimate& estimate) {
   const SceneSummary& s = scene.summary();
   std::vector<std::string> refl, refr;
   for (const Material& m : scene.materials) {
@@ -213,6 +215,8 @@ void print_explain(const Scene& scene, const RenderSettings& rs, const RayCounte
         "- sampling: %dx%d stratified samples per pixel (%llu primary rays = %llu pixels "
         "x %d)\n",
         rs.samples, rs.samples, u(c.rays[int(RayKind::Primary)]), pixels, rs.samples * rs.samples);
+  std::printf("- worst case (the lecture's O(n m 2^r), every ray hitting): %s; traced %llu\n",
+              estimate.text(rs).c_str(), u(c.total_rays()));
   std::fflush(stdout);
 }
 
@@ -221,6 +225,9 @@ int run_render(const RenderOptions& o) {
   int pxy[2] = {-1, -1};
   if (!o.pixel.empty()) parse_pixel_option(o.pixel, pxy);
   const int px = pxy[0], py = pxy[1];
+  // Fail on an output that cannot be written before loading and rendering.
+  fs::path out(o.output);
+  check_image_path(out);
   // The image module (OpenImageIO) loads on the other core while the scene
   // loads: it took longer than the bunny scene's render (image.h). A PNG
   // without heat maps does not need it.
@@ -230,10 +237,6 @@ int run_render(const RenderOptions& o) {
   auto t1 = std::chrono::steady_clock::now();
   RenderSettings& rs = loaded.settings;
   if (!o.pixel.empty()) check_pixel_option(o.pixel, pxy, rs);
-
-  // Fail on an unwritable output before spending time on the render.
-  fs::path out(o.output);
-  check_image_path(out);
 
   bool cost_aov = false, samples_aov = false;
   for (const std::string& a : o.aovs) {
@@ -252,6 +255,11 @@ int run_render(const RenderOptions& o) {
   for (const std::string& w : scene.summary().warnings)
     std::fprintf(stderr, "rayscope: warning: %s: %s\n",
                  o.scene.scene.empty() ? "default scene" : o.scene.scene.c_str(), w.c_str());
+  // The lecture's worst case, announced before a render that may take long.
+  const RayEstimate estimate = estimate_rays(scene, rs);
+  if (estimate.rays > kRayBudget)
+    std::fprintf(stderr, "rayscope: warning: this render may trace %s, over the budget of %.3g\n",
+                 estimate.text(rs).c_str(), kRayBudget);
   RayCounters counters;
   ProgressFn progress;
   if (!o.quiet && ::isatty(STDERR_FILENO)) progress = print_progress;
@@ -276,7 +284,7 @@ int run_render(const RenderOptions& o) {
     write_heatmap(heat, nodes, fb.width, fb.height, "BVH nodes visited per pixel");
     if (!o.quiet) std::fprintf(stderr, "wrote %s\n", heat.string().c_str());
   }
-  if (o.explain) print_explain(scene, rs, counters);
+  if (o.explain) print_explain(scene, rs, counters, estimate);
   if (o.stats)
     print_stats(scene, rs, counters, std::chrono::duration<double>(t1 - t0).count(),
                 std::chrono::duration<double>(t2 - t1).count());

@@ -436,8 +436,8 @@ double check_sphere_hit(const SphereCase& k, float t, int i) {
   EXPECT_TRUE(rstest::ref_ray_sphere(to_d(k.o), to_d(k.d), to_d(k.c), k.r, t0, t1, impact));
   double rel = std::abs(double(t) - t0) / t0;
   Ray ray{k.o, k.d, kInfinity};
-  Vec3 perr;
-  Vec3 p = sphere_point(ray, t, k.c, k.r, perr);
+  Vec3 perr, ng;
+  Vec3 p = sphere_point(ray, t, k.c, k.r, perr, ng);
   // p_error is a per-axis bound: some exact surface point lies in the box
   // [p - p_error, p + p_error], i.e. the box meets the sphere (its nearest
   // point is no farther than r from the center and its farthest no nearer).
@@ -454,6 +454,10 @@ double check_sphere_hit(const SphereCase& k, float t, int i) {
   DVec3 n = glm::normalize(v);
   EXPECT_LE(std::abs(glm::length(v) - double(k.r)), glm::dot(glm::abs(n), to_d(perr)))
       << "case " << i;
+  // The normal is the point's direction from the center: p lies within its
+  // bound of center + r ng.
+  const DVec3 off = glm::abs(to_d(p) - (cd + double(k.r) * to_d(ng)));
+  EXPECT_TRUE(off.x <= perr.x && off.y <= perr.y && off.z <= perr.z) << "case " << i;
   return rel;
 }
 

@@ -15,6 +15,7 @@
 #include <filesystem>
 
 #include "rayscope/image.h"
+#include "rayscope/ray_estimate.h"
 #include "rayscope/render.h"
 #include "rayscope/shapes.h"
 #include "test_util.h"
@@ -293,6 +294,70 @@ TEST(Render, DepthLimitStopsSecondaryRays) {
     }
     prev = secondary;
   }
+}
+
+TEST(RayEstimate, BoundsEveryRenderAndIsReachedInsideAMirror) {
+  // The worst case (ray_estimate.h) is an upper bound: renders of the default
+  // scene at several depths, cutoffs and sample counts never trace more.
+  for (int depth : {0, 1, 3, 8})
+    for (float cutoff : {0.0f, 1e-3f, 0.2f})
+      for (int spp : {1, 2}) {
+        Scene scene = make_default_scene();
+        RenderSettings s = settings(2);
+        s.samples = spp;
+        s.width = 40;
+        s.height = 30;
+        s.max_depth = depth;
+        s.min_contribution = cutoff;
+        RayCounters c;
+        render(scene, s, &c);
+        const RayEstimate e = estimate_rays(scene, s);
+        EXPECT_LE(double(c.total_rays()), e.rays)
+            << "depth " << depth << ", cutoff " << cutoff << ", spp " << spp;
+        EXPECT_EQ(e.samples, 40.0 * 30.0 * spp * spp);
+        EXPECT_EQ(e.branching, 2);  // the glass sphere
+        EXPECT_EQ(e.lights, 2);
+      }
+  // Inside a perfect mirror every ray hits and reflects: the bound is reached
+  // exactly (no lights: no shadow rays; no cutoff: every level full).
+  Scene mirror;
+  mirror.materials[0].reflectivity = 1.0f;
+  mirror.lights.clear();
+  mirror.spheres.push_back(Sphere{"mirror", Vec3(0.0f), 10.0f, 0});
+  mirror.camera.eye = Vec3(0.0f, 0.0f, 2.0f);
+  mirror.camera.look_at = Vec3(0.0f);
+  RenderSettings s = settings(2);
+  s.samples = 2;
+  s.width = 16;
+  s.height = 12;
+  s.max_depth = 6;
+  s.min_contribution = 0.0f;
+  mirror.commit();
+  RayCounters c;
+  render(mirror, s, &c);
+  const RayEstimate e = estimate_rays(mirror, s);
+  EXPECT_EQ(e.branching, 1);
+  EXPECT_EQ(e.levels, 6);
+  EXPECT_EQ(e.rays, 16.0 * 12.0 * 4.0 * 7.0);
+  EXPECT_EQ(double(c.total_rays()), e.rays);
+  // The cutoff bounds the depth: weights 0.5^k fall below 0.1 after level 3.
+  mirror.materials[0].reflectivity = 0.5f;
+  mirror.commit();
+  s.min_contribution = 0.1f;
+  const RayEstimate cut = estimate_rays(mirror, s);
+  EXPECT_EQ(cut.levels, 3);
+  EXPECT_EQ(cut.rays_per_sample, 4.0);
+  RayCounters cc;
+  render(mirror, s, &cc);
+  EXPECT_EQ(double(cc.total_rays()), cut.rays);
+  // The case: depth 64 without a cutoff on a refractive scene is
+  // over the budget, the default render is not.
+  Scene glass = make_default_scene();
+  RenderSettings deep;
+  deep.max_depth = 64;
+  deep.min_contribution = 0.0f;
+  EXPECT_GT(estimate_rays(glass, deep).rays, kRayBudget);
+  EXPECT_LT(estimate_rays(glass, RenderSettings{}).rays, kRayBudget);
 }
 
 }  // namespace

@@ -345,6 +345,194 @@ TEST(SelfIntersection, SmallSpheresFarFromTheirOrigin) {
   }
 }
 
+// Long double distances for the checks below: the hit points are floats, so
+// long double (64-bit significand on x86-64) decides exactly which side of a
+// float-sized sphere they lie on.
+using LVec = glm::vec<3, long double>;
+LVec to_l(const Vec3& v) {
+  return LVec(v);
+}
+
+TEST(SelfIntersection, SphereHitsAtAnyDistance) {
+  // The property of sphere hits at every scale the issue names: r/|c| in
+  // every decade from 1e-8 to 1 (down to spheres smaller than the float
+  // spacing at their center) and rays that travel 1 to 1e7 radii before they
+  // hit. For each hit:
+  //  - the normal and the point agree: p lies within p_error (per axis) of
+  //    center + r n, measured in long double (a float point o + t d next to
+  //    a normal computed from the exact offset disagreed by degrees after
+  //    1e6 radii);
+  //  - origins spawned outward by offset_ray_origin lie outside the sphere;
+  //  - rays spawned outward (mirror reflection, two random directions) and a
+  //    shadow ray to a point above the tangent plane never hit the sphere.
+  // Every count must be 0. The table goes to docs/accuracy.md ("Sphere hits
+  // at any distance").
+  constexpr int kBands = 8;    // r/|c| 1e-8..1
+  constexpr int kTravels = 7;  // travel 1..1e7 radii
+  const size_t cases = rstest::stress_scaled(20000);
+  size_t total_rays = 0;
+  std::printf("r/|c| band    travel (radii)   used  rays  inconsistent  inside  re-hits\n");
+  for (int band = 0; band < kBands; ++band) {
+    for (int travel = 0; travel < kTravels; ++travel) {
+      Rng rng(3100 + uint32_t(band * kTravels + travel));
+      size_t used = 0, rays = 0, inconsistent = 0, inside = 0, rehits = 0;
+      std::string first;
+      for (size_t i = 0; i < cases; ++i) {
+        DVec3 center(rng.log_uniform_signed(1e-6, 1e6), rng.log_uniform_signed(1e-6, 1e6),
+                     rng.log_uniform_signed(1e-6, 1e6));
+        const double lo = std::pow(10.0, -8 + band);
+        const double r = rstest::max_abs(center) * rng.log_uniform(lo, 10 * lo);
+        Scene scene;
+        scene.spheres.push_back(rayscope::Sphere{"s", to_f(center), rstest::round_f(r), 0});
+        scene.commit();
+        const Vec3 cf = scene.spheres[0].center;
+        const double rf = scene.spheres[0].radius;
+        const DVec3 wdir = rng.unit_vector();
+        const double dist =
+            1.0 + rng.log_uniform(std::pow(10.0, travel), std::pow(10.0, travel + 1));
+        const Vec3 o = to_f(to_d(cf) + rf * dist * wdir);
+        const DVec3 aim = to_d(cf) + 0.99 * rf * std::sqrt(rng.uniform()) * tangent(rng, wdir);
+        const Vec3 d = to_f((aim - to_d(o)) * rng.log_uniform(1e-2, 1e2));
+        SurfaceHit hit;
+        if (!scene.intersect(Ray{o, d, kInfinity}, hit) || !(glm::dot(d, hit.ng) < 0.0f)) continue;
+        ++used;
+        const Vec3 n = hit.ng;
+        const LVec lc = to_l(cf);
+        const LVec on_surface = lc + (long double)rf * to_l(n) / glm::length(to_l(n));
+        const LVec off = glm::abs(to_l(hit.p) - on_surface);
+        // The normal's own rounding (2^-24 r per axis) is within p_error too.
+        if (!(off.x <= hit.p_error.x && off.y <= hit.p_error.y && off.z <= hit.p_error.z) &&
+            ++inconsistent == 1 && first.empty())
+          first = "p off center + r n by (" + std::to_string(double(off.x)) + ", " +
+                  std::to_string(double(off.y)) + ", " + std::to_string(double(off.z)) + ")";
+        auto check = [&](const Ray& ray, bool any_hit_only) {
+          ++rays;
+          if (glm::length(to_l(ray.origin) - lc) <= (long double)rf && ++inside == 1 &&
+              first.empty())
+            first = "spawned origin inside the sphere";
+          SurfaceHit h2;
+          const bool again = !any_hit_only && scene.intersect(ray, h2);
+          const bool blocked = scene.occluded(ray);
+          if ((again || blocked) && ++rehits == 1) {
+            char buf[512];
+            std::snprintf(buf, sizeof buf,
+                          "re-hit: c=(%.9g, %.9g, %.9g) r=%.9g o=(%.9g, %.9g, %.9g) "
+                          "p=(%.9g, %.9g, %.9g) origin=(%.9g, %.9g, %.9g) t=%g",
+                          cf.x, cf.y, cf.z, rf, o.x, o.y, o.z, hit.p.x, hit.p.y, hit.p.z,
+                          ray.origin.x, ray.origin.y, ray.origin.z, again ? h2.t : -1.0);
+            first = buf;
+          }
+        };
+        const Vec3 refl = reflect(glm::normalize(d), n);
+        const Vec3 out[3] = {refl, to_f(hemisphere(rng, to_d(n))), to_f(hemisphere(rng, to_d(n)))};
+        for (const Vec3& w : out)
+          if (glm::dot(w, n) > 0) check(spawn_ray(hit.p, hit.p_error, n, w), false);
+        const DVec3 nd = glm::normalize(to_d(n));
+        const Vec3 tf = to_f(to_d(hit.p) + rf * rng.log_uniform(1e-1, 1e2) * nd +
+                             rf * rng.log_uniform(1e-3, 10) * tangent(rng, nd));
+        // A target clearly above the tangent plane at the exact hit point
+        // (beyond the hit point's rounding), so that the segment cannot
+        // reach the sphere.
+        if (glm::length(to_d(tf) - to_d(cf)) > rf + 2 * glm::length(to_d(hit.p_error)) &&
+            glm::dot(to_d(tf) - to_d(hit.p), nd) > 0)
+          check(spawn_ray_to(hit.p, hit.p_error, n, tf), true);
+      }
+      total_rays += rays;
+      std::printf("1e%d..1e%d   1e%d..1e%d  %8zu %8zu %6zu %6zu %6zu\n", band - 8, band - 7, travel,
+                  travel + 1, used, rays, inconsistent, inside, rehits);
+      const std::string where = "r/|c| 1e" + std::to_string(band - 8) + ", travel 1e" +
+                                std::to_string(travel) + " radii: ";
+      EXPECT_EQ(inconsistent, 0u) << where << first;
+      EXPECT_EQ(inside, 0u) << where << first;
+      EXPECT_EQ(rehits, 0u) << where << first;
+      // Float cannot aim at a sphere much smaller than the spacing of the
+      // origin's coordinates: the far travels of the smallest bands lose
+      // most primary rays, the rest must keep most.
+      if (band >= 2 && travel <= 4) {
+        EXPECT_GT(used, cases / 2) << where << "too many misses";
+      }
+    }
+  }
+  std::printf("%zu spawned rays in all\n", total_rays);
+}
+
+TEST(SelfIntersection, TrianglesAndPlanesAfterLongTravel) {
+  // The same scrutiny for the other primitives' hits after rays travel 1 to
+  // 1e7 times the primitive's size: their normals come from the geometry
+  // (the triangle's corners, the plane's normal), not from the ray, and the
+  // point is interpolated (triangle) or re-projected (plane), so the point's
+  // distance from the exact surface stays within the bound it carries, and
+  // outward rays never come back.
+  const size_t cases = rstest::stress_scaled(4000);
+  for (int travel = 0; travel < 7; ++travel) {
+    Rng rng(3200 + uint32_t(travel));
+    size_t used = 0, rays = 0, off_surface = 0, rehits = 0;
+    for (size_t i = 0; i < cases; ++i) {
+      const DVec3 base(rng.log_uniform_signed(1e-6, 1e6), rng.log_uniform_signed(1e-6, 1e6),
+                       rng.log_uniform_signed(1e-6, 1e6));
+      const double size = rstest::max_abs(base) * rng.log_uniform(1e-4, 1.0);
+      const bool plane = i % 2 == 1;
+      Scene scene;
+      DVec3 a, b, c;
+      if (plane) {
+        scene.planes.push_back(Plane{"p", to_f(base), to_f(rng.unit_vector()), 0});
+        scene.commit();
+        const DVec3 nd = glm::normalize(to_d(scene.planes[0].normal));
+        a = to_d(scene.planes[0].point);
+        const DVec3 t1 = tangent(rng, nd), t2 = glm::cross(nd, t1);
+        b = a + size * t1;
+        c = a + size * t2;
+      } else {
+        Vec3 v[3];
+        do {
+          for (Vec3& p : v) p = to_f(base + size * rng.in_unit_ball());
+        } while (glm::length(glm::cross(to_d(v[1]) - to_d(v[0]), to_d(v[2]) - to_d(v[0]))) <
+                 0.1 * size * size);
+        TriangleMesh m;
+        m.positions = {v[0], v[1], v[2]};
+        m.triangles = {{0, 1, 2}};
+        scene.meshes = {m};
+        scene.commit();
+        a = to_d(v[0]);
+        b = to_d(v[1]);
+        c = to_d(v[2]);
+      }
+      const DVec3 nexact = glm::normalize(glm::cross(b - a, c - a));
+      const DVec3 q = (a + b + c) / 3.0 + 0.2 * ((b - a) * rng.uniform() + (c - a) * rng.uniform() -
+                                                 0.5 * (b - a) - 0.5 * (c - a));
+      const double cs = rng.log_uniform(1e-2, 1.0);
+      DVec3 w = cs * nexact + std::sqrt(1 - cs * cs) * tangent(rng, nexact);
+      if (rng.coin()) w = -w;
+      const double dist = rng.log_uniform(std::pow(10.0, travel), std::pow(10.0, travel + 1));
+      const Vec3 o = to_f(q + size * dist * w);
+      const Vec3 d = to_f((q - to_d(o)) * rng.log_uniform(1e-2, 1e2));
+      SurfaceHit hit;
+      if (!scene.intersect(Ray{o, d, kInfinity}, hit)) continue;
+      ++used;
+      const Vec3 n = glm::dot(d, hit.ng) < 0 ? hit.ng : -hit.ng;
+      // Distance of p from the exact plane against the bound along the normal.
+      const long double dist_off = std::abs(glm::dot(to_l(hit.p) - to_l(to_f(a)), LVec(nexact)));
+      if (dist_off > glm::dot(glm::abs(to_l(hit.ng)), to_l(hit.p_error)) * 1.0001L) ++off_surface;
+      const Vec3 refl = reflect(glm::normalize(d), n);
+      const Vec3 out[2] = {refl, to_f(hemisphere(rng, to_d(n)))};
+      for (const Vec3& wo : out) {
+        if (!(glm::dot(wo, n) > 0)) continue;
+        ++rays;
+        SurfaceHit h2;
+        const Ray r = spawn_ray(hit.p, hit.p_error, n, wo);
+        if (scene.intersect(r, h2) || scene.occluded(r)) ++rehits;
+      }
+    }
+    std::printf(
+        "triangles and planes, travel 1e%d..1e%d sizes: %zu used, %zu rays, %zu off "
+        "the surface, %zu re-hits\n",
+        travel, travel + 1, used, rays, off_surface, rehits);
+    EXPECT_EQ(off_surface, 0u) << "travel 1e" << travel;
+    EXPECT_EQ(rehits, 0u) << "travel 1e" << travel;
+    EXPECT_GT(used, cases / 2) << "travel 1e" << travel;
+  }
+}
+
 TEST(SelfIntersection, OffsetIsNotLostToRounding) {
   // offset_ray_origin's guarantee, which the ray tests above cannot isolate
   // (the hit points' error bounds are several ulps, rounding costs at most

@@ -381,6 +381,35 @@ TEST(InvalidInput, NonFiniteVerticesAreSkippedAndReported) {
   EXPECT_EQ(count_nonfinite(fb), 0u);
 }
 
+TEST(InvalidInput, AMeshWithNoFiniteTriangleIsAnError) {
+  // Every triangle has a non-finite corner (though some points are finite):
+  // nothing of the mesh could be drawn, and a blank picture is not an answer.
+  // commit() refuses it as every front end refuses a mesh without triangles.
+  TriangleMesh m = make_icosphere(Vec3(0.0f), 1.0f, 1);
+  m.name = "gone";
+  for (const glm::uvec3& t : m.triangles) m.positions[t.x] = Vec3(kNaN, 0.0f, kInfinity);
+  ASSERT_EQ(m.nonfinite_triangles(), m.triangles.size());
+  Scene s = mesh_scene(m);
+  try {
+    s.commit();
+    FAIL() << "a mesh whose every triangle is non-finite was committed";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "mesh 'gone': all " + std::to_string(m.triangles.size()) +
+                  " triangles have non-finite (NaN or infinite) vertex coordinates");
+  }
+  // One finite triangle left: committed, the rest skipped with the warning.
+  const uint32_t first = uint32_t(m.positions.size());
+  for (const Vec3& p : {Vec3(0.0f), Vec3(1.0f, 0.0f, 0.0f), Vec3(0.0f, 1.0f, 0.0f)}) {
+    m.positions.push_back(p);
+    if (!m.normals.empty()) m.normals.push_back(Vec3(0.0f, 0.0f, 1.0f));
+  }
+  m.triangles[0] = glm::uvec3(first, first + 1, first + 2);
+  Scene kept = mesh_scene(m);
+  kept.commit();
+  EXPECT_EQ(kept.summary().skipped_triangles, m.nonfinite_triangles());
+}
+
 TEST(InvalidInput, NonFiniteNormalsAndColorsFallBackAndAreReported) {
   // The torus has per-vertex normals and colors. Where they are not finite,
   // the geometric normal and the material color are used: with every normal

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <functional>
@@ -15,6 +16,7 @@
 #include <tbb/tbb_allocator.h>
 
 #include <dlfcn.h>
+#include <fcntl.h>
 #include <unistd.h>
 
 #include "image_file_module.h"
@@ -88,18 +90,24 @@ const Functions& image_module(const fs::path& file) {
   }
 }
 
-// Runs `write_to(temporary)` (returning "" or the problem) on a temporary
-// file in the folder of `path`, with its extension, then renames it over
-// `path`: an interrupted or failed write never leaves a half-written file.
-void write_atomically(const fs::path& path,
-                      const std::function<std::string(const std::string&)>& write_to) {
+// A new name for a temporary file in the folder of `path`, with its extension
+// (hidden, with the process id and a counter).
+fs::path temporary_path(const fs::path& path) {
   static std::atomic<unsigned> counter{0};
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   std::string name(".");  // built by appending: GCC 12 warns (-Wrestrict) on "." + string
   name += path.stem().string();
   name += ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
   name += path.extension().string();
-  const fs::path tmp = dir / name;
+  return dir / name;
+}
+
+// Runs `write_to(temporary)` (returning "" or the problem) on a temporary
+// file in the folder of `path`, with its extension, then renames it over
+// `path`: an interrupted or failed write never leaves a half-written file.
+void write_atomically(const fs::path& path,
+                      const std::function<std::string(const std::string&)>& write_to) {
+  const fs::path tmp = temporary_path(path);
   std::error_code ec;
   if (const std::string problem = write_to(tmp.string()); !problem.empty()) {
     fs::remove(tmp, ec);
@@ -160,13 +168,33 @@ bool image_needs_module(const std::filesystem::path& path) {
 void check_image_path(const std::filesystem::path& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (fs::is_directory(path, ec))
-    throw std::runtime_error(path.string() + ": is a directory, not an image file");
+  const std::string p = path.string();
+  const fs::file_status st = fs::status(path, ec);
+  if (fs::is_directory(st)) throw std::runtime_error(p + ": is a directory, not an image file");
+  // An existing device, pipe or socket (/dev/full, /dev/stdout) would be
+  // replaced by the atomic rename, or fail only once the render is done.
+  if (fs::exists(st) && !fs::is_regular_file(st))
+    throw std::runtime_error(p + ": exists and is not a regular file");
+  const std::string ext = lower_ext(path);
+  if (std::find(std::begin(kImageExtensions), std::end(kImageExtensions), ext) ==
+      std::end(kImageExtensions))
+    throw std::runtime_error(p + ": " +
+                             (ext.empty() ? std::string("no file extension")
+                                          : "unsupported image format '" + ext + "'") +
+                             " (use " + kImageFormatsText + ")");
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   if (!fs::is_directory(dir, ec))
-    throw std::runtime_error(path.string() + ": folder '" + dir.string() + "' does not exist");
-  if (lower_ext(path).empty())
-    throw std::runtime_error(path.string() + ": no file extension (use .png, .jpg or .exr)");
+    throw std::runtime_error(p + ": folder '" + dir.string() + "' does not exist");
+  // Whether a file can be made in the folder, by making one under the name the
+  // atomic write uses and removing it: permissions (root ignores them), a
+  // read-only file system and a full quota all show here, before the render.
+  const fs::path probe = temporary_path(path);
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0)
+    throw std::runtime_error(p + ": cannot create a file in '" + dir.string() +
+                             "': " + std::strerror(errno));
+  ::close(fd);
+  fs::remove(probe, ec);
 }
 
 void write_image(const std::filesystem::path& path, const Framebuffer& fb) {

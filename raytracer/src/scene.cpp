@@ -66,11 +66,11 @@ void Scene::commit(const AccelConfig& config) {
     size_t skipped = 0, degenerate = 0;
     for (size_t ti = 0; ti < m.triangles.size(); ++ti) {
       const glm::uvec3& t = m.triangles[ti];
-      const Vec3 &a = m.positions[t.x], &b = m.positions[t.y], &c = m.positions[t.z];
-      if (!all_finite(a) || !all_finite(b) || !all_finite(c)) {
+      if (!m.finite(t)) {
         skipped++;
         continue;
       }
+      const Vec3 &a = m.positions[t.x], &b = m.positions[t.y], &c = m.positions[t.z];
       if (glm::cross(b - a, c - a) == Vec3(0.0f)) degenerate++;
       Bounds3 box(a);
       box.extend(b);
@@ -83,6 +83,12 @@ void Scene::commit(const AccelConfig& config) {
                                               [](const Vec3& n) { return !all_finite(n); }));
     size_t bad_colors = size_t(std::count_if(m.colors.begin(), m.colors.end(),
                                              [](const Color& c) { return !all_finite(c); }));
+    // A mesh with nothing left to trace is an error, as a mesh without
+    // triangles is in every front end: its picture would be blank.
+    if (skipped > 0 && skipped == m.triangles.size())
+      throw std::invalid_argument("mesh '" + m.name + "': all " + std::to_string(skipped) +
+                                  " triangles have non-finite (NaN or infinite) vertex "
+                                  "coordinates");
     warn(m, skipped, "triangles with non-finite vertex coordinates skipped");
     warn(m, bad_normals,
          "vertex normals are not finite (their triangles are shaded with the geometric normal)");
@@ -211,15 +217,8 @@ SurfaceHit Scene::surface_hit(const Ray& ray, const PrimHit& ph) const {
   } else {
     uint32_t si = r.id - num_triangles_;
     const Sphere& s = spheres[si];
-    hit.p = sphere_point(ray, t, s.center, s.radius, hit.p_error);
-    // The normal from the unrounded offset to the center, in double: (p -
-    // center) / radius in float loses the direction, and the unit length,
-    // when p is rounded to a spacing comparable to the radius (a unit sphere
-    // at 1e7, where the spacing is 1: the normal came out (-1, 1, 1) and the
-    // specular term infinite).
-    const DVec3 v = DVec3(ray.origin) + double(t) * DVec3(ray.dir) - DVec3(s.center);
-    const double len = glm::length(v);
-    hit.ng = hit.ns = len > 0.0 ? Vec3(v / len) : Vec3(0.0f, 1.0f, 0.0f);
+    hit.p = sphere_point(ray, t, s.center, s.radius, hit.p_error, hit.ng);
+    hit.ns = hit.ng;
     hit.object = uint32_t(meshes.size()) + si;
     hit.prim = 0;
     hit.material = s.material;

@@ -6,12 +6,15 @@ Usage: write_damaged_meshes.py OUT_DIR
 Each file starts as a valid file written by VTK's own writers (a sphere, or a
 single triangle) and is then damaged the way real files get damaged:
 truncated copies, corrupt element counts, out-of-range point ids, a NaN
-coordinate, and a sparse 2 GB file whose header says it holds nothing. Also
+coordinate, and a sparse 2 GB file whose header says it holds nothing; OBJ
+files with NaN or infinite vertices, random bytes named .obj, and a loop of
+symbolic links. Also
 makes a folder named like a mesh file and a folder to give as the output
 image. tests/cli/CMakeLists.txt runs the command on each (cli.damaged.*).
 """
 import math
 import os
+import random
 import re
 import struct
 import sys
@@ -123,6 +126,25 @@ def main(out):
     replace_once(p("valid_zlib.vtp"), p("bad_count.vtp"), rb'NumberOfPoints="(\d+)"',
                  rb'NumberOfPoints="9\1"')
     replace_once(p("valid_zlib.vtp"), p("bad_blocks.vtp"), rb"AQAAAACAAAA", b"AQAA9ACAAAA")
+
+    # Every vertex NaN or infinite (an all-NaN mesh rendered a blank image);
+    # one infinite corner in an OBJ otherwise valid.
+    with open(p("all_nan.obj"), "w") as f:
+        f.write("v nan nan nan\nv inf 0 0\nv 0 -inf nan\nf 1 2 3\n")
+    with open(p("inf_vertex.obj"), "w") as f:
+        f.write("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 inf\nf 1 2 3\nf 2 4 3\n")
+    # Random bytes named .obj (VTK's reader said "Line longer than 262144" of
+    # a 4096-byte file and quoted its control characters); the same seed
+    # gives the same file, whose first control byte is 0x10 at column 3.
+    data = bytearray(random.Random(31).randbytes(4096))
+    data[0:3] = b"v \x10"
+    with open(p("random.obj"), "wb") as f:
+        f.write(bytes(data))
+    # A loop of symbolic links (reported as "file not found").
+    for a, b in (("loop_a.obj", "loop_b.obj"), ("loop_b.obj", "loop_a.obj")):
+        if os.path.lexists(p(a)):
+            os.remove(p(a))
+        os.symlink(b, p(a))
 
     os.makedirs(p("folder.stl"), exist_ok=True)
     os.makedirs(p("output_folder.png"), exist_ok=True)

@@ -1,7 +1,8 @@
 """Bad input through Python, where the issue met it (issue 11): polydata whose
 triangle names point 7 of 3 (it crashed the interpreter inside
 vtkPolyDataNormals), an empty polydata and a 1-D image (a blank image without a
-word), SetInputMaterial(5, m) with one input (accepted silently). Each is now an
+word), SetInputMaterial(5, m) with one input (accepted silently), and (issue
+31) polydata whose every point is NaN (a warning and a blank image). Each is now an
 error or warning event on vtkRayScopeImageAlgorithm, with an empty output image
 where nothing can be rendered. test_vtk_bad_input.cpp covers the same in C++.
 """
@@ -68,6 +69,12 @@ expect_error("empty polydata", vtk.vtkPolyData(), "has no surface triangles")
 line = vtk.vtkImageData()
 line.SetDimensions(5, 1, 1)
 expect_error("1-D image", line, "(vtkImageData with 5 points, 4 cells) has no surface triangles")
+# Every point NaN (it gave a warning and a blank image): an error, no image.
+nan_triangle = triangle(2)
+for i in range(3):
+    nan_triangle.GetPoints().SetPoint(i, float("nan"), 0.0, float("inf"))
+expect_error("all-NaN polydata", nan_triangle,
+             "all 1 triangles have non-finite (NaN or infinite) vertex coordinates")
 
 # The valid triangle renders; a material for input 5 of 1 is a warning.
 tri = triangle(2)

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <type_traits>
 
@@ -205,6 +206,80 @@ TEST(VtkBadInput, EmptyInputBesideOthersIsAWarning) {
             std::string::npos)
       << t.warnings->last;
   EXPECT_GT(count_object(t.alg->GetOutput(), 0), 0);
+}
+
+// Non-finite points (docs/scene-format.md, "Non-finite coordinates"): data
+// whose every triangle has a NaN or infinite corner is an error with an empty
+// image (it gave a warning and a blank image); data with some is drawn
+// without those triangles, with one warning that counts them, and the camera
+// fitted to its finite part (an infinite point made the bounds infinite).
+TEST(VtkBadInput, NonFinitePoints) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  vtkNew<vtkSphereSource> s;
+  configure_sphere(s, 0.3, 0.3, 0, 0.5, 16);
+  s->Update();
+  {
+    vtkNew<vtkPolyData> all;
+    all->DeepCopy(s->GetOutput());
+    for (vtkIdType i = 0; i < all->GetNumberOfPoints(); ++i)
+      all->GetPoints()->SetPoint(i, nan, nan, nan);
+    Traced t({all});
+    t.expect_error("triangles have non-finite (NaN or infinite) vertex coordinates");
+  }
+  for (bool auto_camera : {false, true}) {
+    SCOPED_TRACE(auto_camera ? "AutoCamera" : "fixed camera");
+    vtkNew<vtkPolyData> some;
+    some->DeepCopy(s->GetOutput());
+    some->GetPoints()->SetPoint(3, nan, 0, 0);
+    some->GetPoints()->SetPoint(40, 0, inf, 0);
+    some->GetPoints()->SetPoint(41, -inf, 0, nan);
+    Traced t({some});
+    t.alg->SetAutoCamera(auto_camera);
+    ASSERT_EQ(update(t.alg), 1) << t.errors->last;
+    EXPECT_EQ(t.errors->count, 0);
+    ASSERT_EQ(t.warnings->count, 1);
+    EXPECT_NE(t.warnings->last.find("triangles with non-finite vertex coordinates skipped"),
+              std::string::npos)
+        << t.warnings->last;
+    // Most of the sphere is still there, framed (AutoCamera) as without the
+    // bad points.
+    Traced clean({s->GetOutput()});
+    clean.alg->SetAutoCamera(auto_camera);
+    ASSERT_EQ(update(clean.alg), 1);
+    const int covered = count_object(clean.alg->GetOutput(), 0);
+    EXPECT_GT(count_object(t.alg->GetOutput(), 0), covered * 8 / 10);
+  }
+}
+
+// Points no cell uses are not converted: a polydata of one triangle and
+// 2,000,000 unused points gives the converter a 3-point mesh, and the image
+// is the one of the triangle alone (the converter spent ~80 bytes and
+// 0.4 us on each unused point).
+TEST(VtkBadInput, UnusedPointsAreNotConverted) {
+  vtkSmartPointer<vtkPolyData> one = triangle_with_id(2);
+  vtkNew<vtkPolyData> padded;
+  vtkNew<vtkPoints> pts;
+  constexpr vtkIdType kUnused = 2000000;
+  pts->SetNumberOfPoints(kUnused + 3);
+  for (vtkIdType i = 0; i < kUnused; ++i) pts->SetPoint(i, 5.0 + double(i), -7.0, 3.0);
+  for (vtkIdType k = 0; k < 3; ++k) pts->SetPoint(kUnused + k, one->GetPoint(k));
+  vtkNew<vtkCellArray> polys;
+  const vtkIdType ids[3] = {kUnused, kUnused + 1, kUnused + 2};
+  polys->InsertNextCell(3, ids);
+  padded->SetPoints(pts);
+  padded->SetPolys(polys);
+  vtkNew<vtkRayScopeMeshConverter> converter;
+  vtkNew<vtkPolyData> converted;
+  ASSERT_TRUE(converter->Convert(padded, converted));
+  EXPECT_EQ(converted->GetNumberOfPoints(), 3);
+  EXPECT_EQ(converted->GetNumberOfPolys(), 1);
+  // The same picture as the triangle alone.
+  Traced alone({one}), with({padded});
+  ASSERT_EQ(update(alone.alg), 1);
+  ASSERT_EQ(update(with.alg), 1);
+  EXPECT_GT(count_object(alone.alg->GetOutput(), 0), 0);
+  EXPECT_EQ(count_object(with.alg->GetOutput(), 0), count_object(alone.alg->GetOutput(), 0));
 }
 
 // SetInputMaterial / SetInputConverter for input 5 with one input connected:

@@ -11,13 +11,18 @@
 #include <string_view>
 #include <vector>
 
+#include "rayscope/printable_text.h"
+
 namespace rayscope_vtk::checks {
 
 namespace fs = std::filesystem;
 
-/// Throws the one-line error "FILE: problem".
+/// Throws the one-line error "FILE: problem". Problems quote the file's
+/// words and lines: printable, within rayscope::kMaxMessageBytes (each quote
+/// is best cut to rayscope::kMaxQuotedBytes where it is made).
 [[noreturn]] inline void fail(const fs::path& path, const std::string& problem) {
-  throw std::runtime_error(path.string() + ": " + problem);
+  throw std::runtime_error(path.string() + ": " +
+                           rayscope::printable_text(problem, rayscope::kMaxMessageBytes));
 }
 
 inline std::uintmax_t size_of(const fs::path& path) {

@@ -95,7 +95,8 @@ class LegacyFile {
   u64 count(const std::string& what, u64 max = std::numeric_limits<long long>::max()) {
     const std::string w = word();
     const std::optional<long long> n = integer(w);
-    if (!n || *n < 0 || u64(*n) > max) error(what + ": '" + w + "' is not a valid count");
+    if (!n || *n < 0 || u64(*n) > max)
+      error(what + ": '" + rayscope::printable_text(w) + "' is not a valid count");
     return u64(*n);
   }
   /// The rest of the current line, as words.
@@ -115,7 +116,8 @@ class LegacyFile {
                                 bool keep = false, bool binary_big_endian = true) {
     bool is_integer = false;
     const int size = type_size(type, is_integer);
-    if (!size) error(what + ": unknown or unsupported value type '" + type + "'");
+    if (!size)
+      error(what + ": unknown or unsupported value type '" + rayscope::printable_text(type) + "'");
     std::vector<long long> kept;
     if (binary_) {
       // The reader reads binary values from the start of the next line.
@@ -156,7 +158,7 @@ class LegacyFile {
       }
       if (!ok)
         error(what + " declares " + std::to_string(n) + " values but value " + std::to_string(k) +
-              " ('" + w + "') is not a number");
+              " ('" + rayscope::printable_text(w) + "') is not a number");
     }
     return kept;
   }
@@ -236,18 +238,20 @@ std::string attributes(LegacyFile& f, u64 n, const char* of) {
       for (u64 a = 0; a < arrays; ++a) {
         const std::string name = f.word();
         if (name == "NULL_ARRAY") continue;
-        const u64 components = f.count("FIELD array '" + name + "' components", 1 << 16);
-        const u64 tuples = f.count("FIELD array '" + name + "' tuples");
+        const u64 components =
+            f.count("FIELD array '" + rayscope::printable_text(name) + "' components", 1 << 16);
+        const u64 tuples = f.count("FIELD array '" + rayscope::printable_text(name) + "' tuples");
         const std::string type = lower(f.word());
         if (components == 0 || tuples != n)
-          f.error("FIELD array '" + name + "' in " + where + " declares " + std::to_string(tuples) +
-                  " tuples, not one per " + of + " (" + std::to_string(n) + ")");
-        f.values("FIELD array '" + name + "'", components * tuples, type);
+          f.error("FIELD array '" + rayscope::printable_text(name) + "' in " + where +
+                  " declares " + std::to_string(tuples) + " tuples, not one per " + of + " (" +
+                  std::to_string(n) + ")");
+        f.values("FIELD array '" + rayscope::printable_text(name) + "'", components * tuples, type);
       }
     } else if (key == "metadata") {
       skip_metadata(f);
     } else {
-      f.error(where + ": unknown section '" + key + "'");
+      f.error(where + ": unknown section '" + rayscope::printable_text(key) + "'");
     }
   }
 }
@@ -309,7 +313,8 @@ void check_legacy_vtk_file(const fs::path& path) {
   const bool poly = type == "polydata", grid = type == "unstructured_grid";
   const bool structured =
       type == "structured_points" || type == "structured_grid" || type == "rectilinear_grid";
-  if (!poly && !grid && !structured) f.error("unsupported DATASET type '" + type + "'");
+  if (!poly && !grid && !structured)
+    f.error("unsupported DATASET type '" + rayscope::printable_text(type) + "'");
 
   Counts c;
   u64 dims[3] = {0, 0, 0};
@@ -375,14 +380,16 @@ void check_legacy_vtk_file(const fs::path& path) {
       for (u64 a = 0; a < arrays; ++a) {
         const std::string name = f.word();
         if (name == "NULL_ARRAY") continue;
-        const u64 components = f.count("FIELD array '" + name + "' components", 1 << 16);
-        const u64 tuples = f.count("FIELD array '" + name + "' tuples");
-        f.values("FIELD array '" + name + "'", components * tuples, lower(f.word()));
+        const u64 components =
+            f.count("FIELD array '" + rayscope::printable_text(name) + "' components", 1 << 16);
+        const u64 tuples = f.count("FIELD array '" + rayscope::printable_text(name) + "' tuples");
+        f.values("FIELD array '" + rayscope::printable_text(name) + "'", components * tuples,
+                 lower(f.word()));
       }
     } else if (key == "metadata") {
       skip_metadata(f);
     } else {
-      f.error("unknown section '" + key + "' in a " + type + " dataset");
+      f.error("unknown section '" + rayscope::printable_text(key) + "' in a " + type + " dataset");
     }
     key = lower(f.word());
   }

@@ -259,12 +259,12 @@ void check_ply_file(const fs::path& path) {
       else if (w[1] == "binary_big_endian")
         format = Format::Big;
       else
-        fail(path, "PLY header: unknown format '" + std::string(w[1]) + "'");
+        fail(path, "PLY header: unknown format '" + rayscope::printable_text(w[1]) + "'");
     } else if (w[0] == "element") {
       std::optional<long long> n = w.size() == 3 ? integer(w[2]) : std::nullopt;
       // VTK's reader keeps counts in an int.
       if (!n || *n < 0 || *n > INT_MAX)
-        fail(path, "PLY header: malformed 'element' line '" + line + "'");
+        fail(path, "PLY header: malformed 'element' line '" + rayscope::printable_text(line) + "'");
       // VTK's reader finds elements and properties by name: the first of
       // two namesakes would be read with the layout of either.
       for (const PlyElement& e : elements)
@@ -283,14 +283,16 @@ void check_ply_file(const fs::path& path) {
         ok = ply_type(w[1], p.size, p.is_float, p.is_signed);
         p.name = std::string(w[2]);
       }
-      if (!ok) fail(path, "PLY header: malformed or unknown property '" + line + "'");
+      if (!ok)
+        fail(path,
+             "PLY header: malformed or unknown property '" + rayscope::printable_text(line) + "'");
       for (const PlyProperty& q : elements.back().properties)
         if (q.name == p.name)
           fail(path, "PLY header declares property '" + p.name + "' of element '" +
                          elements.back().name + "' twice");
       elements.back().properties.push_back(p);
     } else {
-      fail(path, "PLY header: unknown line '" + line + "'");
+      fail(path, "PLY header: unknown line '" + rayscope::printable_text(line) + "'");
     }
   }
   if (format == Format::None) fail(path, "PLY header has no 'format' line");
@@ -334,7 +336,7 @@ void check_ply_file(const fs::path& path) {
           if (p.count_size == 0) {
             if (!is_ply_number(w[at]))
               fail(path, e.name + " " + std::to_string(item) + ": property '" + p.name + "' is '" +
-                             std::string(w[at]) + "', not a number");
+                             rayscope::printable_text(w[at]) + "', not a number");
             ++at;
             continue;
           }
@@ -349,7 +351,7 @@ void check_ply_file(const fs::path& path) {
                 bad_corner(e, item, id ? *id : -1);
             } else if (!is_ply_number(w[at])) {
               fail(path, e.name + " " + std::to_string(item) + ": list '" + p.name + "' holds '" +
-                             std::string(w[at]) + "', not a number");
+                             rayscope::printable_text(w[at]) + "', not a number");
             }
         }
       }
@@ -411,6 +413,20 @@ void check_obj_file(const fs::path& path) {
   static constexpr const char* kKinds[3] = {"vertex", "texture coordinate", "normal"};
   std::string line;
   for (long long number = 1; std::getline(in, line); ++number) {
+    // OBJ is text: a control byte (a binary or random file) would reach VTK's
+    // reader, which reports such a file as a line "longer than 262144" and
+    // quotes its bytes.
+    const auto control = std::find_if(line.begin(), line.end(), [](char ch) {
+      const auto c = static_cast<unsigned char>(ch);
+      return (c < 0x20 && c != '\t' && c != '\r' && c != '\v' && c != '\f') || c == 0x7F;
+    });
+    if (control != line.end()) {
+      char byte[8];
+      std::snprintf(byte, sizeof byte, "0x%02X", unsigned(static_cast<unsigned char>(*control)));
+      fail(path, "line " + std::to_string(number) + ", column " +
+                     std::to_string(control - line.begin() + 1) + ": control byte " + byte +
+                     ": not a text file");
+    }
     const std::vector<std::string_view> w = words(line, Blanks::CSpace);
     if (w.empty()) continue;
     if (w[0] == "v") ++counts[0];
@@ -429,8 +445,8 @@ void check_obj_file(const fs::path& path) {
       const size_t slashes = size_t(std::count(corner.begin(), corner.end(), '/'));
       if (corner.front() == '/' || corner.back() == '/' || slashes > 2 ||
           (slashes == 1 && corner.find("//") != std::string_view::npos))
-        fail(path, "line " + std::to_string(number) + ": malformed corner '" + std::string(corner) +
-                       "' (use v, v/vt, v//vn or v/vt/vn)");
+        fail(path, "line " + std::to_string(number) + ": malformed corner '" +
+                       rayscope::printable_text(corner) + "' (use v, v/vt, v//vn or v/vt/vn)");
       int corner_kinds = 0;
       for (int kind = 0; kind < 3 && !corner.empty(); ++kind) {
         const size_t slash = corner.find('/');
@@ -439,16 +455,16 @@ void check_obj_file(const fs::path& path) {
           corner_kinds |= 1 << kind;
           const std::optional<long long> i = integer(part);
           if (!i || *i == 0 || *i > counts[kind] || *i < -counts[kind])
-            fail(path, "line " + std::to_string(number) + ": '" + std::string(w[c]) + "' names " +
-                           kKinds[kind] + " " + std::string(part) + " of " +
-                           std::to_string(counts[kind]) + " defined before it");
+            fail(path, "line " + std::to_string(number) + ": '" + rayscope::printable_text(w[c]) +
+                           "' names " + kKinds[kind] + " " + rayscope::printable_text(part) +
+                           " of " + std::to_string(counts[kind]) + " defined before it");
         }
         corner = slash == std::string_view::npos ? std::string_view() : corner.substr(slash + 1);
       }
       if (first_kinds < 0) first_kinds = corner_kinds;
       if (corner_kinds != first_kinds)
-        fail(path, "line " + std::to_string(number) + ": corner '" + std::string(w[c]) +
-                       "' differs from " +
+        fail(path, "line " + std::to_string(number) + ": corner '" +
+                       rayscope::printable_text(w[c]) + "' differs from " +
                        (c == 1 ? "the faces before it" : "the corners before it") +
                        " in naming texture coordinates or normals");
     }

@@ -14,10 +14,12 @@
 #include <vtkDataSet.h>
 #include <vtkDataSetMapper.h>
 #include <vtkDataSetSurfaceFilter.h>
+#include <vtkFieldData.h>
 #include <vtkFloatArray.h>
 #include <vtkIdList.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkPointSet.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataNormals.h>
@@ -143,6 +145,53 @@ vtkDataArray* usable_normals(vtkPolyData* pd) {
              : nullptr;
 }
 
+// `tri` (triangles only, from vtkTriangleFilter) without the points no
+// triangle uses, when those are most of them: the normals, the colors and the
+// copy below then cost time and memory in proportion to the triangles, not to
+// the points (a 117-byte legacy file declaring 1e8 points and one cell cost
+// 144 s and 8.3 GB). Below kUnusedPointsFactor points per triangle corner,
+// the unused points cost at most that factor times the triangles' work and
+// the data is returned as it is (so that the usual mesh, every point used,
+// pays nothing). Point data follows its points; cell data is unchanged.
+constexpr vtkIdType kUnusedPointsFactor = 2;
+vtkSmartPointer<vtkPolyData> without_unused_points(vtkPolyData* tri) {
+  vtkCellArray* polys = tri->GetPolys();
+  const vtkIdType corners = polys->GetNumberOfConnectivityIds();
+  if (tri->GetNumberOfPoints() <= kUnusedPointsFactor * corners) return tri;
+  std::vector<vtkIdType> used;
+  used.reserve(size_t(corners));
+  vtkNew<vtkIdList> ids;
+  for (polys->InitTraversal(); polys->GetNextCell(ids);)
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) used.push_back(ids->GetId(k));
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  const vtkIdType n = vtkIdType(used.size());
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataType(tri->GetPoints()->GetDataType());
+  points->SetNumberOfPoints(n);
+  vtkPointData* in_pd = tri->GetPointData();
+  vtkPointData* out_pd = out->GetPointData();
+  out_pd->CopyAllocate(in_pd, n);
+  for (vtkIdType i = 0; i < n; ++i) {
+    points->SetPoint(i, tri->GetPoint(used[size_t(i)]));
+    out_pd->CopyData(in_pd, used[size_t(i)], i);
+  }
+  vtkNew<vtkCellArray> remapped;
+  remapped->AllocateEstimate(polys->GetNumberOfCells(), 3);
+  for (polys->InitTraversal(); polys->GetNextCell(ids);) {
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+      ids->SetId(
+          k, vtkIdType(std::lower_bound(used.begin(), used.end(), ids->GetId(k)) - used.begin()));
+    remapped->InsertNextCell(ids);
+  }
+  out->SetPoints(points);
+  out->SetPolys(remapped);
+  out->GetCellData()->ShallowCopy(tri->GetCellData());
+  out->GetFieldData()->ShallowCopy(tri->GetFieldData());
+  return out;
+}
+
 // The surface the mapper would draw: triangles only, with point normals.
 vtkSmartPointer<vtkPolyData> triangulate(vtkDataSet* input, const SurfaceOptions& o) {
   vtkSmartPointer<vtkPolyData> surface = vtkPolyData::SafeDownCast(input);
@@ -158,7 +207,7 @@ vtkSmartPointer<vtkPolyData> triangulate(vtkDataSet* input, const SurfaceOptions
   tf->PassVertsOff();
   tf->PassLinesOff();
   tf->Update();
-  vtkSmartPointer<vtkPolyData> tri = tf->GetOutput();
+  vtkSmartPointer<vtkPolyData> tri = without_unused_points(tf->GetOutput());
   if (o.compute_normals && !usable_normals(tri) && tri->GetNumberOfPolys() > 0)
     tri = normals_of_finite_triangles(tri, o);
   return tri;
@@ -304,19 +353,30 @@ ColorSource convert_dataset(vtkDataSet* input, const SurfaceOptions& options, vt
   return source_of_colors;
 }
 
-glm::dvec3 local_origin(const std::vector<vtkDataSet*>& data) {
-  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi = -lo;
+bool finite_bounds(const std::vector<vtkDataSet*>& data, double bounds[6]) {
+  bool any = false;
   for (vtkDataSet* d : data) {
     if (!d || d->GetNumberOfPoints() == 0) continue;
     double b[6];
     d->GetBounds(b);
-    lo = glm::min(lo, glm::dvec3(b[0], b[2], b[4]));
-    hi = glm::max(hi, glm::dvec3(b[1], b[3], b[5]));
+    if (!std::all_of(b, b + 6, [](double v) { return std::isfinite(v); })) {
+      auto* ps = vtkPointSet::SafeDownCast(d);
+      if (!ps || !ps->GetPoints()) continue;  // implicit points are finite
+      for (int k = 0; k < 3; ++k) ps->GetPoints()->GetData()->GetFiniteRange(b + 2 * k, k);
+      if (!(b[0] <= b[1] && b[2] <= b[3] && b[4] <= b[5])) continue;  // no finite point
+    }
+    for (int k = 0; k < 6; ++k)
+      bounds[k] = !any ? b[k] : k % 2 == 0 ? std::min(bounds[k], b[k]) : std::max(bounds[k], b[k]);
+    any = true;
   }
-  const glm::dvec3 c = 0.5 * (lo + hi);
-  const bool ok = lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z && std::isfinite(c.x) &&
-                  std::isfinite(c.y) && std::isfinite(c.z);
-  return ok ? rayscope::choose_local_origin(c, glm::length(hi - lo)) : glm::dvec3(0.0);
+  return any;
+}
+
+glm::dvec3 local_origin(const std::vector<vtkDataSet*>& data) {
+  double b[6];
+  if (!finite_bounds(data, b)) return glm::dvec3(0.0);
+  const glm::dvec3 lo(b[0], b[2], b[4]), hi(b[1], b[3], b[5]);
+  return rayscope::choose_local_origin(0.5 * (lo + hi), glm::length(hi - lo));
 }
 
 void mesh_from_converted(vtkPolyData* pd, rayscope::TriangleMesh& m, const glm::dmat4& to_scene) {

@@ -24,6 +24,8 @@
 #include <vtkXMLReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include "rayscope/input_file.h"
+#include "rayscope/printable_text.h"
 #include "rayscope_vtk/mesh_checks.h"
 #include "rayscope_vtk/mesh_conversion.h"
 #include "rayscope_vtk/plain_obj.h"
@@ -152,7 +154,10 @@ class CapturedMessages : public vtkOutputWindow {
     for (char& c : m)
       if (c == '\n' || c == '\r') c = ' ';
     while (!m.empty() && m.back() == ' ') m.pop_back();
-    first = m.empty() ? "the reader reported an error" : m;
+    // VTK's readers quote the file's bytes (a line of a binary file read as
+    // text): escaped, and no more of them than an error line should hold.
+    first = m.empty() ? "the reader reported an error"
+                      : rayscope::printable_text(m, 2 * rayscope::kMaxQuotedBytes);
   }
 };
 
@@ -197,6 +202,12 @@ rayscope::TriangleMesh convert(vtkDataSet* data, const std::filesystem::path& pa
   m.name = path.filename().string();
   if (m.triangles.empty())
     throw std::runtime_error(path.string() + ": contains no surface triangles");
+  // A file is refused whole: the tracer would leave these triangles out (as
+  // the VTK module does, with a warning), and a picture with holes is wrong.
+  if (const size_t bad = m.nonfinite_triangles())
+    throw std::runtime_error(path.string() + ": " + std::to_string(bad) + " of " +
+                             std::to_string(m.triangles.size()) +
+                             " triangles have non-finite (NaN or infinite) vertex coordinates");
   return m;
 }
 
@@ -204,11 +215,8 @@ rayscope::TriangleMesh convert(vtkDataSet* data, const std::filesystem::path& pa
 
 vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path) {
   const std::string f = path.string();
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw std::runtime_error(f + ": file not found");
-  if (std::filesystem::is_directory(path, ec))
-    throw std::runtime_error(f + ": is a directory, not a file");
-  if (!std::filesystem::is_regular_file(path, ec)) throw std::runtime_error(f + ": not a file");
+  if (const std::string problem = rayscope::input_file_problem(path); !problem.empty())
+    throw std::runtime_error(f + ": " + problem);
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return char(std::tolower(c)); });

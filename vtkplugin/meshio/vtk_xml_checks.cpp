@@ -192,7 +192,7 @@ u64 array_values(const XmlFile& f, vtkXMLDataElement* a) {
       fail(f.path, what + " has no valid 'offset' into the appended data");
     source.emplace(f.in, f.appended_start + u64(offset), f.file_size, f.appended_base64);
   } else {
-    fail(f.path, what + " has an unknown format '" + std::string(format) + "'");
+    fail(f.path, what + " has an unknown format '" + rayscope::printable_text(format) + "'");
   }
 
   const u64 hb = u64(f.header_bytes);

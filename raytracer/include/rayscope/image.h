@@ -37,15 +37,22 @@ float linear_to_srgb(float v);
 /// Writes the framebuffer. The format follows the extension: .png (8-bit sRGB,
 /// color only; written by the core through libpng, without the module), .exr (32-bit float, linear
 /// color plus Z, N.x/N.y/N.z and objectId channels, plus cost.rays/cost.nodes/cost.boxes/cost.prims
-/// when the framebuffer has cost AOVs and `samples` when it has sample counts); other formats
-/// OpenImageIO knows get 8-bit sRGB color. The file is written under a temporary name in the same
+/// when the framebuffer has cost AOVs and `samples` when it has sample counts), .jpg or .jpeg
+/// (8-bit sRGB color, through OpenImageIO). The file is written under a temporary name in the same
 /// folder and renamed, so an interrupted run never leaves a half-written file. Throws
 /// std::runtime_error. check_image_path() runs first.
 void write_image(const std::filesystem::path& path, const Framebuffer& fb);
 
-/// The one check of an output image path, before anything is rendered or
-/// written: not an existing directory, its folder exists, and it has a file
-/// extension (which chooses the format). Throws std::runtime_error
+/// The image formats write_image() writes, by extension (lower case), and
+/// the same as text for messages and help.
+inline constexpr const char* kImageExtensions[] = {".png", ".jpg", ".jpeg", ".exr"};
+inline constexpr const char* kImageFormatsText = ".png, .jpg (.jpeg) or .exr";
+
+/// The one check of an output image path, before anything is loaded,
+/// rendered or written: not an existing directory or other non-regular file
+/// (a device such as /dev/full), an extension of kImageExtensions, an
+/// existing folder in which a file can be created (tried: a read-only folder
+/// or file system fails here, whoever runs it). Throws std::runtime_error
 /// "PATH: problem".
 void check_image_path(const std::filesystem::path& path);
 

@@ -228,47 +228,69 @@ inline Vec3 triangle_point(const TriangleHit& h, const Vec3& p0, const Vec3& p1,
   return q0 + q1 + q2;
 }
 
-/// Ray-sphere test. Returns the nearest root in (0, tmax), or false. The
-/// discriminant is computed as r^2 - |f - (f.d/d.d) d|^2 (f = origin - center),
-/// which stays accurate for small or distant spheres, and the roots are taken as
-/// c/q and q/a to avoid subtracting nearly equal numbers.
+/// Ray-sphere test. Returns the nearest root in (0, tmax), or false. Computed
+/// in double from the float inputs: the offset f = origin - center (exact, or
+/// within 2^-53 of |f|), the discriminant as r^2 - |f - (f.d/d.d) d|^2, which
+/// stays accurate for small or distant spheres, and the roots as c/q and q/a,
+/// which avoids subtracting nearly equal numbers. In double the sign of
+/// c = |f|^2 - r^2 is exact for every origin at least one float ulp off the
+/// surface (its error is ~2^-52 |f|^2, the distance's contribution ~2^-23 r^2),
+/// so a ray spawned just outside the sphere (offset_ray_origin) and leaving it
+/// finds both roots behind its origin. In float, that sign is lost to
+/// rounding for spheres small against their distance from the origin
+/// (docs/accuracy.md, "Sphere hits at any distance").
 inline bool intersect_sphere(const Ray& ray, const Vec3& center, float radius, float tmax,
                              float& t_hit) {
-  Vec3 f = ray.origin - center;
-  float a = glm::dot(ray.dir, ray.dir);
-  float b = glm::dot(f, ray.dir);  // half of the textbook b
-  Vec3 l = f - (b / a) * ray.dir;
-  float r2 = radius * radius;
-  float disc = r2 - glm::dot(l, l);  // discriminant / (4a)... times 1/a
-  if (disc < 0.0f) return false;
-  float c = glm::dot(f, f) - r2;
-  float q = -(b + std::copysign(std::sqrt(a * disc), b));
-  float t0, t1;
-  if (q == 0.0f) {
+  const DVec3 f = DVec3(ray.origin) - DVec3(center);
+  const DVec3 d(ray.dir);
+  const double a = glm::dot(d, d);
+  const double b = glm::dot(f, d);  // half of the textbook b
+  const DVec3 l = f - (b / a) * d;
+  const double r = double(radius);
+  const double disc = r * r - glm::dot(l, l);  // (discriminant / 4) / a
+  if (disc < 0.0) return false;
+  const double c = glm::dot(f, f) - r * r;
+  const double q = -(b + std::copysign(std::sqrt(a * disc), b));
+  double t0, t1;
+  if (q == 0.0) {
     t0 = t1 = -b / a;
   } else {
     t0 = c / q;
     t1 = q / a;
   }
   if (t0 > t1) std::swap(t0, t1);
-  if (t0 > 0.0f && t0 < tmax) {
-    t_hit = t0;
-    return true;
-  }
-  if (t1 > 0.0f && t1 < tmax) {
-    t_hit = t1;
-    return true;
+  // The root as the float the caller compares and stores: a root in (0, tmax)
+  // in double that rounds to 0 or tmax is outside the range.
+  for (const double t : {t0, t1}) {
+    const float tf = float(t);
+    if (tf > 0.0f && tf < tmax) {
+      t_hit = tf;
+      return true;
+    }
   }
   return false;
 }
 
-/// Hit point on a sphere, re-projected onto the surface, with its error bound.
-inline Vec3 sphere_point(const Ray& ray, float t, const Vec3& center, float radius, Vec3& p_error) {
-  Vec3 v = (ray.origin + t * ray.dir) - center;
-  float len = glm::length(v);
-  if (len > 0.0f) v *= radius / len;
-  p_error = gamma(6) * (glm::abs(center) + glm::abs(v));
-  return center + v;
+/// A sphere hit's point, error bound and unit normal, all from one direction:
+/// the offset v = o + t d - center in double, normalized to n, gives the
+/// normal and the point center + radius n (re-projected onto the surface), so
+/// that the normal is the direction from the center to the point at any ray
+/// length and any distance from the origin (a point o + t d in float lies
+/// ~2^-24 t |d| off the sphere, degrees off the normal's direction after 1e6
+/// radii of travel). p_error bounds |p - (center + radius n)| per axis:
+/// the rounding of p to float (2^-24 |p_i| <= 2^-24 (|c_i| + r)) plus the
+/// double arithmetic before it (~2^-50 (|c_i| + r)) and this bound's own
+/// rounding, all within gamma(2) (|c_i| + r).
+inline Vec3 sphere_point(const Ray& ray, float t, const Vec3& center, float radius, Vec3& p_error,
+                         Vec3& n) {
+  const DVec3 v = DVec3(ray.origin) + double(t) * DVec3(ray.dir) - DVec3(center);
+  const double len = glm::length(v);
+  // A zero offset (t at the center of a sphere too small for float to place a
+  // point on it): the side the ray came from.
+  const DVec3 nd = len > 0.0 && std::isfinite(len) ? v / len : -glm::normalize(DVec3(ray.dir));
+  n = Vec3(nd);
+  p_error = gamma(2) * (glm::abs(center) + Vec3(radius));
+  return Vec3(DVec3(center) + double(radius) * nd);
 }
 
 /// Ray-plane test (lecture: lambda = (P0 - Pr).n / (tr.n), tr.n != 0). Returns a

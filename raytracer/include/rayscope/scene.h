@@ -41,6 +41,17 @@ struct TriangleMesh {
   std::vector<Vec3> normals;  ///< Empty or one per position.
   std::vector<Color> colors;  ///< Empty or one per position (replaces the material color).
   uint32_t material = 0;
+
+  /// Whether every corner of triangle t has finite coordinates: the others
+  /// cannot be placed in space and are never traced (Scene::commit).
+  bool finite(const glm::uvec3& t) const {
+    return all_finite(positions[t.x]) && all_finite(positions[t.y]) && all_finite(positions[t.z]);
+  }
+  /// How many triangles have a corner with a NaN or infinite coordinate.
+  size_t nonfinite_triangles() const {
+    return size_t(std::count_if(triangles.begin(), triangles.end(),
+                                [&](const glm::uvec3& t) { return !finite(t); }));
+  }
 };
 
 struct Sphere {

@@ -96,21 +96,6 @@ std::vector<rayscope::Light> core_lights(vtkRayScopeImageAlgorithm* alg,
 
 }  // namespace
 
-bool datasets_bounds(const std::vector<vtkDataSet*>& datasets, double bounds[6]) {
-  bool any = false;
-  for (vtkDataSet* ds : datasets) {
-    if (!ds || ds->GetNumberOfPoints() == 0) continue;
-    double db[6];
-    ds->GetBounds(db);
-    for (int k = 0; k < 3; ++k) {
-      bounds[2 * k] = any ? std::min(bounds[2 * k], db[2 * k]) : db[2 * k];
-      bounds[2 * k + 1] = any ? std::max(bounds[2 * k + 1], db[2 * k + 1]) : db[2 * k + 1];
-    }
-    any = true;
-  }
-  return any;
-}
-
 FittedCamera fit_camera(const double bounds[6], const double position[3],
                         const double focal_point[3], const double view_up[3], double view_angle) {
   FittedCamera c{};
@@ -382,7 +367,7 @@ int SceneBuilder::PrepareCamera(vtkRayScopeImageAlgorithm* alg,
   std::copy_n(alg->GetViewUp(), 3, c.view_up);
   c.parallel_scale = alg->GetParallelScale();
   double b[6];
-  if (alg->GetAutoCamera() && datasets_bounds(inputs, b))
+  if (alg->GetAutoCamera() && finite_bounds(inputs, b))
     c = fit_camera(b, c.position, c.focal_point, c.view_up, alg->GetViewAngle());
   s.camera.eye = local(s, c.position);
   s.camera.look_at = local(s, c.focal_point);

@@ -25,10 +25,6 @@ struct SceneLight {
   bool operator==(const SceneLight& o) const;
 };
 
-/// The union of the bounds of the datasets that have points (null entries are
-/// skipped); false if none has any.
-bool datasets_bounds(const std::vector<vtkDataSet*>& datasets, double bounds[6]);
-
 /// A camera that sees `bounds` whole, as vtkRenderer::ResetCamera() places
 /// it: the bounds' sphere fills the vertical view angle; the view direction
 /// (position toward focal point, -z if they coincide) is kept, and so is the

@@ -26,6 +26,7 @@
 #include "rayscope/render_settings.h"
 #include "rayscope/scene.h"
 #include "rayscope/stats.h"
+#include "rayscope_vtk/mesh_conversion.h"
 #include "vtkRayScopeImageAlgorithmInternals.h"
 
 vtkStandardNewMacro(vtkRayScopeImageAlgorithm);
@@ -111,8 +112,8 @@ int vtkRayScopeImageAlgorithm::ResetCamera() {
     inputs.push_back(vtkDataSet::SafeDownCast(this->GetInputDataObject(0, i)));
   }
   double b[6];
-  if (!rayscope_vtk::datasets_bounds(inputs, b)) {
-    vtkErrorMacro(<< "ResetCamera: the inputs have no points");
+  if (!rayscope_vtk::finite_bounds(inputs, b)) {
+    vtkErrorMacro(<< "ResetCamera: the inputs have no finite points");
     return 0;
   }
   const rayscope_vtk::FittedCamera c =

@@ -46,11 +46,18 @@ enum class ColorSource { None = 0, Point = 1, Cell = 2, Field = 3 };
 ColorSource convert_dataset(vtkDataSet* input, const SurfaceOptions& options, vtkMapper* coloring,
                             vtkPolyData* output);
 
+/// The union of the bounds of `data` (null entries and datasets without points
+/// ignored), finite: a dataset with a NaN or infinite point, whose
+/// vtkDataSet::GetBounds() are then not finite, counts with the finite range
+/// of each coordinate of its points (vtkDataArray::GetFiniteRange), so that
+/// the triangles the tracer keeps are framed. False when no point is finite.
+bool finite_bounds(const std::vector<vtkDataSet*>& data, double bounds[6]);
+
 /// The local origin (rayscope::Scene::origin) the rayscope command and the
 /// VTK module trace `data` around (null entries and datasets without points
 /// ignored): rayscope::choose_local_origin() of the center of their bounds,
-/// in double precision, and of their diagonal. The world's origin when there
-/// are no finite bounds.
+/// in double precision, and of their diagonal (of their finite_bounds()). The
+/// world's origin when there are no finite bounds.
 glm::dvec3 local_origin(const std::vector<vtkDataSet*>& data);
 
 /// A core mesh from polydata made by convert_dataset(): positions,
