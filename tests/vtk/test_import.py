@@ -4,7 +4,8 @@ import vtk  # noqa: F401
 import rayscope
 
 for name in ("vtkRayScopeImageAlgorithm", "vtkRayScopeRayTreeSource", "vtkRayScopeBVHSource",
-             "vtkRayScopeRangeQuery", "vtkRayScopeMeshConverter", "vtkRayScopeMaterial", "vtkRayScopePass"):
+             "vtkRayScopeRangeQuery", "vtkRayScopeMeshConverter", "vtkRayScopeMeshReader",
+             "vtkRayScopeMaterial", "vtkRayScopePass"):
     cls = getattr(rayscope, name)
     obj = cls()
     assert obj.GetClassName() == name, obj.GetClassName()
@@ -13,6 +14,7 @@ for name in ("vtkRayScopeImageAlgorithm", "vtkRayScopeRayTreeSource", "vtkRaySco
 alg = rayscope.vtkRayScopeImageAlgorithm()
 assert alg.IsA("vtkImageAlgorithm")
 assert rayscope.vtkRayScopeRayTreeSource().IsA("vtkPolyDataAlgorithm")
+assert rayscope.vtkRayScopeMeshReader().IsA("vtkDataSetAlgorithm")
 assert alg.GetConverter().GetMapper().IsA("vtkMapper")
 assert rayscope.vtkRayScopePass().IsA("vtkRenderPass")
 assert rayscope.vtkRayScopePass().GetImageAlgorithm().IsA("vtkRayScopeImageAlgorithm")

@@ -188,6 +188,14 @@ vtkSmartPointer<vtkDataSet> read_with(vtkAlgorithm* reader, const std::string& f
   return vtkDataSet::SafeDownCast(reader->GetOutputDataObject(0));
 }
 
+// The extension of `path` in lower case, with the dot ("" without one).
+std::string lower_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
 rayscope::TriangleMesh convert(vtkDataSet* data, const std::filesystem::path& path,
                                const SurfaceOptions& surface, vtkMapper* coloring,
                                const glm::dmat4& to_scene = glm::dmat4(1.0)) {
@@ -213,13 +221,17 @@ rayscope::TriangleMesh convert(vtkDataSet* data, const std::filesystem::path& pa
 
 }  // namespace
 
+bool has_dataset_file_extension(const std::filesystem::path& path) {
+  const std::string ext = lower_extension(path);
+  return std::find(kDatasetFileExtensions.begin(), kDatasetFileExtensions.end(), ext) !=
+         kDatasetFileExtensions.end();
+}
+
 vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path) {
   const std::string f = path.string();
   if (const std::string problem = rayscope::input_file_problem(path); !problem.empty())
     throw std::runtime_error(f + ": " + problem);
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = lower_extension(path);
   vtkSmartPointer<vtkDataSet> data;
   if (ext == ".stl") {
     check_stl_file(path);
@@ -263,6 +275,10 @@ vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path)
                              "' (use .vtp, .vtu, .vtk, .stl, .ply or .obj)");
   }
   if (!data) throw std::runtime_error(f + ": could not read a dataset");
+  // VTK's readers copy the files' point ids unchecked, and VTK's filters
+  // index the points with them (a legacy file naming point 7 of 3).
+  if (std::string e = check_cell_point_ids(data); !e.empty())
+    throw std::runtime_error(f + ": " + e);
   return data;
 }
 

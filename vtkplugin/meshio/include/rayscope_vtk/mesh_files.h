@@ -4,7 +4,9 @@
 // the MeshLoader of scene files (rayscope/scene_io.h).
 #pragma once
 
+#include <array>
 #include <filesystem>
+#include <string_view>
 
 #include <vtkSmartPointer.h>
 
@@ -15,9 +17,19 @@ class vtkDataSet;
 
 namespace rayscope_vtk {
 
-/// Reads .vtp, .vtu, .vtk (legacy), .stl, .ply or .obj with VTK's readers.
-/// Throws std::runtime_error "FILE: problem" for a missing, unreadable or
-/// unsupported file.
+/// The file extensions read_dataset_file() reads (lower case, with the dot).
+inline constexpr std::array<std::string_view, 6> kDatasetFileExtensions = {".vtp", ".vtu", ".vtk",
+                                                                           ".stl", ".ply", ".obj"};
+
+/// Whether `path` has one of kDatasetFileExtensions, in any letter case.
+bool has_dataset_file_extension(const std::filesystem::path& path);
+
+/// Reads .vtp, .vtu, .vtk (legacy), .stl, .ply or .obj with VTK's readers,
+/// after RayScope's checks of the file (mesh_checks.h), and checks the cells
+/// of what VTK read (check_cell_point_ids()), so the dataset returned names
+/// only points it has. Throws std::runtime_error "FILE: problem" for a
+/// missing, unreadable, damaged or unsupported file. vtkRayScopeMeshReader is
+/// this function as a VTK reader.
 vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path);
 
 /**
