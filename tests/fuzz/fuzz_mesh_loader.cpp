@@ -14,6 +14,14 @@
 // what VTK cannot read safely), a sanitizer report in RayScope's code, another
 // exception type, a mesh breaking the contract, or a hang (libFuzzer -timeout).
 //
+// With the VTK module (RAYSCOPE_FUZZ_MESH_READER), the same file also goes
+// through vtkRayScopeMeshReader, the module's reader that Python and ParaView
+// users read files with. Its contract (vtkRayScopeMeshReader.h): either the
+// update fails with exactly one error on the reader naming the file and an
+// empty output, or it succeeds without an error and outputs a dataset with
+// points whose cells name only those points. A file load_mesh accepts must be
+// read. Anything else, a crash or a hang included, is a finding.
+//
 // Built twice like fuzz_scene_parser.cpp: as a libFuzzer binary
 // (RAYSCOPE_FUZZ=ON) and, with replay_main.cpp, as a program that replays the
 // committed corpus and regressions in every build (tests/fuzz/CMakeLists.txt).
@@ -34,6 +42,16 @@
 
 #include "rayscope/scene.h"
 #include "rayscope_vtk/mesh_files.h"
+
+#ifdef RAYSCOPE_FUZZ_MESH_READER
+#include <vtkCommand.h>
+#include <vtkDataSet.h>
+#include <vtkExecutive.h>
+#include <vtkNew.h>
+
+#include "rayscope_vtk/mesh_checks.h"
+#include "vtkRayScopeMeshReader.h"
+#endif
 
 namespace {
 
@@ -66,6 +84,48 @@ const fs::path& work_dir() {
   return dir;
 }
 
+#ifdef RAYSCOPE_FUZZ_MESH_READER
+// Counts the ErrorEvents of the object it observes and keeps the last text.
+class ErrorCount : public vtkCommand {
+ public:
+  static ErrorCount* New() { return new ErrorCount; }
+  void Execute(vtkObject*, unsigned long, void* data) override {
+    ++count;
+    last = data ? static_cast<const char*>(data) : "";
+  }
+  int count = 0;
+  std::string last;
+};
+
+// `file` through vtkRayScopeMeshReader, held to its contract (above);
+// `loaded`: load_mesh accepted the file.
+void check_reader(const fs::path& file, bool loaded) {
+  vtkNew<vtkRayScopeMeshReader> reader;
+  vtkNew<ErrorCount> errors, executive_errors;
+  reader->AddObserver(vtkCommand::ErrorEvent, errors);
+  reader->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, executive_errors);
+  reader->SetFileName(file.c_str());
+  const int ok = reader->GetExecutive()->Update();
+  vtkDataSet* out = reader->GetOutput();
+  if (!out) finding("reader", "no output dataset");
+  if (!ok) {
+    if (errors->count != 1)
+      finding("reader failed",
+              std::to_string(errors->count) + " errors, the last: " + errors->last);
+    if (errors->last.find(file.string()) == std::string::npos)
+      finding("reader error without the file name", errors->last);
+    if (out->GetNumberOfPoints() != 0 || out->GetNumberOfCells() != 0)
+      finding("reader error with a non-empty output", errors->last);
+    if (loaded) finding("reader refused a file load_mesh accepted", errors->last);
+    return;
+  }
+  if (errors->count != 0) finding("reader succeeded with an error", errors->last);
+  if (out->GetNumberOfPoints() == 0) finding("reader output", "a dataset without points");
+  if (std::string e = rayscope_vtk::check_cell_point_ids(out); !e.empty())
+    finding("reader output", e);
+}
+#endif
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -79,16 +139,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   rayscope::MeshOptions options;
   options.file = file;
   rayscope::TriangleMesh mesh;
+  bool loaded = false;
   try {
     mesh = rayscope_vtk::load_mesh(options);
+    loaded = true;
   } catch (const std::runtime_error& e) {
     // A refusal must name the file (the one error line the user sees).
     if (std::string(e.what()).find(file.string()) == std::string::npos)
       finding("error without the file name", e.what());
-    return 0;
   } catch (const std::exception& e) {
     finding("unexpected exception type", e.what());
   }
+#ifdef RAYSCOPE_FUZZ_MESH_READER
+  check_reader(file, loaded);
+#endif
+  if (!loaded) return 0;
   const size_t n = mesh.positions.size();
   if (mesh.triangles.empty()) finding("accepted mesh", "no triangles");
   for (const glm::uvec3& t : mesh.triangles)
