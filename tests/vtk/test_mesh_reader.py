@@ -83,25 +83,32 @@ def expect_refused(path, problem):
     check(seconds < QUICK_SECONDS, f"{name}: refused in {seconds:.2f} s")
     check(len(errors.messages) == 1, f"{name}: one error: {errors.messages}")
     text = errors.messages[0] if errors.messages else ""
-    check(path + ": " in text and problem in text, f"{name}: error names the file and '{problem}': {text}")
+    check(path + ": " in text and problem in text,
+          f"{name}: error names the file and '{problem}': {text}")
     check(out is not None and out.GetNumberOfPoints() == 0 and out.GetNumberOfCells() == 0,
           f"{name}: empty output")
     print(f"{name}: refused in {seconds:.3f} s: {text.strip().splitlines()[-1] if text else ''}")
 
 
+def ids(id_list):
+    return [id_list.GetId(k) for k in range(id_list.GetNumberOfIds())]
+
+
 def same_dataset(a, b):
+    """None when a and b have the same type, points, cells and arrays, else what differs."""
     if a.GetClassName() != b.GetClassName():
         return f"types {a.GetClassName()} != {b.GetClassName()}"
-    if (a.GetNumberOfPoints(), a.GetNumberOfCells()) != (b.GetNumberOfPoints(), b.GetNumberOfCells()):
+    if (a.GetNumberOfPoints(), a.GetNumberOfCells()) != \
+            (b.GetNumberOfPoints(), b.GetNumberOfCells()):
         return "sizes differ"
-    if a.GetNumberOfPoints() and (vtk_to_numpy(a.GetPoints().GetData()) != vtk_to_numpy(b.GetPoints().GetData())).any():
+    if a.GetNumberOfPoints() and \
+            (vtk_to_numpy(a.GetPoints().GetData()) != vtk_to_numpy(b.GetPoints().GetData())).any():
         return "points differ"
     ia, ib = vtk.vtkIdList(), vtk.vtkIdList()
     for c in range(a.GetNumberOfCells()):
         a.GetCellPoints(c, ia)
         b.GetCellPoints(c, ib)
-        if a.GetCellType(c) != b.GetCellType(c) or \
-                [ia.GetId(k) for k in range(ia.GetNumberOfIds())] != [ib.GetId(k) for k in range(ib.GetNumberOfIds())]:
+        if a.GetCellType(c) != b.GetCellType(c) or ids(ia) != ids(ib):
             return f"cell {c} differs"
     for fa, fb in ((a.GetPointData(), b.GetPointData()), (a.GetCellData(), b.GetCellData())):
         if fa.GetNumberOfArrays() != fb.GetNumberOfArrays():
@@ -116,7 +123,8 @@ def same_dataset(a, b):
 def expect_same_as_plain(path, plain):
     reader, errors = new_reader()
     reader.SetFileName(path)
-    check(reader.GetExecutive().Update() == 1 and not errors.messages, f"{path}: read: {errors.messages}")
+    check(reader.GetExecutive().Update() == 1 and not errors.messages,
+          f"{path}: read: {errors.messages}")
     plain.SetFileName(path)
     plain.Update()
     diff = same_dataset(reader.GetOutput(), plain.GetOutput())
@@ -141,7 +149,8 @@ with tempfile.TemporaryDirectory(prefix="rayscope_mesh_reader_") as tmp:
     with open(huge_ply, "w") as f:
         f.write("ply\nformat ascii 1.0\nelement vertex 100000000\nproperty float x\n"
                 "property float y\nproperty float z\nelement face 1\n"
-                "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+                "property list uchar int vertex_indices\nend_header\n"
+                "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
     expect_refused(huge_ply, "the header declares 100000000 vertex elements")
 
     stl_bytes = open(stl, "rb").read()
@@ -186,7 +195,8 @@ with tempfile.TemporaryDirectory(prefix="rayscope_mesh_reader_") as tmp:
     reader = rayscope.vtkRayScopeMeshReader()
     check(reader.CanReadFile(stl) == 1 and reader.CanReadFile(truncated_ply) == 1,
           "CanReadFile: good and damaged files of a known format")
-    check(reader.CanReadFile(os.path.join(tmp, "missing.stl")) == 0 and reader.CanReadFile(tmp) == 0,
+    check(reader.CanReadFile(os.path.join(tmp, "missing.stl")) == 0 and
+          reader.CanReadFile(tmp) == 0,
           "CanReadFile: missing file, folder")
 
 if failures:
