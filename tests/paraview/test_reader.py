@@ -6,10 +6,10 @@ The plugin comes from PV_PLUGIN_PATH, as in test_filters.py. Then:
   .PLY), beside ParaView's own readers: the ReaderFactory hint and CanReadFile
   through the client-server layer;
 - good files read as ParaView's own readers read them (same type, points, cells);
-- damaged files made here (a truncated ASCII PLY: ParaView's PLY reader aborts
-  the process; a PLY declaring 1e8 vertices with a tiny body: it never
-  finishes; a truncated binary STL: its STL reader shows part of it without a
-  word) and a missing file give an error in ParaView's output naming the file
+- damaged files made here (a truncated ASCII PLY and a PLY declaring 1e8
+  vertices with a tiny body: ParaView's PLY reader aborts the process, an
+  assertion in vtkPLY::ascii_get_element; a truncated binary STL: its STL
+  reader shows part of it without a word) and a missing file give an error in ParaView's output naming the file
   and the problem, an empty output, within seconds, and the session goes on.
   The crashing and hanging files are never given to ParaView's own readers.
 """

@@ -1,7 +1,7 @@
 """rayscope.vtkRayScopeMeshReader from Python, where issue 31 met VTK's readers.
 
 Damaged files made here from good ones written by VTK's writers: a truncated
-ASCII PLY (vtkPLYReader aborted the interpreter: "double free detected"), a
+ASCII PLY (vtkPLYReader aborted the interpreter: a bad free() in glibc), a
 PLY declaring 1e8 vertices with a tiny body (vtkPLYReader never finished), a
 truncated binary STL and one whose header declares more triangles than it
 has (vtkSTLReader read part of the triangles without a word), a missing

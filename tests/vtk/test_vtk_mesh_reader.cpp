@@ -212,7 +212,7 @@ class VtkMeshReader : public ::testing::Test {
 
 // --- damaged files --------------------------------------------------------
 
-// vtkPLYReader: "double free detected" (abort) on an ASCII body that ends early.
+// vtkPLYReader aborts (a bad free() in glibc) on an ASCII body that ends early.
 TEST_F(VtkMeshReader, TruncatedAsciiPly) {
   const std::vector<char> good = bytes_of(ascii_ply());
   const fs::path cut = dir_ / "truncated.ply";
