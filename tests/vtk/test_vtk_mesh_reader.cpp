@@ -20,7 +20,9 @@
 
 #include <vtkCellData.h>
 #include <vtkDataSetReader.h>
+#include <vtkDataSetSurfaceFilter.h>
 #include <vtkDataSetWriter.h>
+#include <vtkDoubleArray.h>
 #include <vtkElevationFilter.h>
 #include <vtkIdList.h>
 #include <vtkImageData.h>
@@ -31,11 +33,14 @@
 #include <vtkPLYReader.h>
 #include <vtkPLYWriter.h>
 #include <vtkPointData.h>
+#include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkRectilinearGrid.h>
 #include <vtkSTLReader.h>
 #include <vtkSTLWriter.h>
 #include <vtkSphereSource.h>
 #include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkStructuredGrid.h>
 #include <vtkTriangleFilter.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPolyDataReader.h>
@@ -399,6 +404,43 @@ TEST_F(VtkMeshReader, LegacyImageData) {
   ASSERT_NE(out, nullptr);
   EXPECT_EQ(out->GetSpacing()[1], 0.25);
   EXPECT_EQ(out->GetOrigin()[2], 3.0);
+}
+
+// Legacy structured and rectilinear grids: their own types, their extents
+// announced, and VTK's filters take them (the surface of a 3 x 2 x 2 grid).
+TEST_F(VtkMeshReader, LegacyGrids) {
+  vtkNew<vtkRectilinearGrid> rgrid;
+  rgrid->SetDimensions(3, 2, 2);
+  vtkNew<vtkDoubleArray> x, yz;
+  for (double v : {0.0, 0.5, 1.0}) x->InsertNextValue(v);
+  for (double v : {0.0, 2.0}) yz->InsertNextValue(v);
+  rgrid->SetXCoordinates(x);
+  rgrid->SetYCoordinates(yz);
+  rgrid->SetZCoordinates(yz);
+  vtkNew<vtkStructuredGrid> sgrid;
+  sgrid->SetDimensions(3, 2, 2);
+  vtkNew<vtkPoints> points;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 3; ++i) points->InsertNextPoint(i, j, k * 0.5);
+  sgrid->SetPoints(points);
+  for (vtkDataSet* grid : {static_cast<vtkDataSet*>(rgrid), static_cast<vtkDataSet*>(sgrid)}) {
+    const fs::path p = dir_ / (std::string(grid->GetClassName()) + ".vtk");
+    vtkNew<vtkDataSetWriter> w;
+    w->SetFileName(p.c_str());
+    w->SetInputData(grid);
+    ASSERT_EQ(w->Write(), 1);
+    vtkNew<vtkDataSetReader> plain;
+    plain->SetFileName(p.c_str());
+    expect_same_as(p, plain);
+    int whole[6];
+    reader_->GetOutputInformation(0)->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+    EXPECT_EQ(std::vector<int>(whole, whole + 6), (std::vector<int>{0, 2, 0, 1, 0, 1}));
+    vtkNew<vtkDataSetSurfaceFilter> surface;
+    surface->SetInputConnection(reader_->GetOutputPort());
+    surface->Update();
+    EXPECT_EQ(surface->GetOutput()->GetNumberOfCells(), 10) << p;  // 2 + 2 + 4 + 2 quads
+  }
 }
 
 // The output's type follows the file: an unstructured grid, then polydata.
