@@ -19,8 +19,10 @@
 // users read files with. Its contract (vtkRayScopeMeshReader.h): either the
 // update fails with exactly one error on the reader naming the file and an
 // empty output, or it succeeds without an error and outputs a dataset with
-// points whose cells name only those points. A file load_mesh accepts must be
-// read. Anything else, a crash or a hang included, is a finding.
+// points whose cells name only those points and whose point and cell arrays
+// hold a tuple per point and cell (vtkDataSet::CheckAttributes(), VTK's own
+// check). A file load_mesh accepts must be read. Anything else, a crash or a
+// hang included, is a finding.
 //
 // Built twice like fuzz_scene_parser.cpp: as a libFuzzer binary
 // (RAYSCOPE_FUZZ=ON) and, with replay_main.cpp, as a program that replays the
@@ -123,6 +125,9 @@ void check_reader(const fs::path& file, bool loaded) {
   if (out->GetNumberOfPoints() == 0) finding("reader output", "a dataset without points");
   if (std::string e = rayscope_vtk::check_cell_point_ids(out); !e.empty())
     finding("reader output", e);
+  // (CheckAttributes' own message goes to the output window, silenced here.)
+  if (out->CheckAttributes() != 0)
+    finding("reader output", "an array with fewer tuples than points or cells");
 }
 #endif
 

@@ -170,8 +170,12 @@ class VtkMeshReader : public ::testing::Test {
   // `p` reads without an error to what `plain` (VTK's reader) gives.
   void expect_same_as(const fs::path& p, vtkAlgorithm* plain) {
     const int before = errors_->count;
+    vtkNew<ErrorCatcher> warnings;
+    const unsigned long tag = reader_->AddObserver(vtkCommand::WarningEvent, warnings);
     ASSERT_EQ(read(p), 1) << errors_->last;
+    reader_->RemoveObserver(tag);
     EXPECT_EQ(errors_->count, before);
+    EXPECT_EQ(warnings->count, 0) << warnings->last;
     plain->Update();
     expect_same_dataset(reader_->GetOutput(),
                         vtkDataSet::SafeDownCast(plain->GetOutputDataObject(0)));
@@ -297,6 +301,36 @@ TEST_F(VtkMeshReader, LegacyPointIdOutOfRange) {
              "# vtk DataFile Version 3.0\nbad id\nASCII\nDATASET POLYDATA\n"
              "POINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 7\n");
   expect_refused(p, "cell 0 refers to point 7 but the data has 3 points");
+}
+
+// A valid OBJ whose one 'vn' line no face names: vtkOBJReader attaches it as
+// a "Normals" array of 1 tuple for 4 points, which VTK's filters read past
+// its end. The reader reads the file and removes that array with a warning.
+TEST_F(VtkMeshReader, ObjNormalsNoFaceNames) {
+  const fs::path p = dir_ / "unused_normal.obj";
+  write_text(p, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\nf 1 2 3\nf 2 4 3\n");
+  vtkNew<vtkOBJReader> plain;
+  plain->SetFileName(p.c_str());
+  plain->Update();
+  vtkPolyData* vtk_data = plain->GetOutput();
+  ASSERT_NE(vtk_data->GetPointData()->GetNormals(), nullptr);
+  EXPECT_EQ(vtk_data->GetPointData()->GetNormals()->GetNumberOfTuples(), 1);
+  EXPECT_EQ(vtk_data->GetNumberOfPoints(), 4);
+
+  vtkNew<ErrorCatcher> warnings;
+  reader_->AddObserver(vtkCommand::WarningEvent, warnings);
+  ASSERT_EQ(read(p), 1) << errors_->last;
+  EXPECT_EQ(errors_->count, 0);
+  EXPECT_EQ(warnings->count, 1);
+  EXPECT_NE(warnings->last.find(p.string() +
+                                ": removed point array 'Normals' has 1 tuple but the data has 4 "
+                                "points"),
+            std::string::npos)
+      << warnings->last;
+  vtkDataSet* out = reader_->GetOutput();
+  EXPECT_EQ(out->GetNumberOfPoints(), 4);
+  EXPECT_EQ(out->GetNumberOfCells(), 2);
+  EXPECT_EQ(out->GetPointData()->GetNumberOfArrays(), 0);
 }
 
 // A good file after a damaged one reads; a damaged one after a good one

@@ -21,12 +21,14 @@
 
 #include <vtkCell.h>
 #include <vtkCellArray.h>
+#include <vtkCellData.h>
 #include <vtkCellType.h>
 #include <vtkDataArray.h>
 #include <vtkGenericCell.h>
 #include <vtkIdList.h>
 #include <vtkIdTypeArray.h>
 #include <vtkNew.h>
+#include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
@@ -567,6 +569,30 @@ std::string check_cell_point_ids(vtkDataSet* data) {
     }
   }
   return {};
+}
+
+std::vector<std::string> remove_short_attribute_arrays(vtkDataSet* data) {
+  std::vector<std::string> removed;
+  if (!data) return removed;
+  // Point arrays first, then cell arrays, each in array order. Removed from
+  // the last, so that the indices of those still to look at do not move.
+  auto remove_short = [&](vtkFieldData* fd, vtkIdType n, const char* kind) {
+    std::vector<std::string> of_kind;
+    for (int i = fd->GetNumberOfArrays() - 1; i >= 0; --i) {
+      vtkAbstractArray* a = fd->GetAbstractArray(i);
+      if (!a || a->GetNumberOfTuples() >= n) continue;
+      const vtkIdType tuples = a->GetNumberOfTuples();
+      of_kind.push_back(std::string(kind) + " array '" + (a->GetName() ? a->GetName() : "") +
+                        "' has " + std::to_string(tuples) + (tuples == 1 ? " tuple" : " tuples") +
+                        " but the data has " + std::to_string(n) + " " + kind +
+                        (n == 1 ? "" : "s"));
+      fd->RemoveArray(i);
+    }
+    removed.insert(removed.end(), of_kind.rbegin(), of_kind.rend());
+  };
+  remove_short(data->GetPointData(), data->GetNumberOfPoints(), "point");
+  remove_short(data->GetCellData(), data->GetNumberOfCells(), "cell");
+  return removed;
 }
 
 }  // namespace rayscope_vtk

@@ -17,6 +17,7 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStructuredGrid.h"
 
+#include "rayscope_vtk/mesh_checks.h"
 #include "rayscope_vtk/mesh_files.h"
 
 vtkStandardNewMacro(vtkRayScopeMeshReader);
@@ -48,6 +49,7 @@ int vtkRayScopeMeshReader::FillOutputPortInformation(int, vtkInformation* info) 
 void vtkRayScopeMeshReader::ReadFile() {
   this->Data = nullptr;
   this->Error.clear();
+  this->Warning.clear();
   if (!this->FileName || !*this->FileName) {
     this->Error = "no file to read: FileName is not set";
     return;
@@ -67,7 +69,12 @@ void vtkRayScopeMeshReader::ReadFile() {
     this->Data = nullptr;
     this->Error = std::string(this->FileName) +
                   ": holds no points (an empty file, or one cut off before its first point)";
+    return;
   }
+  // Arrays VTK's filters would read past the end of go, with a warning.
+  for (const std::string& removed : rayscope_vtk::remove_short_attribute_arrays(this->Data))
+    this->Warning +=
+        (this->Warning.empty() ? std::string(this->FileName) + ": removed " : "; ") + removed;
 }
 
 // The output's type is the type of the dataset VTK's reader gives, which for
@@ -130,6 +137,7 @@ int vtkRayScopeMeshReader::RequestData(vtkInformation*, vtkInformationVector**,
     vtkErrorMacro(<< this->Error);
     return 0;
   }
+  if (!this->Warning.empty()) vtkWarningMacro(<< this->Warning);
   // The output shares the kept dataset's points, cells and arrays (no copy).
   output->ShallowCopy(this->Data);
   return 1;
@@ -142,4 +150,5 @@ void vtkRayScopeMeshReader::PrintSelf(ostream& os, vtkIndent indent) {
      << (this->Data ? this->Data->GetClassName() : (this->Error.empty() ? "(not read)" : "(error)"))
      << "\n";
   if (!this->Error.empty()) os << indent << "Error: " << this->Error << "\n";
+  if (!this->Warning.empty()) os << indent << "Warning: " << this->Warning << "\n";
 }

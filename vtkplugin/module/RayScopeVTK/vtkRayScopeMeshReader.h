@@ -19,10 +19,15 @@
  * point, which VTK's readers read without a word) is refused too: a dataset
  * from this reader always has points.
  *
- * Output: the dataset VTK's reader gave, unchanged, as its own type
- * (vtkPolyData for .vtp, .stl, .ply and .obj; vtkUnstructuredGrid for .vtu;
- * for legacy .vtk whatever the file holds: polydata, an unstructured grid,
- * image data (vtkStructuredPoints), a structured or a rectilinear grid).
+ * Output: the dataset VTK's reader gave, as its own type (vtkPolyData for
+ * .vtp, .stl, .ply and .obj; vtkUnstructuredGrid for .vtu; for legacy .vtk
+ * whatever the file holds: polydata, an unstructured grid, image data
+ * (vtkStructuredPoints), a structured or a rectilinear grid), unchanged but
+ * for one thing: a point or cell array with fewer tuples than the dataset
+ * has points or cells, which VTK's filters would read past its end, is
+ * removed with a warning (vtkWarningMacro) naming it. vtkOBJReader makes one
+ * from a valid OBJ file whose 'vn' lines no face names (4 points, a
+ * "Normals" array of 1 tuple).
  * The type is only known once the file is read, so the file is read in
  * RequestDataObject (the pipeline's first pass, run again whenever FileName
  * or Modified() changes the reader) and kept; RequestInformation announces a
@@ -87,10 +92,11 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeMeshReader : public vtkDataSetAlgorithm {
   // Reads FileName into Data, or explains in Error why not.
   void ReadFile();
 
-  // The dataset of the last read (null after an error) and the error ("" after
-  // a success).
+  // The dataset of the last read (null after an error), the error ("" after
+  // a success) and what was removed from the dataset ("" when nothing was).
   vtkSmartPointer<vtkDataSet> Data;
   std::string Error;
+  std::string Warning;
 
   vtkRayScopeMeshReader(const vtkRayScopeMeshReader&) = delete;
   void operator=(const vtkRayScopeMeshReader&) = delete;

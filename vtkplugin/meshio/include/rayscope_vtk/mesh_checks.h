@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 class vtkDataSet;
 
@@ -92,5 +93,15 @@ void check_vtk_xml_file(const std::filesystem::path& path, const char* dataset_t
 /// vtkTriangleFilter) index the points with these ids unchecked. Datasets
 /// whose cells are implicit (images, structured grids) always pass.
 std::string check_cell_point_ids(vtkDataSet* data);
+
+/// Removes from `data` every point array with fewer tuples than it has points
+/// and every cell array with fewer tuples than it has cells, and describes
+/// each, e.g. "point array 'Normals' has 1 tuple but the data has 4 points".
+/// VTK's filters and mappers index these arrays by point and cell id
+/// unchecked, reading past their end; vtkOBJReader makes one from a valid
+/// file, attaching the 'vn' lines as point normals when no face names them.
+/// (The conversion ignores such normals instead: usable_normals() in
+/// mesh_conversion.cpp.)
+std::vector<std::string> remove_short_attribute_arrays(vtkDataSet* data);
 
 }  // namespace rayscope_vtk
