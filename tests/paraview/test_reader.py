@@ -29,6 +29,9 @@ from vtkmodules.vtkIOGeometry import vtkSTLWriter
 from vtkmodules.vtkIOPLY import vtkPLYWriter
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from damaged_mesh_files import damaged_copies  # noqa: E402
+
 assert "RayScopeMeshReader" in globals(), \
     "RayScopeMeshReader is missing: the plugin was not loaded from PV_PLUGIN_PATH"
 QUICK_SECONDS = 5.0
@@ -128,24 +131,10 @@ with tempfile.TemporaryDirectory(prefix="rayscope_pv_reader_") as tmp:
     expect_same(ply, PLYReader, "FileNames")
     expect_same(vtu, XMLUnstructuredGridReader, "FileName")
 
-    body = open(ply, "rb").read()
-    truncated_ply = os.path.join(tmp, "truncated.ply")
-    with open(truncated_ply, "wb") as f:
-        f.write(body[: len(body) * 2 // 3])
+    damaged = damaged_copies(tmp, ply, stl)
+    truncated_ply, truncated_stl = damaged["truncated_ply"], damaged["truncated_stl"]
     expect_refused(truncated_ply, "truncated PLY")
-
-    huge_ply = os.path.join(tmp, "huge.ply")
-    with open(huge_ply, "w") as f:
-        f.write("ply\nformat ascii 1.0\nelement vertex 100000000\nproperty float x\n"
-                "property float y\nproperty float z\nelement face 1\n"
-                "property list uchar int vertex_indices\nend_header\n"
-                "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
-    expect_refused(huge_ply, "the header declares 100000000 vertex elements")
-
-    stl_bytes = open(stl, "rb").read()
-    truncated_stl = os.path.join(tmp, "truncated.stl")
-    with open(truncated_stl, "wb") as f:
-        f.write(stl_bytes[:-75])
+    expect_refused(damaged["huge_ply"], "the header declares 100000000 vertex elements")
     expect_refused(truncated_stl, "truncated binary STL")
 
     expect_refused(os.path.join(tmp, "missing.stl"), "file not found")

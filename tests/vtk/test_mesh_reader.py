@@ -13,7 +13,6 @@ Good files (.stl, .ply, .vtp, .vtu, legacy .vtk, .obj) read back as VTK's
 plain reader reads them: same type, points, cells and arrays.
 """
 import os
-import struct
 import sys
 import tempfile
 import time
@@ -21,6 +20,9 @@ import time
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 import rayscope
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from damaged_mesh_files import damaged_copies  # noqa: E402
 
 QUICK_SECONDS = 5.0
 failures = []
@@ -139,28 +141,12 @@ with tempfile.TemporaryDirectory(prefix="rayscope_mesh_reader_") as tmp:
     ply = write(vtk.vtkPLYWriter(), os.path.join(tmp, "sphere.ply"), pd, SetFileTypeToASCII=())
 
     # ---- damaged files ----------------------------------------------------
-    body = open(ply, "rb").read()
-    truncated_ply = os.path.join(tmp, "truncated.ply")
-    with open(truncated_ply, "wb") as f:
-        f.write(body[: len(body) * 2 // 3])
+    damaged = damaged_copies(tmp, ply, stl)
+    truncated_ply = damaged["truncated_ply"]
     expect_refused(truncated_ply, "truncated PLY")
-
-    huge_ply = os.path.join(tmp, "huge.ply")
-    with open(huge_ply, "w") as f:
-        f.write("ply\nformat ascii 1.0\nelement vertex 100000000\nproperty float x\n"
-                "property float y\nproperty float z\nelement face 1\n"
-                "property list uchar int vertex_indices\nend_header\n"
-                "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
-    expect_refused(huge_ply, "the header declares 100000000 vertex elements")
-
-    stl_bytes = open(stl, "rb").read()
-    truncated_stl = os.path.join(tmp, "truncated.stl")
-    with open(truncated_stl, "wb") as f:
-        f.write(stl_bytes[:-75])
-    over_stl = os.path.join(tmp, "overdeclared.stl")
-    declared = struct.unpack("<I", stl_bytes[80:84])[0] + 5
-    with open(over_stl, "wb") as f:
-        f.write(stl_bytes[:80] + struct.pack("<I", declared) + stl_bytes[84:])
+    expect_refused(damaged["huge_ply"], "the header declares 100000000 vertex elements")
+    truncated_stl, over_stl = damaged["truncated_stl"], damaged["overdeclared_stl"]
+    declared = damaged["declared"]
     # What issue 31 is about: VTK's own STL reader says nothing and reads part.
     # (The truncated file lacks 1.5 triangles; the over-declared one has all
     # of its body, 5 fewer than its header says.)
