@@ -90,24 +90,18 @@ const Functions& image_module(const fs::path& file) {
   }
 }
 
-// A new name for a temporary file in the folder of `path`, with its extension
-// (hidden, with the process id and a counter).
-fs::path temporary_path(const fs::path& path) {
+// Runs `write_to(temporary)` (returning "" or the problem) on a temporary
+// file in the folder of `path`, with its extension, then renames it over
+// `path`: an interrupted or failed write never leaves a half-written file.
+void write_atomically(const fs::path& path,
+                      const std::function<std::string(const std::string&)>& write_to) {
   static std::atomic<unsigned> counter{0};
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   std::string name(".");  // built by appending: GCC 12 warns (-Wrestrict) on "." + string
   name += path.stem().string();
   name += ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
   name += path.extension().string();
-  return dir / name;
-}
-
-// Runs `write_to(temporary)` (returning "" or the problem) on a temporary
-// file in the folder of `path`, with its extension, then renames it over
-// `path`: an interrupted or failed write never leaves a half-written file.
-void write_atomically(const fs::path& path,
-                      const std::function<std::string(const std::string&)>& write_to) {
-  const fs::path tmp = temporary_path(path);
+  const fs::path tmp = dir / name;
   std::error_code ec;
   if (const std::string problem = write_to(tmp.string()); !problem.empty()) {
     fs::remove(tmp, ec);
@@ -185,16 +179,13 @@ void check_image_path(const std::filesystem::path& path) {
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   if (!fs::is_directory(dir, ec))
     throw std::runtime_error(p + ": folder '" + dir.string() + "' does not exist");
-  // Whether a file can be made in the folder, by making one under the name the
-  // atomic write uses and removing it: permissions (root ignores them), a
-  // read-only file system and a full quota all show here, before the render.
-  const fs::path probe = temporary_path(path);
-  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0)
+  // Whether this process may create files in the folder, asked of the
+  // kernel with the effective ids (as the write will run): a read-only file
+  // system fails for everyone (EROFS), permissions for all but root. No file
+  // is made: a probe file would show up beside concurrent writers' outputs.
+  if (::faccessat(AT_FDCWD, dir.c_str(), W_OK | X_OK, AT_EACCESS) != 0)
     throw std::runtime_error(p + ": cannot create a file in '" + dir.string() +
                              "': " + std::strerror(errno));
-  ::close(fd);
-  fs::remove(probe, ec);
 }
 
 void write_image(const std::filesystem::path& path, const Framebuffer& fb) {

@@ -51,8 +51,9 @@ inline constexpr const char* kImageFormatsText = ".png, .jpg (.jpeg) or .exr";
 /// The one check of an output image path, before anything is loaded,
 /// rendered or written: not an existing directory or other non-regular file
 /// (a device such as /dev/full), an extension of kImageExtensions, an
-/// existing folder in which a file can be created (tried: a read-only folder
-/// or file system fails here, whoever runs it). Throws std::runtime_error
+/// existing folder in which this process may create a file (a read-only file
+/// system fails here whoever runs it; permissions for all but root). Throws
+/// std::runtime_error
 /// "PATH: problem".
 void check_image_path(const std::filesystem::path& path);
 
