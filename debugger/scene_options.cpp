@@ -10,6 +10,7 @@
 #include <vtkSmartPointer.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "rayscope/input_file.h"
 #include "rayscope/shapes.h"
 #include "rayscope_vtk/mesh_conversion.h"
 #include "rayscope_vtk/mesh_files.h"
@@ -38,10 +39,7 @@ std::string in(long long lo, long long hi) {
 
 // A scene argument that is not a .json file is a mesh file.
 bool is_mesh_path(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  return ext != ".json";
+  return lower_extension(path) != ".json";
 }
 
 // The view of a mesh file: its mesh in the default material, seen from the

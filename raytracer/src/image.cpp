@@ -21,6 +21,7 @@
 
 #include "image_file_module.h"
 #include "png_file.h"
+#include "rayscope/input_file.h"
 
 namespace rayscope {
 
@@ -114,12 +115,6 @@ void write_atomically(const fs::path& path,
   }
 }
 
-std::string lower_ext(const fs::path& p) {
-  std::string e = p.extension().string();
-  for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return e;
-}
-
 // Writes `px`, 8-bit RGB or floats, atomically: a PNG by the core itself
 // (png_file.h), any other format through the module.
 void write_pixels(const fs::path& path, const image_files::Pixels& px) {
@@ -156,7 +151,7 @@ void preload_image_files() {
 }
 
 bool image_needs_module(const std::filesystem::path& path) {
-  return lower_ext(path) != ".png";
+  return lower_extension(path) != ".png";
 }
 
 void check_image_path(const std::filesystem::path& path) {
@@ -169,7 +164,7 @@ void check_image_path(const std::filesystem::path& path) {
   // replaced by the atomic rename, or fail only once the render is done.
   if (fs::exists(st) && !fs::is_regular_file(st))
     throw std::runtime_error(p + ": exists and is not a regular file");
-  const std::string ext = lower_ext(path);
+  const std::string ext = lower_extension(path);
   if (std::find(std::begin(kImageExtensions), std::end(kImageExtensions), ext) ==
       std::end(kImageExtensions))
     throw std::runtime_error(p + ": " +
@@ -197,7 +192,7 @@ void write_image(const std::filesystem::path& path, const Framebuffer& fb) {
   px.height = fb.height;
   std::vector<float> values;
   std::vector<unsigned char> codes;
-  if (lower_ext(path) == ".exr") {
+  if (lower_extension(path) == ".exr") {
     const bool cost = fb.cost.size() == n;
     const bool samples = fb.samples.size() == n;
     px.channel_names = {"R", "G", "B", "Z", "N.x", "N.y", "N.z", "objectId"};

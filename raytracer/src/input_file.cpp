@@ -1,5 +1,7 @@
 #include "rayscope/input_file.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <system_error>
 
@@ -24,6 +26,13 @@ std::string input_file_problem(const std::filesystem::path& path) {
   if (fs::is_directory(st)) return "is a directory, not a file";
   if (!fs::is_regular_file(st)) return "is not a regular file";
   return {};
+}
+
+std::string lower_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
 }
 
 }  // namespace rayscope

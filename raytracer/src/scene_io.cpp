@@ -41,8 +41,8 @@ struct Reader {
   void check_object_start(std::string_view text) const {
     const size_t i = json_start(text);
     if (i != std::string::npos && text[i] != '{')
-      fail("", "expected an object ('{'), the file starts with '" +
-                   std::string(text.substr(i, 1)) + "'");
+      fail("", "expected an object ('{'), the file starts with '" + std::string(text.substr(i, 1)) +
+                   "'");
   }
 
   [[noreturn]] void fail(const std::string& where, const std::string& what) const {

@@ -188,14 +188,6 @@ vtkSmartPointer<vtkDataSet> read_with(vtkAlgorithm* reader, const std::string& f
   return vtkDataSet::SafeDownCast(reader->GetOutputDataObject(0));
 }
 
-// The extension of `path` in lower case, with the dot ("" without one).
-std::string lower_extension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  return ext;
-}
-
 rayscope::TriangleMesh convert(vtkDataSet* data, const std::filesystem::path& path,
                                const SurfaceOptions& surface, vtkMapper* coloring,
                                const glm::dmat4& to_scene = glm::dmat4(1.0)) {
@@ -222,7 +214,7 @@ rayscope::TriangleMesh convert(vtkDataSet* data, const std::filesystem::path& pa
 }  // namespace
 
 bool has_dataset_file_extension(const std::filesystem::path& path) {
-  const std::string ext = lower_extension(path);
+  const std::string ext = rayscope::lower_extension(path);
   return std::find(kDatasetFileExtensions.begin(), kDatasetFileExtensions.end(), ext) !=
          kDatasetFileExtensions.end();
 }
@@ -231,7 +223,7 @@ vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path)
   const std::string f = path.string();
   if (const std::string problem = rayscope::input_file_problem(path); !problem.empty())
     throw std::runtime_error(f + ": " + problem);
-  const std::string ext = lower_extension(path);
+  const std::string ext = rayscope::lower_extension(path);
   vtkSmartPointer<vtkDataSet> data;
   if (ext == ".stl") {
     check_stl_file(path);
@@ -271,8 +263,13 @@ vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path)
     r->SetFileName(f.c_str());
     data = read_with(r, f);
   } else {
-    throw std::runtime_error(f + ": unsupported mesh format '" + ext +
-                             "' (use .vtp, .vtu, .vtk, .stl, .ply or .obj)");
+    std::string known;
+    for (std::string_view e : kDatasetFileExtensions)
+      known += (known.empty()                        ? ""
+                : e == kDatasetFileExtensions.back() ? " or "
+                                                     : ", ") +
+               std::string(e);
+    throw std::runtime_error(f + ": unsupported mesh format '" + ext + "' (use " + known + ")");
   }
   if (!data) throw std::runtime_error(f + ": could not read a dataset");
   // VTK's readers copy the files' point ids unchecked, and VTK's filters

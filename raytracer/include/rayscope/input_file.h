@@ -15,4 +15,8 @@ namespace rayscope {
 /// denied").
 std::string input_file_problem(const std::filesystem::path& path);
 
+/// The extension of `path` in lower case, with its dot ("" without one): what
+/// the front ends choose a file's format by.
+std::string lower_extension(const std::filesystem::path& path);
+
 }  // namespace rayscope

@@ -17,6 +17,7 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStructuredGrid.h"
 
+#include "rayscope/input_file.h"
 #include "rayscope_vtk/mesh_checks.h"
 #include "rayscope_vtk/mesh_files.h"
 
@@ -34,9 +35,8 @@ vtkRayScopeMeshReader::~vtkRayScopeMeshReader() {
 int vtkRayScopeMeshReader::CanReadFile(const char* name) {
   if (!name || !*name) return 0;
   const std::filesystem::path path(name);
-  std::error_code ec;
   return rayscope_vtk::has_dataset_file_extension(path) &&
-                 std::filesystem::is_regular_file(path, ec)
+                 rayscope::input_file_problem(path).empty()
              ? 1
              : 0;
 }
