@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "rayscope/bsp.h"
+#include "rayscope/accel/bsp.h"
 #include "rayscope/scene_io.h"
 #include "rayscope_vtk/mesh_files.h"
 

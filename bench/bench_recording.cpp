@@ -163,8 +163,9 @@ int main(int argc, char** argv) {
     AccelConfig always_bvh;
     always_bvh.allow_brute_force = false;
     tiny_bvh.commit(always_bvh);
-    std::string what = std::to_string(n) + (tiny.summary().bvh_used ? " spheres: BVH (default)"
-                                                                    : " spheres: no BVH vs BVH");
+    std::string what =
+        std::to_string(n) +
+        (tiny.summary().walks_structure ? " spheres: BVH (default)" : " spheres: no BVH vs BVH");
     compare(what.c_str(), tiny, tiny_bvh);
   }
   return 0;

@@ -12,7 +12,7 @@
 //                    the image arrays, one render of the window); median of 9.
 //
 // Needs an X display: xvfb-run -a build/bench/bench_viewer [data/scenes/bunny.json]
-// Built with the benchmarks; not run by the tests (docs/benchmarks.md has
+// Built with the benchmarks; not run by the tests (docs/performance.md has
 // figures from this machine).
 #include <algorithm>
 #include <chrono>

@@ -7,7 +7,7 @@ median wall time and the ratio of the first median to the second.
 
 OUT in ARGS becomes a per-program output file (/tmp/compare_commands_<i>.png),
 so the images can be compared afterwards. Round 0 is a warm-up and not
-counted. Example (docs/benchmarks.md, the image module):
+counted. Example (docs/performance.md, the image module):
 
   bench/compare_commands.py 10 old/build/debugger/rayscope,build/debugger/rayscope \\
       render -q data/scenes/bunny_glass.json --size 800x600 --spp 1 --threads 2 -o OUT

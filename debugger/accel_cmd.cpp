@@ -88,7 +88,7 @@ int run_compare(const CompareOptions& o) {
   std::vector<std::string> skipped;
   if (kinds.empty())
     for (AccelKind k : kAccelKinds) {
-      if (k == AccelKind::None && brute_tests > kCompareBruteForceBudget) {
+      if (accel_kind_name(k).brute_force && brute_tests > kCompareBruteForceBudget) {
         char why[160];
         std::snprintf(why, sizeof why,
                       "none (%zu primitives: %.2g tests for the primary rays alone; name it in "

@@ -169,7 +169,7 @@ StructureFigures structure_figures(const Aggregate& a) {
   char buf[512];
   if (!a.walks_structure()) {
     f.json["walked"] = false;
-    if (a.kind() == AccelKind::None) {
+    if (std::holds_alternative<BruteForce>(a.structure())) {
       f.text = "none: every primitive tested";
     } else {
       std::snprintf(buf, sizeof buf,
@@ -181,9 +181,7 @@ StructureFigures structure_figures(const Aggregate& a) {
     return f;
   }
   f.json["walked"] = true;
-  if (a.kind() == AccelKind::KdTree || a.kind() == AccelKind::Grid ||
-      a.kind() == AccelKind::Octree || a.kind() == AccelKind::Bsp ||
-      a.kind() == AccelKind::Spheres) {
+  if (!std::holds_alternative<BvhWalk>(a.structure())) {
     // The structure's own figures, as `rayscope accel compare` gives them.
     const AccelFigures q = a.figures();
     std::snprintf(buf, sizeof buf,
@@ -198,7 +196,7 @@ StructureFigures structure_figures(const Aggregate& a) {
     f.json["references_per_primitive"] = q.refs_per_prim;
     f.json["build_ms"] = q.build_seconds * 1e3;
   } else {
-    // Bvh and BinaryBvh: range queries walk the binary tree either way.
+    // The BVH walks: range queries walk the binary tree either way.
     const BvhQuality q = a.bvh().quality();
     std::snprintf(buf, sizeof buf,
                   "binary BVH (range queries walk its nodes whatever the ray walk): %u nodes, "

@@ -50,72 +50,14 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
   const Aggregate& accel = scene.accel();
   // The build time is the walked structure's: the BVH's (with its walk) when
   // renders walk it, else on that structure's line below.
-  const bool bvh_walked = accel.kind() == AccelKind::Bvh || accel.kind() == AccelKind::BinaryBvh;
   char built[48] = "";
-  if (bvh_walked)
+  if (std::holds_alternative<BvhWalk>(accel.structure()))
     std::snprintf(built, sizeof built, ", built in %.3f s", accel.figures().build_seconds);
   std::printf("BVH:       %u nodes, %u leaves, depth %u, %.1f prims/leaf, SAH cost %.2f%s\n",
               q.nodes, q.leaves, q.depth, q.mean_leaf_prims, q.sah_cost, built);
-  // "every-cell" or "smallest-cell (loose factor F)".
-  const std::string storage =
-      std::string(to_string(accel.storage())) +
-      (accel.storage() == PrimStorage::SmallestCell
-           ? " (loose factor " + shortest_text(accel.config().loose_factor) + ")"
-           : std::string());
-  if (accel.walks_structure() && accel.kind() == AccelKind::KdTree) {
-    const KdTreeQuality k = accel.kdtree().quality();
-    std::printf(
-        "Walk:      kdtree, %s split, %s: %u nodes, %u leaves (%u empty), depth %u (limit %d), "
-        "%.2f references per primitive (%zu held by inner nodes), %.1f per non-empty leaf, SAH "
-        "cost %.2f, %.2f MiB, built in %.3f s\n",
-        to_string(accel.config().kdtree.rule), storage.c_str(), k.nodes, k.leaves, k.empty_leaves,
-        k.depth, accel.kdtree().max_depth(), k.refs_per_prim, k.inner_refs, k.mean_leaf_refs,
-        k.sah_cost, double(k.memory_bytes) / (1024.0 * 1024.0), k.build_seconds);
-  } else if (accel.walks_structure() && accel.kind() == AccelKind::Octree) {
-    const OctreeQuality k = accel.octree().quality();
-    std::printf(
-        "Walk:      octree, %s: %u nodes, %u leaves (%u empty octants not stored), depth %u "
-        "(limit %d), %.2f references per primitive (%zu held by inner nodes), %.1f per leaf (max "
-        "%u), %.2f MiB, built in %.3f s\n",
-        storage.c_str(), k.nodes, k.leaves, k.empty_leaves, k.depth, accel.octree().max_depth(),
-        k.refs_per_prim, k.inner_refs, k.mean_leaf_refs, k.max_leaf_refs,
-        double(k.memory_bytes) / (1024.0 * 1024.0), k.build_seconds);
-  } else if (accel.walks_structure() && accel.kind() == AccelKind::Bsp) {
-    const BspQuality k = accel.bsp().quality();
-    std::printf(
-        "Walk:      bsp, %s: %u nodes, %u leaves, depth %u (limit %d), %.2f references per "
-        "primitive (%zu held by inner nodes), %zu fragments (%zu triangles cut), %.1f per leaf "
-        "(max %u), %.2f MiB, built in %.3f s\n",
-        to_string(accel.storage()), k.nodes, k.leaves, k.depth, accel.bsp().config.max_depth,
-        k.refs_per_prim, k.inner_refs, k.fragments, k.split_prims, k.mean_leaf_refs,
-        k.max_leaf_refs, double(k.memory_bytes) / (1024.0 * 1024.0), k.build_seconds);
-  } else if (accel.walks_structure() && accel.kind() == AccelKind::Spheres) {
-    const SphereTreeQuality k = accel.sphere_tree().quality();
-    std::printf(
-        "Walk:      spheres: %u nodes, %u leaves, depth %u, %.1f prims/leaf (max %u), SAH cost "
-        "%.2f (sphere areas), node volumes %.1fx the root's, %.2f MiB, built in %.3f s\n",
-        k.nodes, k.leaves, k.depth, k.mean_leaf_prims, k.max_leaf_prims, k.sah_cost, k.volume_ratio,
-        double(k.memory_bytes) / (1024.0 * 1024.0), k.build_seconds);
-  } else if (accel.walks_structure() && accel.kind() == AccelKind::Grid) {
-    const GridQuality g = accel.grid().quality();
-    std::printf(
-        "Walk:      grid, %s: %u x %u x %u cells (%zu, %zu empty), %.2f references per "
-        "primitive (%zu in the grid's own list), %.1f per non-empty cell (at most %u), %.2f MiB, "
-        "built in %.3f s\n",
-        storage.c_str(), g.resolution.x, g.resolution.y, g.resolution.z, g.cells, g.empty_cells,
-        g.refs_per_prim, g.big_refs, g.mean_cell_refs, g.max_cell_refs,
-        double(g.memory_bytes) / (1024.0 * 1024.0), g.build_seconds);
-  } else if (accel.walks_structure()) {
-    std::printf("Walk:      %s: %zu %d-wide nodes, depth %u%s\n", to_string(accel.kind()),
-                accel.walk().nodes.size(), accel.walk().arity(), accel.walk().depth(),
-                accel.kind() == AccelKind::Bvh ? " (what renders walk)" : "");
-  } else {
-    std::printf("Walk:      none: every primitive is tested against every ray\n");
-  }
+  std::printf("Walk:      %s\n", accel.stats_line().c_str());
   std::printf(
-      "Memory:    %.2f MiB for the BVH, its walk or the kD-tree, grid, octree, BSP tree or sphere "
-      "tree, and the "
-      "primitive records\n",
+      "Memory:    %.2f MiB for the binary BVH, the structure walked and the primitive records\n",
       double(accel.memory_bytes()) / (1024.0 * 1024.0));
   std::printf("%-22s %14s\n", "Rays", "count");
   for (int k = 0; k < kRayKindCount; ++k)
@@ -184,7 +126,7 @@ void print_explain(const Scene& scene, const RenderSettings& rs, const RayCounte
         u(c.rays[int(RayKind::Refraction)]), refr.empty() ? "none" : join(refr).c_str(),
         u(c.depth_cutoffs), rs.max_depth, u(c.weight_cutoffs), double(rs.min_contribution));
   const size_t bounded = s.triangles + s.spheres;
-  if (s.bvh_used)
+  if (s.walks_structure)
     std::printf("- BVH: used for %zu bounded primitives (%u nodes)\n", bounded,
                 scene.bvh().quality().nodes);
   else

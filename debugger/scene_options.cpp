@@ -283,7 +283,7 @@ std::string SceneOptions::replay_args(const std::string& scene, const RenderSett
     a += " --max-spp " + std::to_string(s.max_samples) + " --target-error " +
          shortest_text(s.target_error);
   if (s.texture_filter) a += " --texture-filter";
-  if (accel.kind != AccelKind::Bvh) a += std::string(" --accel ") + to_string(accel.kind);
+  if (accel.kind != AccelConfig{}.kind) a += std::string(" --accel ") + to_string(accel.kind);
   if (accel.storage != PrimStorage::EveryCell)
     a += std::string(" --storage ") + to_string(accel.storage);
   if (accel.loose_factor != kDefaultLooseFactor)

@@ -39,7 +39,7 @@ struct SceneOptions {
   /// The structure rays walk (rayscope::parse_accel_kind names it): "bvh",
   /// "bvh2" (the binary teaching walk), "kdtree", "grid", "octree", "bsp",
   /// "spheres" or "none".
-  std::string accel = to_string(AccelKind::Bvh);
+  std::string accel = to_string(AccelConfig{}.kind);
   /// How a spatial subdivision stores a straddling primitive
   /// (rayscope::parse_prim_storage names it): "every-cell" (default),
   /// "smallest-cell" or "split"; checked against the structure by

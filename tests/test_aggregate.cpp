@@ -36,7 +36,7 @@ class AggregateKind : public ::testing::TestWithParam<AccelKind> {
     cfg.kind = GetParam();
     scene.commit(cfg);
     ASSERT_EQ(scene.accel().kind(), GetParam());
-    ASSERT_EQ(scene.summary().bvh_used, GetParam() != AccelKind::None);
+    ASSERT_EQ(scene.summary().walks_structure, GetParam() != AccelKind::None);
   }
 };
 INSTANTIATE_TEST_SUITE_P(Accel, AggregateKind,
@@ -137,7 +137,7 @@ TEST_P(AggregateKind, ObserverSeesTheChosenWalk) {
   scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 4));
   commit(scene);
   const Bvh& bvh = scene.bvh();
-  const WideBvh& walk = scene.accel().walk();
+  const WideBvh& walk = scene.accel().structure_as<BvhWalk>().walk();
   std::vector<int> is_top(bvh.nodes.size(), 0), parent(bvh.nodes.size(), -1);
   is_top[0] = 1;
   for (size_t n = 0; n < walk.nodes.size(); ++n)
@@ -200,16 +200,18 @@ TEST(Aggregate, MemoryCountsEveryStructure) {
   scene.planes.push_back(Plane{"floor", Vec3(0, -5, 0), Vec3(0, 1, 0), 0});
   scene.commit();
   const Aggregate& a = scene.accel();
-  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.walk().memory_bytes() +
-                                  a.triangle_block_bytes() +
-                                  a.records().size() * sizeof(PrimRecord) + sizeof(PlaneRecord));
-  EXPECT_GT(a.walk().memory_bytes(), 0u);
+  EXPECT_EQ(a.memory_bytes(),
+            a.bvh().quality().memory_bytes + a.structure_as<BvhWalk>().walk().memory_bytes() +
+                (a.structure_as<BvhWalk>().triangle_blocks().size() * sizeof(TriangleBlock)) +
+                a.records().size() * sizeof(PrimRecord) + sizeof(PlaneRecord));
+  EXPECT_GT(a.structure_as<BvhWalk>().walk().memory_bytes(), 0u);
   // One block per started group of TriangleBlock::kLanes records of each leaf.
   size_t blocks = 0;
   for (const BvhNode& n : a.bvh().nodes)
     if (n.is_leaf()) blocks += (n.count + TriangleBlock::kLanes - 1) / TriangleBlock::kLanes;
-  EXPECT_EQ(a.triangle_blocks().size(), blocks);
-  EXPECT_EQ(a.triangle_block_bytes(), blocks * sizeof(TriangleBlock));
+  EXPECT_EQ(a.structure_as<BvhWalk>().triangle_blocks().size(), blocks);
+  EXPECT_EQ((a.structure_as<BvhWalk>().triangle_blocks().size() * sizeof(TriangleBlock)),
+            blocks * sizeof(TriangleBlock));
 }
 
 TEST(Aggregate, WalkLeavesNameTheirFirstBlockAndItsRecords) {
@@ -224,8 +226,8 @@ TEST(Aggregate, WalkLeavesNameTheirFirstBlockAndItsRecords) {
   cfg.bvh.intersection_cost = 0.05f;
   scene.commit(cfg);
   const Aggregate& a = scene.accel();
-  const WideBvh& walk = a.walk();
-  const auto& blocks = a.triangle_blocks();
+  const WideBvh& walk = a.structure_as<BvhWalk>().walk();
+  const auto& blocks = a.structure_as<BvhWalk>().triangle_blocks();
   constexpr int W = WideBvhNode::kWidth, L = TriangleBlock::kLanes;
   int leaves = 0;
   for (size_t n = 0; n < walk.nodes.size(); ++n)

@@ -15,7 +15,7 @@
 #include <stdexcept>
 
 #include "accel_test_util.h"
-#include "rayscope/accel_view.h"
+#include "rayscope/accel/accel_view.h"
 #include "rayscope/render.h"
 
 namespace {
@@ -304,7 +304,7 @@ void commit_bsp(Scene& scene, PrimStorage storage) {
   ASSERT_EQ(scene.accel().kind(), AccelKind::Bsp);
   ASSERT_EQ(scene.accel().storage(), storage);
   ASSERT_TRUE(scene.accel().walks_structure());
-  ASSERT_FALSE(scene.accel().bsp().empty());
+  ASSERT_FALSE(scene.accel().structure_as<BspTree>().empty());
 }
 
 TEST_P(BspStorage, RandomRaysMatchBruteForce) {
@@ -312,7 +312,7 @@ TEST_P(BspStorage, RandomRaysMatchBruteForce) {
   Scene scene = rstest::soup_scene(rng);
   commit_bsp(scene, GetParam());
   std::vector<Ray> rays;
-  rstest::add_random_rays(rng, scene, scene.accel().bsp().bounds(), 20000, rays);
+  rstest::add_random_rays(rng, scene, scene.accel().structure_as<BspTree>().bounds(), 20000, rays);
   rstest::check_queries(scene, rays, "bsp: meshes + soup + spheres + plane", 0);
 }
 
@@ -354,7 +354,7 @@ TEST_P(BspStorage, AdversarialRaysMatchBruteForce) {
   Scene scene = rstest::soup_scene(rng);
   scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
   commit_bsp(scene, GetParam());
-  const std::vector<Ray> rays = adversarial_rays(rng, scene, scene.accel().bsp());
+  const std::vector<Ray> rays = adversarial_rays(rng, scene, scene.accel().structure_as<BspTree>());
   rstest::check_queries(scene, rays, "bsp: adversarial rays", 20);
 }
 
@@ -365,7 +365,8 @@ TEST(Bsp, SameHitsAsTheBvhBitForBit) {
   std::vector<Ray> rays;
   for (PrimStorage st : kPrimStorages) {
     commit_bsp(scene, st);
-    const std::vector<Ray> more = adversarial_rays(rng, scene, scene.accel().bsp());
+    const std::vector<Ray> more =
+        adversarial_rays(rng, scene, scene.accel().structure_as<BspTree>());
     rays.insert(rays.end(), more.begin(), more.end());
   }
   scene.commit();
@@ -396,7 +397,7 @@ TEST_P(BspStorage, TheObserverSeesTheWalk) {
   Scene scene = rstest::soup_scene(rng);
   commit_bsp(scene, GetParam());
   const Aggregate& a = scene.accel();
-  const BspTree& t = a.bsp();
+  const BspTree& t = a.structure_as<BspTree>();
   std::vector<int> pieces(a.records().size(), 0);
   for (uint32_t r : t.refs) pieces[r]++;
   const size_t prims = a.records().size();
@@ -497,7 +498,7 @@ TEST(Bsp, NamesStorageCheckFiguresAndView) {
   for (PrimStorage st : kPrimStorages) {
     commit_bsp(scene, st);
     const Aggregate& a = scene.accel();
-    const BspQuality q = a.bsp().quality();
+    const BspQuality q = a.structure_as<BspTree>().quality();
     const AccelFigures f = a.figures();
     EXPECT_EQ(f.nodes, q.nodes);
     EXPECT_EQ(f.leaves, q.leaves);
@@ -507,21 +508,23 @@ TEST(Bsp, NamesStorageCheckFiguresAndView) {
     if (st == PrimStorage::SmallestCell) {
       EXPECT_DOUBLE_EQ(f.refs_per_prim, 1.0);
     }
-    EXPECT_EQ(f.memory_bytes, a.bsp().memory_bytes() + a.records().size() * sizeof(PrimRecord) +
+    EXPECT_EQ(f.memory_bytes, a.structure_as<BspTree>().memory_bytes() +
+                                  a.records().size() * sizeof(PrimRecord) +
                                   a.plane_records().size() * sizeof(PlaneRecord));
-    EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.bsp().memory_bytes() +
+    EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes +
+                                    a.structure_as<BspTree>().memory_bytes() +
                                     a.records().size() * sizeof(PrimRecord) +
                                     a.plane_records().size() * sizeof(PlaneRecord));
     // The teaching view: cell boxes, parents, the split polygons of inner
     // nodes (on their plane, inside their cell box).
     const AccelView v = make_accel_view(a);
     EXPECT_STREQ(v.structure, "bsp");
-    ASSERT_EQ(v.nodes.size(), a.bsp().nodes.size());
-    EXPECT_EQ(v.refs.size(), a.bsp().refs.size());
+    ASSERT_EQ(v.nodes.size(), a.structure_as<BspTree>().nodes.size());
+    EXPECT_EQ(v.refs.size(), a.structure_as<BspTree>().refs.size());
     EXPECT_EQ(uint32_t(v.depth), q.depth + 1);
     for (size_t i = 0; i < v.nodes.size(); ++i) {
       const AccelViewNode& n = v.nodes[i];
-      const BspNode& b = a.bsp().nodes[i];
+      const BspNode& b = a.structure_as<BspTree>().nodes[i];
       EXPECT_EQ(n.leaf, b.is_leaf());
       if (b.is_leaf()) {
         EXPECT_EQ(n.polygon_count, 0u);

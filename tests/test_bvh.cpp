@@ -10,7 +10,7 @@
 #include <functional>
 
 #include "accel_test_util.h"
-#include "rayscope/bvh.h"
+#include "rayscope/accel/bvh.h"
 
 namespace {
 

@@ -65,7 +65,7 @@ TEST_P(FrameWalk, StatisticsAndRecordingObserveThePlainWalk) {
   AccelConfig cfg;
   cfg.kind = GetParam();
   scene.commit(cfg);
-  ASSERT_TRUE(scene.summary().bvh_used);
+  ASSERT_TRUE(scene.summary().walks_structure);
   RenderSettings rs = rstest::small_render(96, 72, 2);
   RayCounters plain_counters, stats_counters, record_counters;
   const Framebuffer plain = render(scene, rs, &plain_counters);
@@ -143,7 +143,7 @@ TEST(FrameWalk, DefaultWalkIsTheWideOneAndBinaryIsAChoice) {
             double(cw.boxes_tested) / double(cw.nodes_visited));
 
   const Bvh& bvh = wide.bvh();
-  const WideBvh& walk = wide.accel().walk();
+  const WideBvh& walk = wide.accel().structure_as<BvhWalk>().walk();
   ASSERT_EQ(walk.arity(), WideBvh::kRenderArity);
   std::vector<char> is_top(bvh.nodes.size(), 0);
   is_top[0] = 1;

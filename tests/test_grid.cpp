@@ -470,10 +470,11 @@ void commit_grid(Scene& scene, const GridBuildConfig& cfg) {
   ac.storage = cfg.storage;
   ac.loose_factor = cfg.loose_factor;
   scene.commit(ac);
-  ASSERT_EQ(scene.accel().grid().loose(), cfg.storage == PrimStorage::SmallestCell);
+  ASSERT_EQ(scene.accel().structure_as<UniformGrid>().loose(),
+            cfg.storage == PrimStorage::SmallestCell);
   ASSERT_EQ(scene.accel().kind(), AccelKind::Grid);
   ASSERT_TRUE(scene.accel().walks_structure());
-  ASSERT_FALSE(scene.accel().grid().empty());
+  ASSERT_FALSE(scene.accel().structure_as<UniformGrid>().empty());
 }
 
 // Automatic, one cell, very anisotropic, large.
@@ -500,7 +501,8 @@ TEST_P(GridResolution, RandomRaysMatchBruteForce) {
   Scene scene = rstest::soup_scene(rng);
   commit_grid(scene, config());
   std::vector<Ray> rays;
-  rstest::add_random_rays(rng, scene, scene.accel().grid().bounds(), 20000, rays);
+  rstest::add_random_rays(rng, scene, scene.accel().structure_as<UniformGrid>().bounds(), 20000,
+                          rays);
   rstest::check_queries(scene, rays, "grid: meshes + soup + spheres + plane", 0);
 }
 
@@ -511,7 +513,7 @@ TEST_P(GridResolution, RandomRaysMatchBruteForce) {
 std::vector<Ray> adversarial_rays(Rng& rng, const Scene& scene) {
   std::vector<Ray> rays;
   rstest::add_mesh_rays(rng, scene, rays);
-  const UniformGrid& g = scene.accel().grid();
+  const UniformGrid& g = scene.accel().structure_as<UniformGrid>();
   const Bounds3 world = g.bounds();
   const glm::uvec3 res = g.resolution();
   auto corner = [&]() {
@@ -546,7 +548,8 @@ TEST(Grid, SameHitsAsTheBvhBitForBit) {
   scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
   commit_grid(scene, GridBuildConfig{});
   std::vector<Ray> rays = adversarial_rays(rng, scene);
-  rstest::add_random_rays(rng, scene, scene.accel().grid().bounds(), 5000, rays);
+  rstest::add_random_rays(rng, scene, scene.accel().structure_as<UniformGrid>().bounds(), 5000,
+                          rays);
   scene.commit();
   std::vector<PrimHit> bvh(rays.size());
   std::vector<uint8_t> bvh_occluded(rays.size());
@@ -586,7 +589,7 @@ TEST(Grid, NonFiniteInputThroughTheScene) {
   scene.commit(ac);
   EXPECT_GT(scene.summary().skipped_triangles, 0u);
   EXPECT_FALSE(scene.summary().warnings.empty());
-  ASSERT_FALSE(scene.accel().grid().empty());
+  ASSERT_FALSE(scene.accel().structure_as<UniformGrid>().empty());
   EXPECT_EQ(scene.accel().records().size(), scene.summary().triangles);
   Rng rng(58);
   std::vector<Ray> rays;
@@ -605,7 +608,7 @@ TEST_P(GridResolution, MailboxTestsEachPrimitiveOncePerRay) {
   Rng rng(59);
   Scene scene = rstest::sliver_scene(rng);
   commit_grid(scene, config());
-  const UniformGrid& g = scene.accel().grid();
+  const UniformGrid& g = scene.accel().structure_as<UniformGrid>();
   const GridQuality q = g.quality();
   const bool one_cell = q.cells == 1;
   if (!one_cell) {
@@ -726,7 +729,7 @@ TEST(Grid, SmallestCellRaysMatchBruteForce) {
   scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
   for (float f : {0.0f, kDefaultLooseFactor, kMaxLooseFactor}) {
     commit_grid(scene, loose(f));
-    const UniformGrid& g = scene.accel().grid();
+    const UniformGrid& g = scene.accel().structure_as<UniformGrid>();
     std::vector<Ray> rays = adversarial_rays(rng, scene);
     const glm::uvec3 r = g.resolution();
     for (size_t i = 0; i < rstest::stress_scaled(2000); ++i) {
@@ -745,7 +748,7 @@ TEST_P(GridResolution, SmallestCellTestsEachPrimitiveOncePerRay) {
   Rng rng(64);
   Scene scene = rstest::sliver_scene(rng);
   commit_grid(scene, loose(kDefaultLooseFactor, GetParam()));
-  const UniformGrid& g = scene.accel().grid();
+  const UniformGrid& g = scene.accel().structure_as<UniformGrid>();
   const size_t prims = scene.accel().records().size();
   const int n_rays = 2000;
   rstest::MailboxTotals t;
@@ -793,11 +796,12 @@ TEST(Grid, KindNameAndMemory) {
   scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
   commit_grid(scene, GridBuildConfig{});
   const Aggregate& a = scene.accel();
-  EXPECT_TRUE(a.walk().empty());
-  EXPECT_TRUE(a.kdtree().empty());
-  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.grid().memory_bytes() +
+  EXPECT_TRUE(a.structure_as<BvhWalk>().walk().empty());
+  EXPECT_TRUE(a.structure_as<KdTree>().empty());
+  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes +
+                                  a.structure_as<UniformGrid>().memory_bytes() +
                                   a.records().size() * sizeof(PrimRecord));
-  EXPECT_GT(a.grid().memory_bytes(), 0u);
+  EXPECT_GT(a.structure_as<UniformGrid>().memory_bytes(), 0u);
 }
 
 // A box range: all primitives whose bounds overlap the box.

@@ -141,10 +141,10 @@ void commit_kd(Scene& scene, const KdTreeBuildConfig& cfg) {
   ac.storage = cfg.storage;
   ac.loose_factor = cfg.loose_factor;
   scene.commit(ac);
-  ASSERT_EQ(scene.accel().kdtree().loose(), cfg.storage == PrimStorage::SmallestCell);
+  ASSERT_EQ(scene.accel().structure_as<KdTree>().loose(), cfg.storage == PrimStorage::SmallestCell);
   ASSERT_EQ(scene.accel().kind(), AccelKind::KdTree);
   ASSERT_TRUE(scene.accel().walks_structure());
-  ASSERT_FALSE(scene.accel().kdtree().empty());
+  ASSERT_FALSE(scene.accel().structure_as<KdTree>().empty());
 }
 
 class KdTreeRule : public ::testing::TestWithParam<KdSplitRule> {
@@ -161,7 +161,7 @@ TEST_P(KdTreeRule, RandomRaysMatchBruteForce) {
   Scene scene = rstest::soup_scene(rng);
   commit_kd(scene, config());
   std::vector<Ray> rays;
-  rstest::add_random_rays(rng, scene, scene.accel().kdtree().bounds(), 20000, rays);
+  rstest::add_random_rays(rng, scene, scene.accel().structure_as<KdTree>().bounds(), 20000, rays);
   rstest::check_queries(scene, rays, "kD-tree: meshes + soup + spheres + plane", 0);
 }
 
@@ -172,7 +172,7 @@ TEST_P(KdTreeRule, RandomRaysMatchBruteForce) {
 std::vector<Ray> adversarial_rays(Rng& rng, const Scene& scene) {
   std::vector<Ray> rays;
   rstest::add_mesh_rays(rng, scene, rays);
-  const KdTree& kd = scene.accel().kdtree();
+  const KdTree& kd = scene.accel().structure_as<KdTree>();
   const Bounds3 world = kd.bounds();
   for (size_t i = 0; i < kd.nodes.size() && rays.size() < 40000; i += 7) {
     const KdNode& n = kd.nodes[i];
@@ -226,7 +226,7 @@ TEST_P(KdTreeRule, MailboxTestsEachPrimitiveOncePerRay) {
   Rng rng(45);
   Scene scene = rstest::sliver_scene(rng);
   commit_kd(scene, config());
-  const KdTree& kd = scene.accel().kdtree();
+  const KdTree& kd = scene.accel().structure_as<KdTree>();
   EXPECT_GT(kd.quality().refs_per_prim, 1.5) << "the test needs primitives stored several times";
   const size_t prims = scene.accel().records().size();
   const int n_rays = 3000;
@@ -324,7 +324,7 @@ TEST_P(KdTreeRule, SmallestCellRaysMatchBruteForce) {
   scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
   for (float f : {0.0f, kDefaultLooseFactor, kMaxLooseFactor}) {
     commit_kd(scene, loose(GetParam(), f));
-    const KdTree& kd = scene.accel().kdtree();
+    const KdTree& kd = scene.accel().structure_as<KdTree>();
     std::vector<Ray> rays = adversarial_rays(rng, scene);
     const std::vector<Bounds3> cells = kd.cells();
     for (size_t i = 0; i < cells.size(); i += 5) {
@@ -342,7 +342,7 @@ TEST_P(KdTreeRule, SmallestCellTestsEachPrimitiveOncePerRay) {
   Rng rng(48);
   Scene scene = rstest::sliver_scene(rng);
   commit_kd(scene, loose(GetParam(), kDefaultLooseFactor));
-  const KdTree& kd = scene.accel().kdtree();
+  const KdTree& kd = scene.accel().structure_as<KdTree>();
   EXPECT_GT(kd.quality().inner_refs, 100u) << "the test needs straddlers in inner nodes";
   const size_t prims = scene.accel().records().size();
   const int n_rays = 3000;
@@ -386,10 +386,11 @@ TEST(KdTree, KindNameAndMemory) {
   scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
   commit_kd(scene, kSah);
   const Aggregate& a = scene.accel();
-  EXPECT_TRUE(a.walk().empty());
-  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.kdtree().memory_bytes() +
+  EXPECT_TRUE(a.structure_as<BvhWalk>().walk().empty());
+  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes +
+                                  a.structure_as<KdTree>().memory_bytes() +
                                   a.records().size() * sizeof(PrimRecord));
-  EXPECT_GT(a.kdtree().memory_bytes(), 0u);
+  EXPECT_GT(a.structure_as<KdTree>().memory_bytes(), 0u);
 }
 
 // Renders of the default scene and the bunny scene: the kD-tree's image is

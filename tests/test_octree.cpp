@@ -271,8 +271,8 @@ void commit_octree(Scene& scene, const OctreeBuildConfig& cfg) {
   ASSERT_EQ(scene.accel().kind(), AccelKind::Octree);
   ASSERT_EQ(scene.accel().storage(), cfg.storage);
   ASSERT_TRUE(scene.accel().walks_structure());
-  ASSERT_FALSE(scene.accel().octree().empty());
-  ASSERT_EQ(scene.accel().octree().loose(), cfg.storage == PrimStorage::SmallestCell);
+  ASSERT_FALSE(scene.accel().structure_as<Octree>().empty());
+  ASSERT_EQ(scene.accel().structure_as<Octree>().loose(), cfg.storage == PrimStorage::SmallestCell);
 }
 
 TEST_P(OctreeStorage, RandomRaysMatchBruteForce) {
@@ -280,7 +280,7 @@ TEST_P(OctreeStorage, RandomRaysMatchBruteForce) {
   Scene scene = rstest::soup_scene(rng);
   commit_octree(scene, config());
   std::vector<Ray> rays;
-  rstest::add_random_rays(rng, scene, scene.accel().octree().bounds(), 20000, rays);
+  rstest::add_random_rays(rng, scene, scene.accel().structure_as<Octree>().bounds(), 20000, rays);
   rstest::check_queries(scene, rays, "octree: meshes + soup + spheres + plane", 0);
 }
 
@@ -314,7 +314,7 @@ TEST_P(OctreeStorage, AdversarialRaysMatchBruteForce) {
   Scene scene = rstest::soup_scene(rng);
   scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
   commit_octree(scene, config());
-  const std::vector<Ray> rays = adversarial_rays(rng, scene, scene.accel().octree());
+  const std::vector<Ray> rays = adversarial_rays(rng, scene, scene.accel().structure_as<Octree>());
   rstest::check_queries(scene, rays, "octree: adversarial rays", 20);
 }
 
@@ -323,9 +323,9 @@ TEST(Octree, SameHitsAsTheBvhBitForBit) {
   Scene scene = rstest::soup_scene(rng);
   commit_octree(scene, kLoose);
   const std::vector<Bounds3> boxes = rstest::triangle_boxes(scene);
-  std::vector<Ray> rays = adversarial_rays(rng, scene, scene.accel().octree());
+  std::vector<Ray> rays = adversarial_rays(rng, scene, scene.accel().structure_as<Octree>());
   commit_octree(scene, kEvery);
-  const std::vector<Ray> more = adversarial_rays(rng, scene, scene.accel().octree());
+  const std::vector<Ray> more = adversarial_rays(rng, scene, scene.accel().structure_as<Octree>());
   rays.insert(rays.end(), more.begin(), more.end());
   scene.commit();
   for (int i = 0; i < 5000; ++i)
@@ -358,7 +358,7 @@ TEST_P(OctreeStorage, EachPrimitiveTestedOncePerRayAndTheObserverSeesTheWalk) {
   Rng rng(56);
   Scene scene = rstest::sliver_scene(rng);
   commit_octree(scene, config());
-  const Octree& oc = scene.accel().octree();
+  const Octree& oc = scene.accel().structure_as<Octree>();
   const OctreeQuality q = oc.quality();
   if (GetParam() == PrimStorage::EveryCell) {
     EXPECT_GT(q.refs_per_prim, 1.5) << "the test needs primitives stored several times";
@@ -433,11 +433,12 @@ TEST(Octree, KindStorageNamesAndMemory) {
   for (const OctreeBuildConfig& cfg : {kEvery, kLoose}) {
     commit_octree(scene, cfg);
     const Aggregate& a = scene.accel();
-    EXPECT_TRUE(a.walk().empty());
-    EXPECT_TRUE(a.kdtree().empty());
-    EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.octree().memory_bytes() +
+    EXPECT_TRUE(a.structure_as<BvhWalk>().walk().empty());
+    EXPECT_TRUE(a.structure_as<KdTree>().empty());
+    EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes +
+                                    a.structure_as<Octree>().memory_bytes() +
                                     a.records().size() * sizeof(PrimRecord));
-    EXPECT_GT(a.octree().memory_bytes(), 0u);
+    EXPECT_GT(a.structure_as<Octree>().memory_bytes(), 0u);
   }
 }
 

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "accel_test_util.h"
-#include "rayscope/accel_view.h"
+#include "rayscope/accel/accel_view.h"
 #include "rayscope/range_query.h"
 #include "rayscope/scene_io.h"
 #include "rayscope/stats.h"
@@ -422,7 +422,7 @@ void expect_brute_force(Scene scene, const Queries& q, const char* what) {
     ASSERT_EQ(a.walks_structure(), st.config.kind != AccelKind::None) << what;
     for (size_t i = 0; i < q.boxes.size(); ++i) {
       ContractObserver obs;
-      if (a.kind() == AccelKind::Grid) obs.box_only = a.grid().box_id();
+      if (a.kind() == AccelKind::Grid) obs.box_only = a.structure_as<UniformGrid>().box_id();
       const std::vector<RangeHit> got = a.query_box(q.boxes[i], obs);
       obs.finish(what);
       ASSERT_EQ(got, box_ref[i]) << what << ", " << st.name << ", box " << i;
@@ -430,7 +430,7 @@ void expect_brute_force(Scene scene, const Queries& q, const char* what) {
     }
     for (size_t i = 0; i < q.spheres.size(); ++i) {
       ContractObserver obs;
-      if (a.kind() == AccelKind::Grid) obs.box_only = a.grid().box_id();
+      if (a.kind() == AccelKind::Grid) obs.box_only = a.structure_as<UniformGrid>().box_id();
       const auto& [c, r] = q.spheres[i];
       const std::vector<RangeHit> got = a.query_sphere(c, r, obs);
       obs.finish(what);
@@ -441,7 +441,7 @@ void expect_brute_force(Scene scene, const Queries& q, const char* what) {
     }
     for (size_t i = 0; i < q.knn.size(); ++i) {
       ContractObserver obs;
-      if (a.kind() == AccelKind::Grid) obs.box_only = a.grid().box_id();
+      if (a.kind() == AccelKind::Grid) obs.box_only = a.structure_as<UniformGrid>().box_id();
       const auto& [p, k] = q.knn[i];
       const std::vector<RangeHit> got = a.nearest(p, k, obs);
       obs.finish(what);

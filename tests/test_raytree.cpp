@@ -162,13 +162,13 @@ TEST(RenderOnlyWhatIsNeeded, MirrorAddsExactlyItsReflectionRays) {
 TEST(RenderOnlyWhatIsNeeded, TinySceneSkipsBvh) {
   Scene tiny = diffuse_scene(true);
   tiny.commit();
-  EXPECT_FALSE(tiny.summary().bvh_used);
+  EXPECT_FALSE(tiny.summary().walks_structure);
   Scene big = diffuse_scene(true);  // 2 spheres + 3 hidden = 5 > kBruteForceMax
   big.spheres.push_back(Sphere{"hidden1", Vec3(0, 0.5f, 100), 0.1f, 0});  // behind the camera
   big.spheres.push_back(Sphere{"hidden2", Vec3(3, 0.5f, 100), 0.1f, 0});
   big.spheres.push_back(Sphere{"hidden3", Vec3(-3, 0.5f, 100), 0.1f, 0});
   big.commit();
-  EXPECT_TRUE(big.summary().bvh_used);
+  EXPECT_TRUE(big.summary().walks_structure);
   RenderSettings rs = rstest::small_render(48, 36, 1);
   Framebuffer a = render(tiny, rs), b = render(big, rs);
   ASSERT_EQ(0, std::memcmp(a.color.data(), b.color.data(), a.color.size() * sizeof(Color)));
@@ -394,7 +394,7 @@ TEST(RayTree, WalkStepsAndHitLeaf) {
     AccelConfig config;
     config.kind = accel;
     s.commit(config);
-    ASSERT_TRUE(s.summary().bvh_used);
+    ASSERT_TRUE(s.summary().walks_structure);
     const Bvh& bvh = s.bvh();
     RenderSettings rs = rstest::small_render(48, 36, 1);
     prepare_frame(s, rs);

@@ -97,7 +97,7 @@ void triangle_case(Rng& rng, int mode, Counts& cnt) {
   }
   scene.meshes = {tri, far};
   scene.commit();
-  ASSERT_TRUE(scene.summary().bvh_used);
+  ASSERT_TRUE(scene.summary().walks_structure);
   // The triangle alone (traced without a BVH), for any-hit queries, where a
   // distractor found first could hide a self-hit.
   Scene alone;

@@ -14,7 +14,7 @@
 #include <stdexcept>
 
 #include "accel_test_util.h"
-#include "rayscope/accel_view.h"
+#include "rayscope/accel/accel_view.h"
 #include "rayscope/render.h"
 #include "rayscope/scene_io.h"
 #include "rayscope_vtk/mesh_files.h"
@@ -274,7 +274,7 @@ void commit_spheres(Scene& scene) {
   scene.commit(ac);
   ASSERT_EQ(scene.accel().kind(), AccelKind::Spheres);
   ASSERT_TRUE(scene.accel().walks_structure());
-  ASSERT_FALSE(scene.accel().sphere_tree().empty());
+  ASSERT_FALSE(scene.accel().structure_as<SphereTree>().empty());
 }
 
 TEST(SphereTree, RandomRaysMatchBruteForce) {
@@ -292,7 +292,7 @@ TEST(SphereTree, RandomRaysMatchBruteForce) {
 std::vector<Ray> adversarial_rays(Rng& rng, const Scene& scene) {
   std::vector<Ray> rays;
   rstest::add_mesh_rays(rng, scene, rays);
-  const SphereTree& t = scene.accel().sphere_tree();
+  const SphereTree& t = scene.accel().structure_as<SphereTree>();
   const Bounds3 world = t.sphere().box();
   for (size_t i = 0; i < t.nodes.size() && rays.size() < 40000; i += 3) {
     const SphereNode& n = t.nodes[i];
@@ -350,7 +350,7 @@ TEST(SphereTree, EachPrimitiveTestedOncePerRayAndTheObserverSeesTheWalk) {
   scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
   scene.meshes.push_back(make_torus(Vec3(2.5f, 0.0f, 0.0f), 1.0f, 0.3f, 48, 24));
   commit_spheres(scene);
-  const SphereTree& t = scene.accel().sphere_tree();
+  const SphereTree& t = scene.accel().structure_as<SphereTree>();
   const size_t prims = scene.accel().records().size();
   uint64_t tests = 0, culls = 0, bvh_tests = 0;
   const int n_rays = 3000;
@@ -452,7 +452,7 @@ TEST(SphereTree, RangeQueriesMatchBruteForce) {
     want.push_back(run(q, obs));
   }
   commit_spheres(scene);
-  const SphereTree& t = scene.accel().sphere_tree();
+  const SphereTree& t = scene.accel().structure_as<SphereTree>();
   uint64_t entered = 0, found = 0, culled = 0;
   for (size_t i = 0; i < queries.size(); ++i) {
     rstest::CountingObserver obs(t.nodes.size(), scene.accel().records().size());
@@ -503,31 +503,32 @@ TEST(SphereTree, KindStorageViewAndMemory) {
   EXPECT_THROW(scene.commit(ac), std::invalid_argument);
   commit_spheres(scene);
   const Aggregate& a = scene.accel();
-  EXPECT_TRUE(a.walk().empty());
-  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.sphere_tree().memory_bytes() +
+  EXPECT_TRUE(a.structure_as<BvhWalk>().walk().empty());
+  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes +
+                                  a.structure_as<SphereTree>().memory_bytes() +
                                   a.records().size() * sizeof(PrimRecord));
   const AccelFigures f = a.figures();
-  EXPECT_EQ(f.nodes, a.sphere_tree().nodes.size());
+  EXPECT_EQ(f.nodes, a.structure_as<SphereTree>().nodes.size());
   EXPECT_EQ(f.refs_per_prim, 1.0);
   EXPECT_EQ(f.memory_bytes,
-            a.sphere_tree().memory_bytes() + a.records().size() * sizeof(PrimRecord));
+            a.structure_as<SphereTree>().memory_bytes() + a.records().size() * sizeof(PrimRecord));
   // The view: one node per tree node, with its sphere and the sphere's box;
   // the primitives each leaf holds by global id, each once.
   const AccelView v = make_accel_view(a);
   EXPECT_STREQ(v.structure, "spheres");
-  ASSERT_EQ(v.nodes.size(), a.sphere_tree().nodes.size());
+  ASSERT_EQ(v.nodes.size(), a.structure_as<SphereTree>().nodes.size());
   std::vector<int> seen(a.records().size(), 0);
   for (size_t i = 0; i < v.nodes.size(); ++i) {
     const AccelViewNode& n = v.nodes[i];
     ASSERT_TRUE(n.sphere.has_value());
-    EXPECT_EQ(n.sphere->center, a.sphere_tree().nodes[i].center);
+    EXPECT_EQ(n.sphere->center, a.structure_as<SphereTree>().nodes[i].center);
     EXPECT_TRUE(n.box.contains(n.sphere->center + Vec3(n.sphere->radius)));
     EXPECT_TRUE(n.box.contains(n.sphere->center - Vec3(n.sphere->radius)));
-    EXPECT_EQ(n.leaf, a.sphere_tree().nodes[i].is_leaf());
+    EXPECT_EQ(n.leaf, a.structure_as<SphereTree>().nodes[i].is_leaf());
     for (uint32_t r = n.first; r < n.first + n.count; ++r) seen.at(v.refs.at(r))++;
   }
   for (int s : seen) EXPECT_EQ(s, 1);
-  EXPECT_EQ(v.depth, int(a.sphere_tree().quality().depth) + 1);
+  EXPECT_EQ(v.depth, int(a.structure_as<SphereTree>().quality().depth) + 1);
 }
 
 void expect_same_render(Scene scene, const RenderSettings& rs) {

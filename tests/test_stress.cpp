@@ -197,7 +197,7 @@ TEST_F(WatertightMillion, MillionRandomRaysFromInsideNeverEscape) {
     ASSERT_GT(mesh_->triangles.size(), 1000000u);
   }
   ASSERT_EQ(scene_->summary().triangles, mesh_->triangles.size());
-  ASSERT_TRUE(scene_->summary().bvh_used);
+  ASSERT_TRUE(scene_->summary().walks_structure);
   ASSERT_TRUE(scene_->summary().warnings.empty());
   for (const Vec3& p : mesh_->positions) {
     ASSERT_GE(std::min({p.x, p.y, p.z}), 0.98e6f);
@@ -559,7 +559,7 @@ TEST(InvalidInput, RaysWithNaNInfiniteOrZeroComponentsNeverHit) {
   // no hit with a NaN distance), and the integrator returns the background.
   Scene s = make_default_scene();
   s.commit();
-  ASSERT_TRUE(s.summary().bvh_used);
+  ASSERT_TRUE(s.summary().walks_structure);
   const Vec3 good_o(0.3f, 1.0f, 6.0f), good_d(-0.05f, -0.1f, -1.0f);
   std::vector<Vec3> origins = {good_o}, dirs = {good_d, Vec3(0.0f), -Vec3(0.0f)};
   for (float bad : {kNaN, kInfinity, -kInfinity})
@@ -626,7 +626,7 @@ TEST(Grazing, RaysInThePlaneOfTrianglesAndAlongEdges) {
   Scene s;
   s.meshes = {grid};
   s.commit();
-  ASSERT_TRUE(s.summary().bvh_used);
+  ASSERT_TRUE(s.summary().walks_structure);
   Rng rng(5);
   size_t in_plane_hits = 0;
   auto in_plane = [&](const Vec3& o, const Vec3& d) {

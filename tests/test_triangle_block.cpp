@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "accel_test_util.h"
+#include "rayscope/accel/triangle_block.h"
 #include "rayscope/shapes.h"
-#include "rayscope/triangle_block.h"
 
 namespace {
 

@@ -51,7 +51,7 @@ class Watertight : public ::testing::TestWithParam<IcoConfig> {
     ASSERT_EQ(mesh_.triangles.size(), size_t(20) << (2 * s.levels));
     scene_.meshes = {mesh_};
     scene_.commit();
-    ASSERT_TRUE(scene_.summary().bvh_used);
+    ASSERT_TRUE(scene_.summary().walks_structure);
     ASSERT_EQ(scene_.summary().triangles, mesh_.triangles.size());
   }
 

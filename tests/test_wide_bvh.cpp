@@ -18,8 +18,8 @@
 #include <set>
 
 #include "accel_test_util.h"
+#include "rayscope/accel/wide_bvh.h"
 #include "rayscope/shapes.h"
-#include "rayscope/wide_bvh.h"
 
 namespace {
 

@@ -1,7 +1,7 @@
 // PNG files of 8-bit RGB pixels through libpng, in the core itself. A PNG is
 // what `rayscope render` writes by default, and loading OpenImageIO's module
 // for it (image_file_module.h) cost a bunny render at 800x600 0.33 s of its
-// 0.63 s wall time on the project's two-core machine (docs/benchmarks.md):
+// 0.63 s wall time on the project's two-core machine (docs/performance.md):
 // libpng is one small library the core loads at start-up. Every PNG RayScope
 // writes goes through here; OpenImageIO writes the other formats and draws
 // the heat maps' text.

@@ -114,57 +114,15 @@ constexpr const char* kLocalLegend =
 // What the "walk:" line of each ray counts, for the structure the scene walks.
 std::string walk_legend(const Scene& s) {
   const Aggregate& a = s.accel();
-  if (!a.walks_structure())
-    return std::string(
-               "walk: no structure; every primitive is tested (primitives tested = all of "
-               "them)\n") +
-           kLocalLegend;
-  const char* walk =
-      a.kind() == AccelKind::BinaryBvh ? "the binary BVH, node by node (--accel bvh2)"
-      : a.kind() == AccelKind::KdTree
-          ? "the kD-tree (--accel kdtree); nodes are named by their kD-tree ids, a node's two "
-            "child boxes are the cells its split plane lets the ray reach, and a primitive "
-            "stored in several cells is tested once"
-      : a.kind() == AccelKind::Grid
-          ? "the uniform grid (--accel grid); nodes are cells, named by their index x + nx * (y "
-            "+ ny * z), entered front to back; the one box tested is the grid's (id = the number "
-            "of cells), and a primitive stored in several cells is tested once"
-      : a.kind() == AccelKind::Octree
-          ? (a.octree().loose()
-                 ? "the loose octree (--accel octree --storage smallest-cell); nodes are named "
-                   "by their octree ids, a node's child boxes are its octants' loose boxes "
-                   "(overlapping, entered nearest first), and inner nodes hold primitives too "
-                   "(those that fit no child): hit in leaf is the node that holds the hit"
-                 : "the octree (--accel octree --storage every-cell); nodes are named by their "
-                   "octree ids, a node's child boxes are its non-empty octants, and a primitive "
-                   "stored in several cells is tested once")
-      : a.kind() == AccelKind::Bsp
-          ? (a.storage() == PrimStorage::SmallestCell
-                 ? "the BSP tree (--accel bsp --storage smallest-cell); nodes are named by their "
-                   "BSP ids, a node's two child boxes are the half-spaces of its split plane "
-                   "the ray reaches, and a primitive that straddles a plane is held (and "
-                   "tested) by that plane's node"
-             : a.storage() == PrimStorage::Split
-                 ? "the BSP tree (--accel bsp --storage split); nodes are named by their BSP "
-                   "ids, a node's two child boxes are the half-spaces of its split plane the "
-                   "ray reaches, and a triangle cut into fragments is tested once per fragment "
-                   "reached (no mailbox)"
-                 : "the BSP tree (--accel bsp --storage every-cell); nodes are named by their "
-                   "BSP ids, a node's two child boxes are the half-spaces of its split plane "
-                   "the ray reaches, and a primitive stored in several cells is tested once")
-      : a.kind() == AccelKind::Spheres
-          ? "the sphere tree (--accel spheres); nodes are named by their sphere tree ids, a "
-            "node's two child \"boxes\" are its children's bounding spheres (entered nearer "
-            "entry first), and every primitive is stored once"
-          : "the 8-wide BVH, as renders walk it (--accel bvh); nodes are named by their binary "
-            "BVH ids";
-  return std::string("walk: ") + walk +
-         "\n  nodes visited = nodes entered, in order; boxes tested = boxes tested against the "
-         "ray,\n  hit or missed (the root's, then every child box of each node entered, so more "
-         "boxes\n  than nodes); primitives tested = triangles and spheres in the leaves entered;"
-         "\n  culled = boxes hit but skipped because a closer hit was found first (early "
-         "termination);\n  hit in leaf = the leaf holding the primitive hit\n" +
-         kLocalLegend;
+  std::string legend = "walk: " + a.walk_legend() + "\n";
+  if (a.walks_structure())
+    legend +=
+        "  nodes visited = nodes entered, in order; boxes tested = boxes tested against the "
+        "ray,\n  hit or missed (the root's, then every child box of each node entered, so more "
+        "boxes\n  than nodes); primitives tested = triangles and spheres in the leaves entered;"
+        "\n  culled = boxes hit but skipped because a closer hit was found first (early "
+        "termination);\n  hit in leaf = the leaf holding the primitive hit\n";
+  return legend + kLocalLegend;
 }
 
 nlohmann::json jv(const Vec3& v) {

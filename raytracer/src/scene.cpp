@@ -130,7 +130,7 @@ void Scene::commit(const AccelConfig& config) {
   for (const Plane& p : planes) plane_records.push_back({p.point, normalize_any_length(p.normal)});
   accel_.build(bounds, centroids, record_of, ntri, std::move(plane_records), config);
 
-  summary_.bvh_used = accel_.walks_structure();
+  summary_.walks_structure = accel_.walks_structure();
   summary_.triangles = ntri - summary_.skipped_triangles;
   summary_.spheres = spheres.size();
   summary_.planes = planes.size();

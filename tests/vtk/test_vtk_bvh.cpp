@@ -271,7 +271,7 @@ TEST(VtkBVH, VisitCounts) {
   vtkPolyData* out = bvh->GetOutput();
   EXPECT_EQ(out->GetFieldData()->GetAbstractArray("Structure")->GetVariantValue(0).ToString(),
             "kdtree");
-  const auto& kd = s.alg->GetCoreScene()->accel().kdtree();
+  const auto& kd = s.alg->GetCoreScene()->accel().structure_as<rayscope::KdTree>();
   EXPECT_EQ(out->GetNumberOfCells(), vtkIdType(12 * kd.nodes.size()));
   double root_volume = 0.0, leaf_volume = 0.0;
   for (vtkIdType k = 0; k < out->GetNumberOfCells(); k += 12) {
@@ -296,7 +296,7 @@ TEST(VtkBVH, VisitCounts) {
     s.alg->SetStorage(storage);
     s.alg->Update();
     ASSERT_EQ(s.alg->GetCoreScene()->accel().kind(), rayscope::AccelKind::Octree);
-    ASSERT_EQ(s.alg->GetCoreScene()->accel().octree().loose(),
+    ASSERT_EQ(s.alg->GetCoreScene()->accel().structure_as<rayscope::Octree>().loose(),
               storage == vtkRayScopeImageAlgorithm::STORAGE_SMALLEST_CELL);
     vtkDataArray* oc_rgb = s.alg->GetOutput()->GetPointData()->GetScalars();
     ASSERT_EQ(wide_rgb->GetNumberOfTuples(), oc_rgb->GetNumberOfTuples());
@@ -312,7 +312,7 @@ TEST(VtkBVH, VisitCounts) {
     vtkPolyData* o = bvh->GetOutput();
     EXPECT_EQ(o->GetFieldData()->GetAbstractArray("Structure")->GetVariantValue(0).ToString(),
               "octree");
-    const rayscope::Octree& oct = s.alg->GetCoreScene()->accel().octree();
+    const rayscope::Octree& oct = s.alg->GetCoreScene()->accel().structure_as<rayscope::Octree>();
     ASSERT_EQ(o->GetNumberOfCells(), vtkIdType(12 * oct.nodes.size()));
     // The root's drawn box is the node box the walk tests.
     const rayscope::Bounds3 root = oct.node_box(oct.cells()[0]);
@@ -352,7 +352,7 @@ TEST(VtkBVH, VisitCounts) {
     EXPECT_EQ(box_visits, bsp_cost);
     EXPECT_EQ(o->GetFieldData()->GetAbstractArray("Structure")->GetVariantValue(0).ToString(),
               "bsp");
-    const rayscope::BspTree& tree = acc.bsp();
+    const rayscope::BspTree& tree = acc.structure_as<rayscope::BspTree>();
     size_t inner = 0;
     for (const rayscope::BspNode& n : tree.nodes) inner += !n.is_leaf();
     ASSERT_GT(inner, 0u);
@@ -403,8 +403,10 @@ TEST(VtkBVH, VisitCounts) {
   vtkPolyData* g = bvh->GetOutput();
   EXPECT_EQ(g->GetFieldData()->GetAbstractArray("Structure")->GetVariantValue(0).ToString(),
             "grid");
-  EXPECT_EQ(g->GetNumberOfCells(),
-            vtkIdType(12 * (s.alg->GetCoreScene()->accel().grid().cells() + 1)));
+  EXPECT_EQ(
+      g->GetNumberOfCells(),
+      vtkIdType(
+          12 * (s.alg->GetCoreScene()->accel().structure_as<rayscope::UniformGrid>().cells() + 1)));
 
   // The sphere tree: the same image; the source draws every node as its
   // sphere (three great circles as lines, a closed latitude-longitude surface
@@ -422,7 +424,8 @@ TEST(VtkBVH, VisitCounts) {
   double sp_cost = 0.0;
   c = s.alg->GetOutput()->GetPointData()->GetArray("Cost");
   for (vtkIdType k = 0; k < c->GetNumberOfTuples(); ++k) sp_cost += c->GetTuple1(k);
-  const rayscope::SphereTree& st = s.alg->GetCoreScene()->accel().sphere_tree();
+  const rayscope::SphereTree& st =
+      s.alg->GetCoreScene()->accel().structure_as<rayscope::SphereTree>();
   const rayscope::DVec3 origin = s.alg->GetCoreScene()->origin;
   for (bool faces : {false, true}) {
     bvh->SetGenerateFaces(faces);

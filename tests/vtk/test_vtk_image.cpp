@@ -266,7 +266,8 @@ TEST(VtkImage, LooseFactorAndKdSplitReachTheStructure) {
   alg->SetStorageToEveryCell();
   alg->SetGridResolution(7, 5, 3);
   ASSERT_EQ(update(alg), 1);
-  EXPECT_EQ(alg->GetCoreScene()->accel().grid().resolution(), glm::uvec3(7, 5, 3));
+  EXPECT_EQ(alg->GetCoreScene()->accel().structure_as<rayscope::UniformGrid>().resolution(),
+            glm::uvec3(7, 5, 3));
   expect_same_colors(bvh->GetOutput(), alg->GetOutput());
   alg->SetGridResolution(0, 0, 0);
   alg->SetStorageToSmallestCell();

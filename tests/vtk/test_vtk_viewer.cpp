@@ -36,7 +36,7 @@
 #include <vtkUnsignedCharArray.h>
 #include <vtkXMLPolyDataReader.h>
 
-#include "rayscope/accel_view.h"
+#include "rayscope/accel/accel_view.h"
 #include "rayscope/render.h"
 #include "rayscope/replay.h"
 #include "rayscope/shapes.h"

@@ -1,7 +1,9 @@
 // The aggregate (pbrt: "the aggregate is just a primitive"): the one thing the
 // integrator asks for closest hits and any hits. Behind it sits the chosen
 // acceleration structure over the scene's bounded primitives (triangles and
-// spheres), plus the unbounded planes, which no structure can hold.
+// spheres), plus the unbounded planes, which no structure can hold. The
+// structure is one of the AccelStructure alternatives (accel_structure.h),
+// built by the one factory (accel_build.h) and dispatched here, in one place.
 //
 // Whatever the structure, the aggregate owns the two rules that decide a hit:
 // the one primitive test (test_prim) and the one tie rule (wins_tie), so every
@@ -16,156 +18,26 @@
 #pragma once
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <string>
-#include <string_view>
 #include <type_traits>
+#include <variant>
 #include <vector>
 
-#include "rayscope/bsp.h"
-#include "rayscope/bvh.h"
-#include "rayscope/grid.h"
+#include "rayscope/accel/accel_build.h"
+#include "rayscope/accel/accel_config.h"
+#include "rayscope/accel/accel_kind.h"
+#include "rayscope/accel/accel_structure.h"
+#include "rayscope/accel/prim_record.h"
 #include "rayscope/intersect.h"
-#include "rayscope/kdtree.h"
-#include "rayscope/octree.h"
-#include "rayscope/prim_storage.h"
 #include "rayscope/range_query.h"
-#include "rayscope/sphere_tree.h"
 #include "rayscope/traversal.h"
-#include "rayscope/triangle_block.h"
-#include "rayscope/wide_bvh.h"
 
 namespace rayscope {
-
-/// Which structure the aggregate walks. One is chosen per scene commit.
-enum class AccelKind : uint8_t {
-  /// The BVH walked through 8-wide nodes (WideBvh arity 8): what renders use.
-  Bvh,
-  /// The same BVH walked node by node, two child boxes per node (WideBvh
-  /// arity 2): the lecture's binary walk, for teaching. Same hits; more,
-  /// smaller steps, each of which the tools can show.
-  BinaryBvh,
-  /// No structure: every primitive is tested against every ray (O(n) per ray).
-  None,
-  /// The kD-tree (kdtree.h): space cut by axis-aligned planes, every primitive
-  /// stored in each leaf cell it overlaps, walked front to back with
-  /// mailboxing. Same hits as the BVH.
-  KdTree,
-  /// The uniform grid (grid.h): equal cells, their number chosen from the
-  /// object count, every primitive stored in each cell it overlaps, walked
-  /// cell by cell (3D-DDA) with mailboxing. Same hits as the BVH.
-  Grid,
-  /// The octree (octree.h): a cube cut into 8 octants, recursively; a
-  /// primitive stored in every leaf cell it overlaps (PrimStorage::EveryCell)
-  /// or once, in its smallest loose cell (SmallestCell). Same hits as the BVH.
-  Octree,
-  /// The BSP tree (bsp.h): space cut by planes of any orientation, through
-  /// the triangles (autopartition); a straddler stored on both sides
-  /// (EveryCell), in the node whose plane it straddles (SmallestCell) or cut
-  /// into fragments (Split). Same hits as the BVH.
-  Bsp,
-  /// The hierarchy of bounding spheres (sphere_tree.h): the BVH's idea with
-  /// the cheapest bounding volume to test, which fits worse than a box; each
-  /// primitive stored once, in its triangle's smallest enclosing sphere (or
-  /// the sphere itself). Same hits as the BVH.
-  Spheres,
-};
-/// Every kind, in the order the tools list them.
-inline constexpr AccelKind kAccelKinds[] = {
-    AccelKind::Bvh,    AccelKind::BinaryBvh, AccelKind::KdTree,  AccelKind::Grid,
-    AccelKind::Octree, AccelKind::Bsp,       AccelKind::Spheres, AccelKind::None};
-/// "bvh", "bvh2", "none", "kdtree", "grid", "octree", "bsp", "spheres".
-const char* to_string(AccelKind kind);
-/// Parses the names to_string() gives; false for anything else.
-bool parse_accel_kind(std::string_view name, AccelKind& kind);
-
-/// How commit() builds the aggregate; every field has a documented default.
-struct AccelConfig {
-  AccelKind kind = AccelKind::Bvh;
-  BvhBuildConfig bvh;        ///< Settings of the SAH builder (bvh.h).
-  KdTreeBuildConfig kdtree;  ///< Settings of the kD-tree builder (kdtree.h), for AccelKind::KdTree.
-  GridBuildConfig grid;      ///< Settings of the grid builder (grid.h), for AccelKind::Grid.
-  /// Settings of the octree builder (octree.h), for AccelKind::Octree; its
-  /// `storage` and `loose_factor` are replaced by the ones below (as the
-  /// kD-tree's and the grid's are).
-  OctreeBuildConfig octree;
-  /// Settings of the BSP builder (bsp.h), for AccelKind::Bsp; its `storage`
-  /// is replaced by the one below.
-  BspBuildConfig bsp;
-  /// Settings of the sphere tree builder (sphere_tree.h), for AccelKind::Spheres.
-  SphereTreeBuildConfig spheres;
-  /// How a spatial subdivision stores a primitive that straddles its cuts: the
-  /// one setting for every structure, checked by accel_storage_error() (the
-  /// BVH kinds and the sphere tree take only the default, every-cell; the BSP
-  /// tree also takes split). Replaces the builder configs' own `storage`.
-  PrimStorage storage = PrimStorage::EveryCell;
-  /// SmallestCell's loose factor, the one setting for the kD-tree, grid and
-  /// octree (replaces their builder configs' own `loose_factor`): each cell
-  /// enlarged by this fraction of its extent on every side, 0 ..
-  /// kMaxLooseFactor, checked by loose_factor_error() (Aggregate::build throws
-  /// std::invalid_argument with it).
-  float loose_factor = kDefaultLooseFactor;
-  /// Let scenes with at most Aggregate::kBruteForceMax bounded primitives skip
-  /// the structure and test them all. Off only to measure what the skip saves.
-  bool allow_brute_force = true;
-};
-
-/// Why structure `kind` cannot store primitives the `storage` way, in one line
-/// (no trailing period); empty when it can. The one check of the pair: the
-/// CLI, the VTK image algorithm and Aggregate::build (which throws
-/// std::invalid_argument with it) all ask here.
-std::string accel_storage_error(AccelKind kind, PrimStorage storage);
-
-/// Figures of the structure the rays walk, the same for every kind: what
-/// `rayscope accel compare` puts side by side (Aggregate::figures()).
-struct AccelFigures {
-  /// Building it: the SAH build and the collapse into the walked nodes for
-  /// bvh and bvh2; the structure's own build for the others (the binary BVH
-  /// the tools show is built for every kind and not counted there); 0 for
-  /// none.
-  double build_seconds = 0.0;
-  /// What its queries read: nodes or cells, reference lists and the primitive
-  /// records (not the teaching BVH when another structure is walked).
-  size_t memory_bytes = 0;
-  size_t nodes = 0;   ///< Nodes or cells, leaves included (0 for none).
-  size_t leaves = 0;  ///< Leaves or cells that hold primitives (0 for none).
-  uint32_t depth = 0;
-  /// References stored per bounded primitive: 1 when each is stored once (the
-  /// BVH, none), more when a primitive is stored in every cell it overlaps
-  /// (for the BSP tree with split storage: fragments per primitive).
-  double refs_per_prim = 0.0;
-  /// BSP tree with split storage: the pieces in its leaves (see
-  /// BspQuality::fragments); 0 otherwise.
-  size_t fragments = 0;
-};
-
-/// The closest hit of a ray without any shading data: what tracing needs to
-/// find, and no more (the same work as Embree's rtcIntersect1, which returns t,
-/// barycentrics and ids). Scene::surface_hit() turns it into a SurfaceHit.
-struct PrimHit {
-  float t = kInfinity;
-  float b0 = 0.0f, b1 = 0.0f, b2 = 0.0f;  ///< Barycentric weights (triangles).
-  uint32_t record = ~0u;  ///< Index into Aggregate::records() (leaf order); ~0u for a plane.
-  uint32_t prim = ~0u;    ///< Global primitive index (triangles mesh by mesh, then spheres).
-  int plane = -1;         ///< Index of the plane hit, else -1.
-};
-
-/// One bounded primitive in leaf order: a triangle's vertices, or a sphere's
-/// center and radius (in b.x). Stored inline so that leaves need no indirection.
-struct PrimRecord {
-  Vec3 a;
-  uint32_t id;  ///< Global primitive index.
-  Vec3 b;
-  uint32_t pad;
-  Vec3 c;
-};
-
-/// An unbounded plane (tested outside any structure).
-struct PlaneRecord {
-  Vec3 point, normal;  ///< normal: unit length.
-};
 
 class Aggregate {
  public:
@@ -233,49 +105,41 @@ class Aggregate {
 
   /// The structure asked for.
   AccelKind kind() const { return config_.kind; }
-  /// Whether queries walk a structure (false for AccelKind::None and for tiny
+  /// Whether queries walk a structure (false for brute force and for tiny
   /// scenes that skip it; see kBruteForceMax).
   bool walks_structure() const { return use_walk_; }
-  /// The binary hierarchy: built for every kind (the tools show it).
-  const Bvh& bvh() const { return bvh_; }
-  /// The walked collapse of bvh() (arity 8 for AccelKind::Bvh, 2 for BinaryBvh;
-  /// empty for None, KdTree, Grid, Octree and Bsp).
-  const WideBvh& walk() const { return walk_; }
+  /// The binary hierarchy: built for every kind (it sets the records' leaf
+  /// order, and the tools show it).
+  const Bvh& bvh() const { return *bvh_; }
+  /// The structure built for kind() (accel_build.h), walked unless
+  /// walks_structure() is false.
+  const AccelStructureVariant& structure() const { return structure_; }
+  /// The structure as an `S` (BvhWalk, KdTree, UniformGrid, Octree, BspTree,
+  /// SphereTree, BruteForce), or an empty one when another kind was built.
+  template <class S>
+  const S& structure_as() const {
+    if (const S* s = std::get_if<S>(&structure_)) return *s;
+    static const S kEmpty{};
+    return kEmpty;
+  }
   /// The storage choice the structure was built with (AccelConfig::storage).
   PrimStorage storage() const { return config_.storage; }
   /// The whole configuration the aggregate was built with.
   const AccelConfig& config() const { return config_; }
-  /// The kD-tree, over records() (its references are record indices); empty
-  /// unless the kind is AccelKind::KdTree.
-  const KdTree& kdtree() const { return kdtree_; }
-  /// The octree, over records() like the kD-tree; empty unless the kind is
-  /// AccelKind::Octree.
-  const Octree& octree() const { return octree_; }
-  /// The sphere tree, over records() (its prim_indices are record indices);
-  /// empty unless the kind is AccelKind::Spheres.
-  const SphereTree& sphere_tree() const { return sphere_tree_; }
-  /// The uniform grid, over records() (its references are record indices);
-  /// empty unless the kind is AccelKind::Grid.
-  const UniformGrid& grid() const { return grid_; }
-  /// The BSP tree, over records() (its references are record indices); empty
-  /// unless the kind is AccelKind::Bsp.
-  const BspTree& bsp() const { return bsp_; }
   const std::vector<PrimRecord>& records() const { return records_; }
-  /// The walk's leaves by coordinate (triangle_block.h): each leaf's records
-  /// from its first block on, TriangleBlock::kLanes per block (empty unless
-  /// walk() is built).
-  const std::vector<TriangleBlock>& triangle_blocks() const { return blocks_; }
-  /// Bytes of triangle_blocks().
-  size_t triangle_block_bytes() const { return blocks_.size() * sizeof(TriangleBlock); }
   /// The unbounded planes, with unit normals, in the scene's order.
   const std::vector<PlaneRecord>& plane_records() const { return planes_; }
-  /// Every byte the aggregate holds: binary nodes, leaf order, wide nodes,
-  /// triangle blocks, kD-tree, grid, octree or sphere tree nodes or cells and references, primitive
-  /// records and planes.
+  /// Every byte the aggregate holds: the binary hierarchy and its leaf order,
+  /// the structure, the primitive records and planes.
   size_t memory_bytes() const;
   /// Figures of the structure the rays walk (the kind asked for, also for a
   /// tiny scene that skips it).
   AccelFigures figures() const;
+  /// The walk's line of `rayscope render --stats` (after "Walk:"): the
+  /// structure's own figures, or brute force's line when nothing is walked.
+  std::string stats_line() const;
+  /// What the walk counts of a ray tree are for (AccelStructure::walk_legend).
+  std::string walk_legend() const;
 
  private:
   /// Whether primitive `a` wins an exact tie in t against primitive `b`:
@@ -303,76 +167,29 @@ class Aggregate {
 
   /// Tests the primitives the ray can hit with `prim(record, tmax, decided)`,
   /// which returns true on a hit (lowering tmax, or ending an any-hit query):
-  /// the BVH's leaves (contiguous record ranges), the kD-tree's, grid's,
-  /// octree's or BSP tree's cells (reference lists, each record once per ray
-  /// except for the BSP tree's fragments), the sphere tree's leaves (each
-  /// record once), or all records without a structure. `decided` is null, or
-  /// the hit test_prim() would report (at t <= tmax), already found.
-  ///
-  /// The BVH's leaves go through their triangle blocks (triangle_block.h):
-  /// `prim` is called for the records the block test hits (with the hit) or
-  /// leaves undecided, in record order, so it finds what the plain loop finds.
-  /// An active observer sees the plain loop, every record tested.
-  /// The lambdas are forced inline so that the BVH's leaf loop compiles as
-  /// one loop, as when it was written as one.
+  /// the chosen structure's walk (AccelStructure::traverse), or every record
+  /// without a structure. `decided` is null, or the hit test_prim() would
+  /// report (at t <= tmax), already found (BvhWalk's triangle blocks).
   template <bool AnyHit, class Observer, class PrimFn>
-  bool walk_prims(const Ray& ray, const TrianglePrecomp& pre, float& tmax, PrimFn&& prim,
-                  Observer& obs) const {
-    auto range = [&prim](uint32_t first, uint32_t count, float& t) __attribute__((always_inline)) {
-      bool found = false;
-      for (uint32_t i = first; i < first + count; ++i)
-        if (prim(i, t)) {
-          found = true;
-          if constexpr (AnyHit) return true;
-        }
-      return found;
-    };
-    if (!use_walk_) return range(0u, uint32_t(records_.size()), tmax);
-    if (config_.kind == AccelKind::KdTree) return kdtree_.traverse<AnyHit>(ray, tmax, prim, obs);
-    if (config_.kind == AccelKind::Octree) return octree_.traverse<AnyHit>(ray, tmax, prim, obs);
-    if (config_.kind == AccelKind::Grid) return grid_.traverse<AnyHit>(ray, tmax, prim, obs);
-    if (config_.kind == AccelKind::Bsp) return bsp_.traverse<AnyHit>(ray, tmax, prim, obs);
-    if (config_.kind == AccelKind::Spheres)
-      return sphere_tree_.traverse<AnyHit>(ray, tmax, prim, obs);
-    // The walk's leaves are labelled by their first block (build()).
-    if constexpr (Observer::kActive) {
-      auto leaf = [&](uint32_t block, uint32_t count, float& t) __attribute__((always_inline)) {
-        return range(blocks_[block].first, count, t);
-      };
-      return walk_.traverse<AnyHit>(ray, tmax, leaf, obs);
-    } else {
-      const TriangleBlockRay block_ray(pre);
-      auto blocks = [&](uint32_t block, uint32_t count, float& t) __attribute__((always_inline)) {
-        bool found = false;
-        const TriangleBlock* b = &blocks_[block];
-        const uint32_t first = b->first;
-        TriangleBlockResult res;
-        for (uint32_t base = first; base < first + count; base += TriangleBlock::kLanes, ++b) {
-          test_triangle_block<!AnyHit>(*b, block_ray, t, res);
-          for (unsigned m = res.hits | res.undecided; m != 0; m &= m - 1) {
-            const unsigned k = unsigned(__builtin_ctz(m));
-            TriangleHit th;
-            const TriangleHit* decided = nullptr;
-            if ((res.hits >> k) & 1u) {
-              th = res.hit(k);
-              if (!(th.t <= t)) continue;  // beyond a hit found in this block
-              decided = &th;
-            }
-            if (prim(base + k, t, decided)) {
-              found = true;
-              if constexpr (AnyHit) return true;
-            }
+  [[gnu::always_inline]] bool walk_prims(const Ray& ray, const TrianglePrecomp& pre, float& tmax,
+                                         PrimFn&& prim, Observer& obs) const {
+    if (!use_walk_) return test_records<AnyHit>(0u, uint32_t(records_.size()), tmax, prim);
+    // The BVH first, without a visit and with the primitive test's
+    // constants: it is what renders walk.
+    if (const BvhWalk* w = std::get_if<BvhWalk>(&structure_)) [[likely]]
+      return w->traverse<AnyHit>(ray, pre, tmax, prim, obs);
+    return std::visit(
+        [&](const auto& s) {
+          using S = std::decay_t<decltype(s)>;
+          if constexpr (std::is_same_v<S, BvhWalk>) {
+            __builtin_unreachable();  // walked above: not compiled a second time
+            return false;
+          } else {
+            return s.template traverse<AnyHit>(ray, tmax, prim, obs);
           }
-        }
-        return found;
-      };
-      return walk_.traverse<AnyHit>(ray, tmax, blocks, obs);
-    }
+        },
+        structure_);
   }
-
-  /// Builds walk_ with `arity` and blocks_, from bvh_ and records_: walk_'s
-  /// leaves are labelled by their first block.
-  void build_walk(int arity);
 
   /// The one primitive test of box queries (exact, see range_query.h).
   bool record_overlaps(const PrimRecord& r, const Bounds3& box) const {
@@ -394,37 +211,19 @@ class Aggregate {
     static_assert(QueryRange<Range>);
     if (!use_walk_) {
       for (uint32_t i = 0; i < uint32_t(records_.size()); ++i) prim(i);
-    } else if (config_.kind == AccelKind::KdTree) {
-      kdtree_.walk_range(range, prim, obs);
-    } else if (config_.kind == AccelKind::Grid) {
-      grid_.walk_range(range, prim, obs);
-    } else if (config_.kind == AccelKind::Octree) {
-      octree_.walk_range(range, prim, obs);
-    } else if (config_.kind == AccelKind::Bsp) {
-      bsp_.walk_range(range, prim, obs);
-    } else if (config_.kind == AccelKind::Spheres) {
-      sphere_tree_.walk_range(range, prim, obs);
-    } else {  // Bvh and BinaryBvh: the binary tree
-      bvh_.walk_range(range, prim, obs);
+      return;
     }
+    std::visit([&](const auto& s) { s.walk_range(range, prim, obs); }, structure_);
   }
 
   AccelConfig config_;
-  Bvh bvh_;
-  WideBvh walk_;
-  KdTree kdtree_;
-  Octree octree_;
-  UniformGrid grid_;
-  BspTree bsp_;
-  SphereTree sphere_tree_;
+  /// Shared with the structures that walk or show it (BvhWalk, BruteForce).
+  std::shared_ptr<const Bvh> bvh_ = std::make_shared<const Bvh>();
+  AccelStructureVariant structure_;
   std::vector<PrimRecord> records_;  ///< Leaf order.
-  /// The records of the walk's leaves by coordinate, kLanes at a time, each
-  /// leaf starting a new block (empty unless walk_ is built).
-  std::vector<TriangleBlock> blocks_;
   std::vector<PlaneRecord> planes_;
   uint32_t num_triangles_ = 0;
   bool use_walk_ = false;
-  double build_seconds_ = 0.0;  ///< The walked structure's build (figures()).
 };
 
 // ---------------------------------------------------------------------------

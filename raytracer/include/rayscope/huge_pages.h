@@ -2,7 +2,7 @@
 // walk. The kernel backs a page only when it is first written, one page fault
 // per 4 KiB page by default, and on virtual machines a page fault is
 // expensive: building the 1.1M-triangle mesh's BVH spent more time in page
-// faults than in the builder (docs/benchmarks.md). With huge pages advised
+// faults than in the builder (docs/performance.md). With huge pages advised
 // before an array is filled it takes one fault per 2 MiB, and the walk misses
 // the TLB less. Embree asks for huge pages the same way.
 #pragma once
@@ -32,7 +32,7 @@ inline constexpr size_t kHugeHeapBytes = size_t(512) << 20;
 /// runs (VTK's readers and filters, the scene's containers) come from the
 /// main heap, which grows 4 KiB page by page, one page fault each: page
 /// faults were 18% of the CPU time of a cold `rayscope render` of the bunny
-/// (perf; docs/benchmarks.md). This grows the main heap by `bytes` now and
+/// (perf; docs/performance.md). This grows the main heap by `bytes` now and
 /// advises huge pages for it, keeps allocations of up to 32 MiB on that heap
 /// (instead of a fresh mapping each), and keeps freed memory for reuse.
 /// glibc only (mallopt); elsewhere, or under a sanitizer's allocator, it does

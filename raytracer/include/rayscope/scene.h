@@ -100,9 +100,9 @@ struct SceneSummary {
   /// coordinates skipped"). Front ends print each as a warning.
   std::vector<std::string> warnings;
   /// False when queries test every bounded primitive instead of walking a
-  /// structure: AccelKind::None, or so few primitives (<=
+  /// structure: no structure asked for (none), or so few primitives (<=
   /// Aggregate::kBruteForceMax) that testing them all is cheaper.
-  bool bvh_used = true;
+  bool walks_structure = true;
   bool reflective = false, refractive = false;
 };
 

@@ -216,11 +216,11 @@ struct vtkRayScopeViewer::Internals {
   /// for bvh2 and none, which show the binary BVH), else the --accel name of
   /// the structure the rays walk ("kdtree", "grid", "octree", ...).
   std::string StructureLabel() {
-    const rayscope::AccelKind k = this->scene()->accel().kind();
-    return k == rayscope::AccelKind::Bvh || k == rayscope::AccelKind::BinaryBvh ||
-                   k == rayscope::AccelKind::None
+    const rayscope::Aggregate& a = this->scene()->accel();
+    return std::holds_alternative<rayscope::BvhWalk>(a.structure()) ||
+                   std::holds_alternative<rayscope::BruteForce>(a.structure())
                ? std::string("BVH")
-               : std::string(rayscope::to_string(k));
+               : std::string(rayscope::to_string(a.kind()));
   }
   void Build();
   void BuildSceneGeometry();

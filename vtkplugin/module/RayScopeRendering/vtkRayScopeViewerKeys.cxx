@@ -1,5 +1,5 @@
 // vtkRayScopeViewer's keys, screenshots and .vtp export.
-#include "rayscope/accel_view.h"
+#include "rayscope/accel/accel_view.h"
 #include "vtkRayScopeViewerInternals.h"
 
 using namespace rayscope_vtk::viewer;

@@ -109,7 +109,7 @@ void vtkRayScopeViewer::Internals::Build() {
   // render targets and a full-viewport blend): under software OpenGL (Mesa's
   // llvmpipe) the window then took 72 ms to draw on the bunny scene instead
   // of 35, for a 3D view that differs from this one by 0.3 of 255 on average
-  // (docs/benchmarks.md, bench_viewer).
+  // (docs/performance.md, bench_viewer).
   this->SceneRen->SetPass(vtkSmartPointer<vtkRenderStepsPass>::New());
   this->PanelRen->SetBackground(0.05, 0.05, 0.05);
   this->HeaderRen->SetBackground(0.0, 0.0, 0.0);

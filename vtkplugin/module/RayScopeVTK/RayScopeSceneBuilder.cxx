@@ -157,59 +157,6 @@ void SceneBuilder::SetFixedScene(const rayscope::Scene& scene) {
   this->GeometryInputs.clear();
 }
 
-bool accel_kind_of(int accel, rayscope::AccelKind& kind) {
-  switch (accel) {
-    case vtkRayScopeImageAlgorithm::ACCEL_BVH:
-      kind = rayscope::AccelKind::Bvh;
-      return true;
-    case vtkRayScopeImageAlgorithm::ACCEL_BINARY_BVH:
-      kind = rayscope::AccelKind::BinaryBvh;
-      return true;
-    case vtkRayScopeImageAlgorithm::ACCEL_NONE:
-      kind = rayscope::AccelKind::None;
-      return true;
-    case vtkRayScopeImageAlgorithm::ACCEL_KDTREE:
-      kind = rayscope::AccelKind::KdTree;
-      return true;
-    case vtkRayScopeImageAlgorithm::ACCEL_GRID:
-      kind = rayscope::AccelKind::Grid;
-      return true;
-    case vtkRayScopeImageAlgorithm::ACCEL_OCTREE:
-      kind = rayscope::AccelKind::Octree;
-      return true;
-    case vtkRayScopeImageAlgorithm::ACCEL_BSP:
-      kind = rayscope::AccelKind::Bsp;
-      return true;
-    case vtkRayScopeImageAlgorithm::ACCEL_SPHERES:
-      kind = rayscope::AccelKind::Spheres;
-      return true;
-    default:
-      return false;
-  }
-}
-
-int accel_of(rayscope::AccelKind kind) {
-  switch (kind) {
-    case rayscope::AccelKind::Bvh:
-      return vtkRayScopeImageAlgorithm::ACCEL_BVH;
-    case rayscope::AccelKind::BinaryBvh:
-      return vtkRayScopeImageAlgorithm::ACCEL_BINARY_BVH;
-    case rayscope::AccelKind::None:
-      return vtkRayScopeImageAlgorithm::ACCEL_NONE;
-    case rayscope::AccelKind::KdTree:
-      return vtkRayScopeImageAlgorithm::ACCEL_KDTREE;
-    case rayscope::AccelKind::Grid:
-      return vtkRayScopeImageAlgorithm::ACCEL_GRID;
-    case rayscope::AccelKind::Octree:
-      return vtkRayScopeImageAlgorithm::ACCEL_OCTREE;
-    case rayscope::AccelKind::Bsp:
-      return vtkRayScopeImageAlgorithm::ACCEL_BSP;
-    case rayscope::AccelKind::Spheres:
-      return vtkRayScopeImageAlgorithm::ACCEL_SPHERES;
-  }
-  return vtkRayScopeImageAlgorithm::ACCEL_BVH;
-}
-
 rayscope::PrimStorage storage_of(int storage) {
   return storage == vtkRayScopeImageAlgorithm::STORAGE_SMALLEST_CELL
              ? rayscope::PrimStorage::SmallestCell
@@ -232,7 +179,8 @@ glm::uvec3 grid_resolution_of(vtkRayScopeImageAlgorithm* alg) {
 
 rayscope::AccelConfig accel_config_of(vtkRayScopeImageAlgorithm* alg) {
   rayscope::AccelConfig accel;
-  if (!accel_kind_of(alg->GetAccel(), accel.kind)) accel.kind = rayscope::AccelKind::Bvh;
+  if (!rayscope::accel_kind_of_vtk_id(alg->GetAccel(), accel.kind))
+    accel.kind = rayscope::AccelConfig{}.kind;
   accel.storage = storage_of(alg->GetStorage());
   accel.loose_factor = float(alg->GetLooseFactor());
   accel.grid.resolution = grid_resolution_of(alg);

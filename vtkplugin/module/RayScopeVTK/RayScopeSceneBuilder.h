@@ -36,11 +36,6 @@ struct FittedCamera {
 FittedCamera fit_camera(const double bounds[6], const double position[3],
                         const double focal_point[3], const double view_up[3], double view_angle);
 
-/// The core structure an Accel value (vtkRayScopeImageAlgorithm::ACCEL_*)
-/// names; false for a value no structure of this build has.
-bool accel_kind_of(int accel, rayscope::AccelKind& kind);
-/// The Accel value of a core structure.
-int accel_of(rayscope::AccelKind kind);
 /// The core storage choice of a Storage value (STORAGE_*), and back.
 rayscope::PrimStorage storage_of(int storage);
 int storage_value_of(rayscope::PrimStorage storage);

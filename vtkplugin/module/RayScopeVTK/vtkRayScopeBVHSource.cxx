@@ -25,7 +25,7 @@
 
 #include "RayScopeArrays.h"
 #include "RayScopeSceneInput.h"
-#include "rayscope/accel_view.h"
+#include "rayscope/accel/accel_view.h"
 #include "rayscope/frame.h"
 #include "rayscope/replay.h"
 #include "rayscope/scene.h"
@@ -398,7 +398,7 @@ int vtkRayScopeBVHSource::RequestData(vtkInformation*, vtkInformationVector** in
   for (size_t k = 0; k < view.refs.size(); ++k) leaf_ids->SetValue(vtkIdType(k), int(view.refs[k]));
   fd->AddArray(leaf_ids);
   add_field_tuple<vtkDoubleArray>(fd, "SAHCostTotal", {sah_total});
-  add_field_tuple<vtkIntArray>(fd, "BVHUsed", {scene.summary().bvh_used ? 1 : 0});
+  add_field_tuple<vtkIntArray>(fd, "BVHUsed", {scene.summary().walks_structure ? 1 : 0});
   add_field_tuple<vtkIntArray>(fd, "TreeDepth", {view.depth});
   vtkNew<vtkStringArray> structure;
   structure->SetName("Structure");

@@ -29,6 +29,24 @@
 #include "rayscope_vtk/mesh_conversion.h"
 #include "vtkRayScopeImageAlgorithmInternals.h"
 
+// The Accel values are the core's table's (rayscope/accel/accel_kind.h).
+static_assert(vtkRayScopeImageAlgorithm::ACCEL_BVH ==
+                  rayscope::accel_kind_name(rayscope::AccelKind::Bvh).vtk_id &&
+              vtkRayScopeImageAlgorithm::ACCEL_BINARY_BVH ==
+                  rayscope::accel_kind_name(rayscope::AccelKind::BinaryBvh).vtk_id &&
+              vtkRayScopeImageAlgorithm::ACCEL_NONE ==
+                  rayscope::accel_kind_name(rayscope::AccelKind::None).vtk_id &&
+              vtkRayScopeImageAlgorithm::ACCEL_KDTREE ==
+                  rayscope::accel_kind_name(rayscope::AccelKind::KdTree).vtk_id &&
+              vtkRayScopeImageAlgorithm::ACCEL_GRID ==
+                  rayscope::accel_kind_name(rayscope::AccelKind::Grid).vtk_id &&
+              vtkRayScopeImageAlgorithm::ACCEL_OCTREE ==
+                  rayscope::accel_kind_name(rayscope::AccelKind::Octree).vtk_id &&
+              vtkRayScopeImageAlgorithm::ACCEL_BSP ==
+                  rayscope::accel_kind_name(rayscope::AccelKind::Bsp).vtk_id &&
+              vtkRayScopeImageAlgorithm::ACCEL_SPHERES ==
+                  rayscope::accel_kind_name(rayscope::AccelKind::Spheres).vtk_id);
+
 vtkStandardNewMacro(vtkRayScopeImageAlgorithm);
 vtkCxxSetObjectMacro(vtkRayScopeImageAlgorithm, LookupTable, vtkScalarsToColors);
 
@@ -292,7 +310,7 @@ std::string vtkRayScopeImageAlgorithm::ValidateParameters() {
         return name + ": attenuation values must be finite and >= 0";
   }
   rayscope::AccelKind kind;
-  if (!rayscope_vtk::accel_kind_of(this->Accel, kind))
+  if (!rayscope::accel_kind_of_vtk_id(this->Accel, kind))
     return "Accel " + std::to_string(this->Accel) + " names no structure of this build";
   if (std::string e = rayscope::accel_storage_error(kind, rayscope_vtk::storage_of(this->Storage));
       !e.empty())
@@ -352,7 +370,7 @@ void vtkRayScopeImageAlgorithm::SetCoreScene(const rayscope::Scene& scene) {
   this->SetViewAngle(c.vfov_degrees);
   this->SetParallelProjection(c.parallel);
   this->SetParallelScale(c.parallel_scale);
-  this->SetAccel(rayscope_vtk::accel_of(scene.accel().kind()));
+  this->SetAccel(rayscope::accel_kind_name(scene.accel().kind()).vtk_id);
   this->SetStorage(rayscope_vtk::storage_value_of(scene.accel().storage()));
   this->SetLooseFactor(double(scene.accel().config().loose_factor));
   const glm::uvec3 res = scene.accel().config().grid.resolution;
@@ -550,7 +568,8 @@ void vtkRayScopeImageAlgorithm::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "ComputeCost: " << this->ComputeCost << "\n";
   rayscope::AccelKind kind;
   os << indent << "Accel: "
-     << (rayscope_vtk::accel_kind_of(this->Accel, kind) ? rayscope::to_string(kind) : "?") << "\n";
+     << (rayscope::accel_kind_of_vtk_id(this->Accel, kind) ? rayscope::to_string(kind) : "?")
+     << "\n";
   os << indent << "Storage: " << rayscope::to_string(rayscope_vtk::storage_of(this->Storage))
      << "\n";
   os << indent << "LooseFactor: " << this->LooseFactor << "\n";

@@ -27,14 +27,16 @@
 #include <cmath>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
-#include "rayscope/cell_walk.h"
+#include "rayscope/accel/accel_structure.h"
+#include "rayscope/accel/cell_walk.h"
+#include "rayscope/accel/mailbox.h"
+#include "rayscope/accel/prim_storage.h"
 #include "rayscope/intersect.h"
-#include "rayscope/mailbox.h"
 #include "rayscope/math.h"
-#include "rayscope/prim_storage.h"
 #include "rayscope/ray.h"
 #include "rayscope/traversal.h"
 
@@ -133,6 +135,13 @@ class Octree {
   bool loose() const { return loose_; }
   int max_depth() const { return max_depth_; }
   OctreeQuality quality() const;
+  /// The AccelStructure interface (accel_structure.h): figures, teaching
+  /// view (refs: the indices build() was given), the --stats line and the
+  /// ray-tree legend of the walk.
+  AccelFigures figures() const;
+  AccelView view() const;
+  std::string stats_line() const;
+  std::string walk_legend() const;
   size_t memory_bytes() const {
     return nodes.size() * sizeof(OctNode) + refs.size() * sizeof(uint32_t);
   }

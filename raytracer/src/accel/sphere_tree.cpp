@@ -13,7 +13,9 @@
 // All geometry is computed in double; a float sphere is then rounded outward
 // (center rounded to float, radius recomputed from it and rounded up), so
 // that containment holds for the float spheres the walks test.
-#include "rayscope/sphere_tree.h"
+#include "rayscope/accel/sphere_tree.h"
+
+#include <cstdio>
 
 #include <algorithm>
 #include <chrono>
@@ -300,6 +302,49 @@ SphereTreeQuality SphereTree::quality() const {
   }
   q.mean_leaf_prims = double(leaf_prims) / q.leaves;
   return q;
+}
+
+AccelFigures SphereTree::figures() const {
+  const SphereTreeQuality q = quality();
+  AccelFigures f;
+  f.build_seconds = q.build_seconds;
+  f.memory_bytes = memory_bytes();
+  f.nodes = q.nodes;
+  f.leaves = q.leaves;
+  f.depth = q.depth;
+  f.refs_per_prim = prim_indices.empty() ? 0.0 : 1.0;
+  return f;
+}
+
+AccelView SphereTree::view() const {
+  AccelView v;
+  v.structure = "spheres";
+  v.traversal_cost = config.traversal_cost;
+  v.intersection_cost = config.intersection_cost;
+  add_binary_nodes(v, nodes, [](const SphereNode& n, AccelViewNode& o) {
+    o.sphere = n.sphere();
+    o.box = n.sphere().box();
+  });
+  v.refs = prim_indices;
+  finish_levels(v);
+  return v;
+}
+
+std::string SphereTree::stats_line() const {
+  const SphereTreeQuality q = quality();
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "spheres: %u nodes, %u leaves, depth %u, %.1f prims/leaf (max %u), SAH cost %.2f "
+                "(sphere areas), node volumes %.1fx the root's, %.2f MiB, built in %.3f s",
+                q.nodes, q.leaves, q.depth, q.mean_leaf_prims, q.max_leaf_prims, q.sah_cost,
+                q.volume_ratio, double(q.memory_bytes) / (1024.0 * 1024.0), q.build_seconds);
+  return line;
+}
+
+std::string SphereTree::walk_legend() const {
+  return "the sphere tree (--accel spheres); nodes are named by their sphere tree ids, a "
+         "node's two child \"boxes\" are its children's bounding spheres (entered nearer "
+         "entry first), and every primitive is stored once";
 }
 
 }  // namespace rayscope

@@ -47,6 +47,9 @@ inline constexpr float kMaxLooseFactor = 0.5f;
 /// when it is one (finite, 0 <= factor <= kMaxLooseFactor). The one check:
 /// the builders throw std::invalid_argument with it, the CLI prints it.
 std::string loose_factor_error(float factor);
+/// "every-cell", "smallest-cell (loose factor F)" or "split": how the tools
+/// name a structure's storage.
+std::string storage_text(PrimStorage storage, float loose_factor);
 
 /// `cell` enlarged by `factor` times its extent on every side: the loose box
 /// of SmallestCell storage. The builders and the walks compute loose boxes

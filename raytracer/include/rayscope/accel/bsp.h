@@ -71,12 +71,14 @@
 #include <cmath>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
+#include "rayscope/accel/accel_structure.h"
+#include "rayscope/accel/mailbox.h"
+#include "rayscope/accel/prim_storage.h"
 #include "rayscope/intersect.h"
-#include "rayscope/mailbox.h"
 #include "rayscope/math.h"
-#include "rayscope/prim_storage.h"
 #include "rayscope/ray.h"
 #include "rayscope/traversal.h"
 
@@ -191,6 +193,13 @@ class BspTree {
   double tolerance() const { return tolerance_; }
   PrimStorage storage() const { return config.storage; }
   BspQuality quality() const;
+  /// The AccelStructure interface (accel_structure.h): figures, teaching
+  /// view (refs: the indices build() was given), the --stats line and the
+  /// ray-tree legend of the walk.
+  AccelFigures figures() const;
+  AccelView view() const;
+  std::string stats_line() const;
+  std::string walk_legend() const;
   size_t memory_bytes() const {
     return nodes.size() * sizeof(BspNode) + refs.size() * sizeof(uint32_t) +
            cell_boxes.size() * sizeof(Bounds3);

@@ -33,10 +33,11 @@
 #include <string>
 #include <vector>
 
+#include "rayscope/accel/accel_structure.h"
+#include "rayscope/accel/mailbox.h"
+#include "rayscope/accel/prim_storage.h"
 #include "rayscope/intersect.h"
-#include "rayscope/mailbox.h"
 #include "rayscope/math.h"
-#include "rayscope/prim_storage.h"
 #include "rayscope/ray.h"
 #include "rayscope/traversal.h"
 
@@ -139,6 +140,13 @@ class UniformGrid {
     return {refs.data() + offsets[id], refs.data() + offsets[id + 1]};
   }
   GridQuality quality() const;
+  /// The AccelStructure interface (accel_structure.h): figures, teaching
+  /// view (refs: the indices build() was given), the --stats line and the
+  /// ray-tree legend of the walk.
+  AccelFigures figures() const;
+  AccelView view() const;
+  std::string stats_line() const;
+  std::string walk_legend() const;
   size_t memory_bytes() const {
     return (offsets.size() + refs.size() + big_refs.size()) * sizeof(uint32_t) +
            (planes[0].size() + planes[1].size() + planes[2].size()) * sizeof(float);

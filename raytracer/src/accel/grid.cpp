@@ -7,7 +7,9 @@
 // SmallestCell (the loose grid): the same resolution (no reference budget:
 // each primitive is stored once), then one pass: the cell of each primitive's
 // center if its loose box holds the bounds, else the big list.
-#include "rayscope/grid.h"
+#include "rayscope/accel/grid.h"
+
+#include <cstdio>
 
 #include <chrono>
 #include <cmath>
@@ -241,6 +243,70 @@ GridQuality UniformGrid::quality() const {
   const size_t full = q.cells - q.empty_cells;
   q.mean_cell_refs = full ? double(refs.size()) / double(full) : 0.0;
   return q;
+}
+
+AccelFigures UniformGrid::figures() const {
+  const GridQuality q = quality();
+  AccelFigures f;
+  f.build_seconds = q.build_seconds;
+  f.memory_bytes = memory_bytes();
+  f.nodes = q.cells;
+  f.leaves = q.cells - q.empty_cells;
+  f.depth = 1;
+  f.refs_per_prim = q.refs_per_prim;
+  return f;
+}
+
+AccelView UniformGrid::view() const {
+  AccelView v;
+  v.structure = "grid";
+  const uint32_t ncells = uint32_t(cells());
+  if (ncells == 0) return v;
+  // Cells x + nx (y + ny z), then the grid's box (box_id() = ncells): the ids
+  // the walk reports.
+  v.nodes.resize(size_t(ncells) + 1);
+  const glm::uvec3 res = resolution();
+  for (uint32_t z = 0; z < res.z; ++z)
+    for (uint32_t y = 0; y < res.y; ++y)
+      for (uint32_t x = 0; x < res.x; ++x) {
+        const uint32_t id = cell_id(x, y, z);
+        AccelViewNode& o = v.nodes[id];
+        o.box = node_box(x, y, z);  // the loose box for smallest-cell storage
+        o.parent = int32_t(box_id());
+        o.leaf = true;
+        o.first = offsets[id];
+        o.count = offsets[id + 1] - offsets[id];
+      }
+  // The grid's box holds the loose grid's big list, after the cells' lists.
+  AccelViewNode& box = v.nodes[box_id()];
+  box.box = bounds();
+  box.first = uint32_t(refs.size());
+  box.count = uint32_t(big_refs.size());
+  v.refs.reserve(refs.size() + big_refs.size());
+  v.refs.insert(v.refs.end(), refs.begin(), refs.end());
+  v.refs.insert(v.refs.end(), big_refs.begin(), big_refs.end());
+  finish_levels(v);
+  return v;
+}
+
+std::string UniformGrid::stats_line() const {
+  const GridQuality g = quality();
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "grid, %s: %u x %u x %u cells (%zu, %zu empty), %.2f references per primitive "
+                "(%zu in the grid's own list), %.1f per non-empty cell (at most %u), %.2f MiB, "
+                "built in %.3f s",
+                storage_text(config.storage, config.loose_factor).c_str(), g.resolution.x,
+                g.resolution.y, g.resolution.z, g.cells, g.empty_cells, g.refs_per_prim, g.big_refs,
+                g.mean_cell_refs, g.max_cell_refs, double(g.memory_bytes) / (1024.0 * 1024.0),
+                g.build_seconds);
+  return line;
+}
+
+std::string UniformGrid::walk_legend() const {
+  return "the uniform grid (--accel grid); nodes are cells, named by their index x + nx * (y + "
+         "ny * z), entered front to back; the one box tested is the grid's (id = the number of "
+         "cells), and a primitive stored in several cells is tested once";
 }
 
 }  // namespace rayscope

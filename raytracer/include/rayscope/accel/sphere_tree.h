@@ -26,9 +26,11 @@
 #include <cmath>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
-#include "rayscope/binary_range_walk.h"
+#include "rayscope/accel/accel_structure.h"
+#include "rayscope/accel/binary_range_walk.h"
 #include "rayscope/math.h"
 #include "rayscope/range_query.h"
 #include "rayscope/ray.h"
@@ -134,6 +136,13 @@ class SphereTree {
   /// The root's sphere (radius 0 at the origin when empty).
   BoundingSphere sphere() const { return empty() ? BoundingSphere{} : nodes[0].sphere(); }
   SphereTreeQuality quality() const;
+  /// The AccelStructure interface (accel_structure.h): figures, teaching
+  /// view (refs: the indices build() was given), the --stats line and the
+  /// ray-tree legend of the walk.
+  AccelFigures figures() const;
+  AccelView view() const;
+  std::string stats_line() const;
+  std::string walk_legend() const;
   size_t memory_bytes() const {
     return nodes.size() * sizeof(SphereNode) + prim_indices.size() * sizeof(uint32_t);
   }

@@ -32,14 +32,16 @@
 #include <cassert>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
-#include "rayscope/cell_walk.h"
+#include "rayscope/accel/accel_structure.h"
+#include "rayscope/accel/cell_walk.h"
+#include "rayscope/accel/mailbox.h"
+#include "rayscope/accel/prim_storage.h"
 #include "rayscope/intersect.h"
-#include "rayscope/mailbox.h"
 #include "rayscope/math.h"
-#include "rayscope/prim_storage.h"
 #include "rayscope/ray.h"
 #include "rayscope/traversal.h"
 
@@ -160,6 +162,13 @@ class KdTree {
   /// The depth limit the build used (config.max_depth resolved).
   int max_depth() const { return max_depth_; }
   KdTreeQuality quality() const;
+  /// The AccelStructure interface (accel_structure.h): figures, teaching
+  /// view (refs: the indices build() was given), the --stats line and the
+  /// ray-tree legend of the walk.
+  AccelFigures figures() const;
+  AccelView view() const;
+  std::string stats_line() const;
+  std::string walk_legend() const;
   size_t memory_bytes() const {
     return nodes.size() * sizeof(KdNode) + (refs.size() + offsets.size()) * sizeof(uint32_t);
   }

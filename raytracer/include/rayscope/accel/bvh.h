@@ -6,7 +6,7 @@
 // permutation of primitive indices the leaves refer to. This binary tree is the
 // hierarchy RayScope builds, measures (quality()) and shows: its node ids are
 // the ones every walk reports to observers and the VTK sources draw. Rays walk
-// it through WideBvh (wide_bvh.h), which collapses it into nodes of up to four
+// it through WideBvh (wide_bvh.h), which collapses it into nodes of up to eight
 // children for rendering, or of exactly two for the teaching walk.
 #pragma once
 
@@ -14,7 +14,8 @@
 #include <span>
 #include <vector>
 
-#include "rayscope/binary_range_walk.h"
+#include "rayscope/accel/accel_view.h"
+#include "rayscope/accel/binary_range_walk.h"
 #include "rayscope/intersect.h"
 #include "rayscope/math.h"
 #include "rayscope/ray.h"
@@ -50,7 +51,7 @@ struct BvhBuildConfig {
   /// leaf's triangles four at a time (triangle_block.h). Its leaves of about
   /// 2.8 triangles (1.9 at 1) traced bunny rays 13% (primary) and 7% (shadow)
   /// faster than at 1, and 7% and 5% faster than at 0.3 (4.8 per leaf), same
-  /// runs (bench_trace --leaf-cost, docs/benchmarks.md).
+  /// runs (bench_trace --leaf-cost, docs/performance.md).
   float intersection_cost = 0.5f;
   int max_depth = 56;  ///< Deeper nodes are split at the object median.
   /// Subtrees of at least this many primitives are built as parallel tasks
@@ -86,6 +87,9 @@ class Bvh {
   bool empty() const { return nodes.empty(); }
   Bounds3 bounds() const { return empty() ? Bounds3() : nodes[0].bounds(); }
   BvhQuality quality() const;
+  /// The teaching view (accel_view.h): every node, refs naming positions in
+  /// leaf order (prim_indices).
+  AccelView view() const;
 
   /// Entries of walk_range()'s stack: one per level at most (the builder
   /// keeps every leaf within 64 levels of the root).

@@ -1,4 +1,6 @@
-#include "rayscope/prim_storage.h"
+#include "rayscope/accel/prim_storage.h"
+
+#include "rayscope/render_settings.h"
 
 #include <cmath>
 #include <sstream>
@@ -32,6 +34,13 @@ std::string loose_factor_error(float factor) {
   o << "loose factor must be a number from 0 to " << kMaxLooseFactor << " (a fraction of a cell's "
     << "size added on every side; the lecture's " << kDefaultLooseFactor << "), got " << factor;
   return o.str();
+}
+
+std::string storage_text(PrimStorage storage, float loose_factor) {
+  std::string text = to_string(storage);
+  if (storage == PrimStorage::SmallestCell)
+    text += " (loose factor " + shortest_text(loose_factor) + ")";
+  return text;
 }
 
 }  // namespace rayscope

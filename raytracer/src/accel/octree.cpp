@@ -6,7 +6,9 @@
 // in a leaf that holds it. SmallestCell: a primitive goes to the octant whose
 // loose box holds its bounds (the octant of its center when that one does,
 // else the first that does), or stays in the node when none does.
-#include "rayscope/octree.h"
+#include "rayscope/accel/octree.h"
+
+#include <cstdio>
 
 #include <algorithm>
 #include <chrono>
@@ -188,6 +190,62 @@ OctreeQuality Octree::quality() const {
   for (const OctNode& n : nodes)
     if (!n.is_leaf()) q.empty_leaves += 8u - uint32_t(std::popcount(unsigned(n.mask)));
   return q;
+}
+
+AccelFigures Octree::figures() const {
+  const OctreeQuality q = quality();
+  AccelFigures f;
+  f.build_seconds = q.build_seconds;
+  f.memory_bytes = memory_bytes();
+  f.nodes = q.nodes;
+  f.leaves = q.leaves;
+  f.depth = q.depth;
+  f.refs_per_prim = q.refs_per_prim;
+  return f;
+}
+
+AccelView Octree::view() const {
+  AccelView v;
+  v.structure = "octree";
+  const std::vector<Bounds3> cell = cells();
+  v.nodes.resize(nodes.size());
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const OctNode& n = nodes[i];
+    AccelViewNode& o = v.nodes[i];
+    o.box = node_box(cell[i]);  // the loose box for smallest-cell storage
+    o.leaf = n.is_leaf();
+    o.first = n.first;  // inner nodes of a loose octree hold primitives too
+    o.count = n.count;
+    for (int k = 0; k < 8; ++k)
+      if (n.has_child(k)) v.nodes[n.child(k)].parent = int32_t(i);
+  }
+  v.refs = refs;
+  finish_levels(v);
+  return v;
+}
+
+std::string Octree::stats_line() const {
+  const OctreeQuality q = quality();
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "octree, %s: %u nodes, %u leaves (%u empty octants not stored), depth %u (limit "
+                "%d), %.2f references per primitive (%zu held by inner nodes), %.1f per leaf (max "
+                "%u), %.2f MiB, built in %.3f s",
+                storage_text(config.storage, config.loose_factor).c_str(), q.nodes, q.leaves,
+                q.empty_leaves, q.depth, max_depth(), q.refs_per_prim, q.inner_refs,
+                q.mean_leaf_refs, q.max_leaf_refs, double(q.memory_bytes) / (1024.0 * 1024.0),
+                q.build_seconds);
+  return line;
+}
+
+std::string Octree::walk_legend() const {
+  return loose() ? "the loose octree (--accel octree --storage smallest-cell); nodes are named "
+                   "by their octree ids, a node's child boxes are its octants' loose boxes "
+                   "(overlapping, entered nearest first), and inner nodes hold primitives too "
+                   "(those that fit no child): hit in leaf is the node that holds the hit"
+                 : "the octree (--accel octree --storage every-cell); nodes are named by their "
+                   "octree ids, a node's child boxes are its non-empty octants, and a primitive "
+                   "stored in several cells is tested once";
 }
 
 }  // namespace rayscope

@@ -1,4 +1,4 @@
-#include "rayscope/mailbox.h"
+#include "rayscope/accel/mailbox.h"
 
 #include <algorithm>
 #include <vector>

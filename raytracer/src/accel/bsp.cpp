@@ -6,7 +6,9 @@
 // clips every face to each side and adds the cap, the plane's polygon inside
 // the cell: the cap is the split polygon drawn for the node, the faces'
 // vertices give each child's cell box.
-#include "rayscope/bsp.h"
+#include "rayscope/accel/bsp.h"
+
+#include <cstdio>
 
 #include <algorithm>
 #include <chrono>
@@ -431,6 +433,72 @@ BspQuality BspTree::quality() const {
   q.inner_refs = c.inner_refs;
   q.mean_leaf_refs = c.mean_leaf_refs;
   return q;
+}
+
+AccelFigures BspTree::figures() const {
+  const BspQuality q = quality();
+  AccelFigures f;
+  f.build_seconds = q.build_seconds;
+  f.memory_bytes = memory_bytes();
+  f.nodes = q.nodes;
+  f.leaves = q.leaves;
+  f.depth = q.depth;
+  f.refs_per_prim = q.refs_per_prim;
+  f.fragments = q.fragments;
+  return f;
+}
+
+AccelView BspTree::view() const {
+  AccelView v;
+  v.structure = "bsp";
+  v.nodes.resize(nodes.size());
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const BspNode& n = nodes[i];
+    AccelViewNode& o = v.nodes[i];
+    o.box = cell_boxes[i];
+    o.leaf = n.is_leaf();
+    o.first = n.first;  // inner nodes hold primitives with smallest-cell storage
+    o.count = n.count;
+    o.polygon_first = plane_polygons[i].first;
+    o.polygon_count = plane_polygons[i].count;
+    if (!n.is_leaf()) v.nodes[i + 1].parent = v.nodes[n.front].parent = int32_t(i);
+  }
+  v.polygon_vertices = plane_vertices;
+  v.refs = refs;
+  finish_levels(v);
+  return v;
+}
+
+std::string BspTree::stats_line() const {
+  const BspQuality q = quality();
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "bsp, %s: %u nodes, %u leaves, depth %u (limit %d), %.2f references per "
+                "primitive (%zu held by inner nodes), %zu fragments (%zu triangles cut), %.1f per "
+                "leaf (max %u), %.2f MiB, built in %.3f s",
+                to_string(config.storage), q.nodes, q.leaves, q.depth, config.max_depth,
+                q.refs_per_prim, q.inner_refs, q.fragments, q.split_prims, q.mean_leaf_refs,
+                q.max_leaf_refs, double(q.memory_bytes) / (1024.0 * 1024.0), q.build_seconds);
+  return line;
+}
+
+std::string BspTree::walk_legend() const {
+  switch (config.storage) {
+    case PrimStorage::SmallestCell:
+      return "the BSP tree (--accel bsp --storage smallest-cell); nodes are named by their BSP "
+             "ids, a node's two child boxes are the half-spaces of its split plane the ray "
+             "reaches, and a primitive that straddles a plane is held (and tested) by that "
+             "plane's node";
+    case PrimStorage::Split:
+      return "the BSP tree (--accel bsp --storage split); nodes are named by their BSP ids, a "
+             "node's two child boxes are the half-spaces of its split plane the ray reaches, and "
+             "a triangle cut into fragments is tested once per fragment reached (no mailbox)";
+    case PrimStorage::EveryCell:
+      break;
+  }
+  return "the BSP tree (--accel bsp --storage every-cell); nodes are named by their BSP ids, a "
+         "node's two child boxes are the half-spaces of its split plane the ray reaches, and a "
+         "primitive stored in several cells is tested once";
 }
 
 }  // namespace rayscope

@@ -45,7 +45,8 @@ struct AccelView {
   /// nodes[id]: ids are the ones the walk reports (dense, 0 .. size - 1).
   std::vector<AccelViewNode> nodes;
   /// Global primitive ids (triangles mesh by mesh, then spheres) of the nodes'
-  /// lists; a primitive stored in several cells appears in each.
+  /// lists (record indices in a structure's own view()); a primitive stored in
+  /// several cells appears in each.
   std::vector<uint32_t> refs;
   /// Vertices of the nodes' polygons (BSP split planes).
   std::vector<Vec3> polygon_vertices;
@@ -59,7 +60,34 @@ struct AccelView {
   int depth = 0;
 };
 
-/// The view of the structure the aggregate's rays walk.
+/// The view of the structure the aggregate's rays walk, refs naming global
+/// primitive ids (each structure's own view() names records; this maps them).
 AccelView make_accel_view(const Aggregate& accel);
+
+/// Sets every node's level and the view's depth from the parents (counted up
+/// to the root: the grid's box has the last id, so a parent may come after
+/// its children). The last step of every structure's view().
+void finish_levels(AccelView& v);
+
+/// The nodes of a binary hierarchy whose inner nodes name their first child
+/// (`index`, the second follows it) and whose leaves a range of `count`
+/// records from `index` (the BVH's and the sphere tree's layout); `volume`
+/// sets each node's box (and sphere).
+template <class Node, class Volume>
+void add_binary_nodes(AccelView& v, const std::vector<Node>& nodes, Volume volume) {
+  v.nodes.resize(nodes.size());
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const Node& n = nodes[i];
+    AccelViewNode& o = v.nodes[i];
+    volume(n, o);
+    o.leaf = n.is_leaf();
+    if (o.leaf) {
+      o.first = n.index;
+      o.count = n.count;
+    } else {
+      v.nodes[n.index].parent = v.nodes[n.index + 1].parent = int32_t(i);
+    }
+  }
+}
 
 }  // namespace rayscope

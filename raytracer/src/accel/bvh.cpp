@@ -12,7 +12,7 @@
 // Subtrees of at least cfg.parallel_min_prims primitives are built in parallel (TBB), each task's
 // subtree kept at its used size, then placed where the serial recursion puts it: the tree is the
 // same, node for node, whatever the number of threads.
-#include "rayscope/bvh.h"
+#include "rayscope/accel/bvh.h"
 
 #include "rayscope/huge_pages.h"
 
@@ -530,6 +530,18 @@ BvhQuality Bvh::quality() const {
   }
   q.mean_leaf_prims = q.leaves ? double(leaf_prims) / q.leaves : 0.0;
   return q;
+}
+
+AccelView Bvh::view() const {
+  AccelView v;
+  v.structure = "bvh";
+  v.traversal_cost = config.traversal_cost;
+  v.intersection_cost = config.intersection_cost;
+  add_binary_nodes(v, nodes, [](const BvhNode& n, AccelViewNode& o) { o.box = n.bounds(); });
+  v.refs.resize(prim_indices.size());
+  for (size_t i = 0; i < v.refs.size(); ++i) v.refs[i] = uint32_t(i);
+  finish_levels(v);
+  return v;
 }
 
 }  // namespace rayscope

@@ -4,7 +4,7 @@
 // two children (the choice Embree's BVH4 and BVH8 builders make), so that the boxes a
 // ray is most likely to enter are tested together. With arity 2 nothing is
 // replaced: each wide node is one binary node.
-#include "rayscope/wide_bvh.h"
+#include "rayscope/accel/wide_bvh.h"
 
 #include "rayscope/huge_pages.h"
 

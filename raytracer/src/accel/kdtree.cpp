@@ -11,7 +11,9 @@
 // primitive sent to the child whose loose box holds it (its center's side
 // first) or kept in the node. A node is a leaf when it holds few enough, the
 // cost says so, or nothing fits a child.
-#include "rayscope/kdtree.h"
+#include "rayscope/accel/kdtree.h"
+
+#include <cstdio>
 
 #include <algorithm>
 #include <cassert>
@@ -389,6 +391,63 @@ std::vector<Bounds3> KdTree::cells() const {
   for (uint32_t i = 0; i < nodes.size(); ++i)
     for_children(i, c[i], [&](uint32_t child, const Bounds3& cell) { c[child] = cell; });
   return c;
+}
+
+AccelFigures KdTree::figures() const {
+  const KdTreeQuality q = quality();
+  AccelFigures f;
+  f.build_seconds = q.build_seconds;
+  f.memory_bytes = memory_bytes();
+  f.nodes = q.nodes;
+  f.leaves = q.leaves - q.empty_leaves;
+  f.depth = q.depth;
+  f.refs_per_prim = q.refs_per_prim;
+  return f;
+}
+
+AccelView KdTree::view() const {
+  AccelView v;
+  v.structure = "kdtree";
+  v.traversal_cost = config.traversal_cost;
+  v.intersection_cost = config.intersection_cost;
+  v.nodes.resize(nodes.size());
+  const std::vector<Bounds3> cell = cells();
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const KdNode& n = nodes[i];
+    AccelViewNode& o = v.nodes[i];
+    o.box = node_box(cell[i]);  // the loose box for smallest-cell storage
+    o.leaf = n.is_leaf();
+    // Inner nodes of a loose kD-tree hold primitives too.
+    const std::span<const uint32_t> held = node_refs(uint32_t(i));
+    o.first = held.empty() ? 0u : uint32_t(held.data() - refs.data());
+    o.count = uint32_t(held.size());
+    if (o.leaf) continue;
+    // The cell below the plane is the next node, the one above at above().
+    v.nodes[i + 1].parent = v.nodes[n.above()].parent = int32_t(i);
+  }
+  v.refs = refs;
+  finish_levels(v);
+  return v;
+}
+
+std::string KdTree::stats_line() const {
+  const KdTreeQuality q = quality();
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "kdtree, %s split, %s: %u nodes, %u leaves (%u empty), depth %u (limit %d), %.2f "
+                "references per primitive (%zu held by inner nodes), %.1f per non-empty leaf, SAH "
+                "cost %.2f, %.2f MiB, built in %.3f s",
+                to_string(config.rule), storage_text(config.storage, config.loose_factor).c_str(),
+                q.nodes, q.leaves, q.empty_leaves, q.depth, max_depth(), q.refs_per_prim,
+                q.inner_refs, q.mean_leaf_refs, q.sah_cost,
+                double(q.memory_bytes) / (1024.0 * 1024.0), q.build_seconds);
+  return line;
+}
+
+std::string KdTree::walk_legend() const {
+  return "the kD-tree (--accel kdtree); nodes are named by their kD-tree ids, a node's two "
+         "child boxes are the cells its split plane lets the ray reach, and a primitive "
+         "stored in several cells is tested once";
 }
 
 }  // namespace rayscope

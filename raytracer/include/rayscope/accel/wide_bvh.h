@@ -33,7 +33,7 @@
 #include <immintrin.h>
 #endif
 
-#include "rayscope/bvh.h"
+#include "rayscope/accel/bvh.h"
 #include "rayscope/traversal.h"
 
 namespace rayscope {

@@ -20,8 +20,8 @@
 #include <span>
 #include <utility>
 
+#include "rayscope/accel/mailbox.h"
 #include "rayscope/intersect.h"
-#include "rayscope/mailbox.h"
 #include "rayscope/math.h"
 #include "rayscope/ray.h"
 #include "rayscope/traversal.h"

@@ -1,0 +1,121 @@
+// The BVH as rays walk it (AccelKind::Bvh and BinaryBvh): the binary tree
+// (bvh.h) collapsed into wide nodes (wide_bvh.h), arity 8 for renders or 2 for
+// the lecture's binary walk, and each leaf's triangles stored by coordinate in
+// blocks (triangle_block.h) that one SSE instruction tests four at a time.
+// Range queries walk the binary tree itself, and the tools show it.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "rayscope/accel/accel_kind.h"
+#include "rayscope/accel/accel_structure.h"
+#include "rayscope/accel/bvh.h"
+#include "rayscope/accel/prim_record.h"
+#include "rayscope/accel/triangle_block.h"
+#include "rayscope/accel/wide_bvh.h"
+
+namespace rayscope {
+
+class BvhWalk {
+ public:
+  /// Collapses `hierarchy` (built over `records`, which are in its leaf
+  /// order) into nodes of 8 children (AccelKind::Bvh) or 2 (BinaryBvh) and
+  /// fills the leaves' triangle blocks; records with id >= num_triangles are
+  /// spheres.
+  void build(AccelKind kind, std::shared_ptr<const Bvh> hierarchy,
+             std::span<const PrimRecord> records, uint32_t num_triangles);
+  /// What figures() reports as the build time (the caller times the binary
+  /// build and this collapse together).
+  void set_build_seconds(double s) { build_seconds_ = s; }
+
+  /// The wide walk. Without an observer each leaf goes through its triangle
+  /// blocks: `prim(record, tmax, decided)` is called for the records the
+  /// block test hits (`decided`: that hit) or leaves undecided (null), in
+  /// record order, so it finds what the plain loop finds. An active observer
+  /// sees the plain loop, every record tested.
+  template <bool AnyHit, class Observer, class PrimFn>
+  [[gnu::always_inline]] bool traverse(const Ray& ray, float& tmax, PrimFn&& prim,
+                                       Observer& obs) const {
+    return traverse<AnyHit>(ray, TrianglePrecomp(ray), tmax, prim, obs);
+  }
+  /// The same with the ray's triangle-test constants already computed (the
+  /// aggregate's, which its own primitive test uses too).
+  template <bool AnyHit, class Observer, class PrimFn>
+  [[gnu::always_inline]] bool traverse(const Ray& ray, const TrianglePrecomp& pre, float& tmax,
+                                       PrimFn&& prim, Observer& obs) const;
+  /// The binary tree's range walk (Bvh::walk_range).
+  template <class Range, class Observer, class PrimFn>
+  void walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
+    hierarchy_->walk_range(range, prim, obs);
+  }
+
+  AccelFigures figures() const;
+  size_t memory_bytes() const {
+    return walk_.memory_bytes() + blocks_.size() * sizeof(TriangleBlock);
+  }
+  /// The binary tree, node by node: the ids the walk reports.
+  AccelView view() const;
+  std::string stats_line() const;
+  std::string walk_legend() const;
+
+  /// The walked collapse of the binary tree.
+  const WideBvh& walk() const { return walk_; }
+  /// The leaves' records by coordinate: each leaf's records from its first
+  /// block on, TriangleBlock::kLanes per block.
+  const std::vector<TriangleBlock>& triangle_blocks() const { return blocks_; }
+
+ private:
+  AccelKind kind_ = AccelKind::Bvh;
+  std::shared_ptr<const Bvh> hierarchy_;
+  WideBvh walk_;
+  /// Each leaf starting a new block; the walk's leaves are labelled by their
+  /// first block.
+  std::vector<TriangleBlock> blocks_;
+  double build_seconds_ = 0.0;
+};
+
+// ---------------------------------------------------------------------------
+
+template <bool AnyHit, class Observer, class PrimFn>
+inline bool BvhWalk::traverse(const Ray& ray, const TrianglePrecomp& pre, float& tmax,
+                              PrimFn&& prim, Observer& obs) const {
+  if constexpr (Observer::kActive) {
+    auto leaf = [&](uint32_t block, uint32_t count, float& t) __attribute__((always_inline)) {
+      return test_records<AnyHit>(blocks_[block].first, count, t, prim);
+    };
+    return walk_.traverse<AnyHit>(ray, tmax, leaf, obs);
+  } else {
+    const TriangleBlockRay block_ray(pre);
+    auto blocks = [&](uint32_t block, uint32_t count, float& t) __attribute__((always_inline)) {
+      bool found = false;
+      const TriangleBlock* b = &blocks_[block];
+      const uint32_t first = b->first;
+      TriangleBlockResult res;
+      for (uint32_t base = first; base < first + count; base += TriangleBlock::kLanes, ++b) {
+        test_triangle_block<!AnyHit>(*b, block_ray, t, res);
+        for (unsigned m = res.hits | res.undecided; m != 0; m &= m - 1) {
+          const unsigned k = unsigned(__builtin_ctz(m));
+          TriangleHit th;
+          const TriangleHit* decided = nullptr;
+          if ((res.hits >> k) & 1u) {
+            th = res.hit(k);
+            if (!(th.t <= t)) continue;  // beyond a hit found in this block
+            decided = &th;
+          }
+          if (prim(base + k, t, decided)) {
+            found = true;
+            if constexpr (AnyHit) return true;
+          }
+        }
+      }
+      return found;
+    };
+    return walk_.traverse<AnyHit>(ray, tmax, blocks, obs);
+  }
+}
+
+}  // namespace rayscope

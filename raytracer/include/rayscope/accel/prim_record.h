@@ -1,0 +1,38 @@
+// The primitives as the structures and the aggregate keep them: bounded
+// primitives (triangles, spheres) as records in leaf order, unbounded planes
+// beside the structure, and the closest hit found among them.
+#pragma once
+
+#include <cstdint>
+
+#include "rayscope/math.h"
+
+namespace rayscope {
+
+/// The closest hit of a ray without any shading data: what tracing needs to
+/// find, and no more (the same work as Embree's rtcIntersect1, which returns t,
+/// barycentrics and ids). Scene::surface_hit() turns it into a SurfaceHit.
+struct PrimHit {
+  float t = kInfinity;
+  float b0 = 0.0f, b1 = 0.0f, b2 = 0.0f;  ///< Barycentric weights (triangles).
+  uint32_t record = ~0u;  ///< Index into Aggregate::records() (leaf order); ~0u for a plane.
+  uint32_t prim = ~0u;    ///< Global primitive index (triangles mesh by mesh, then spheres).
+  int plane = -1;         ///< Index of the plane hit, else -1.
+};
+
+/// One bounded primitive in leaf order: a triangle's vertices, or a sphere's
+/// center and radius (in b.x). Stored inline so that leaves need no indirection.
+struct PrimRecord {
+  Vec3 a;
+  uint32_t id;  ///< Global primitive index.
+  Vec3 b;
+  uint32_t pad;
+  Vec3 c;
+};
+
+/// An unbounded plane (tested outside any structure).
+struct PlaneRecord {
+  Vec3 point, normal;  ///< normal: unit length.
+};
+
+}  // namespace rayscope

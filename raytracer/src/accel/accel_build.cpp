@@ -1,0 +1,96 @@
+#include "rayscope/accel/accel_build.h"
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rayscope {
+namespace {
+
+// The records' bounds in leaf order: what the cell structures are built over,
+// so that their references are record indices.
+std::vector<Bounds3> leaf_order_bounds(const Bvh& hierarchy, std::span<const Bounds3> bounds) {
+  std::vector<Bounds3> out(hierarchy.prim_indices.size());
+  for (size_t i = 0; i < out.size(); ++i) out[i] = bounds[hierarchy.prim_indices[i]];
+  return out;
+}
+
+}  // namespace
+
+std::string accel_config_error(const AccelConfig& config) {
+  if (std::string e = accel_storage_error(config.kind, config.storage); !e.empty()) return e;
+  return loose_factor_error(config.loose_factor);
+}
+
+AccelStructureVariant build_accel(const AccelConfig& config, std::shared_ptr<const Bvh> hierarchy,
+                                  std::span<const PrimRecord> records,
+                                  std::span<const Bounds3> bounds, uint32_t num_triangles,
+                                  std::chrono::steady_clock::time_point build_start) {
+  if (const std::string e = accel_config_error(config); !e.empty()) throw std::invalid_argument(e);
+  switch (config.kind) {
+    case AccelKind::Bvh:
+    case AccelKind::BinaryBvh: {
+      BvhWalk walk;
+      walk.build(config.kind, std::move(hierarchy), records, num_triangles);
+      walk.set_build_seconds(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count());
+      return walk;
+    }
+    case AccelKind::None:
+      return BruteForce(uint32_t(records.size()), std::move(hierarchy));
+    case AccelKind::KdTree: {
+      KdTreeBuildConfig c = config.kdtree;
+      c.storage = config.storage;
+      c.loose_factor = config.loose_factor;
+      KdTree tree;
+      tree.build(leaf_order_bounds(*hierarchy, bounds), c);
+      return tree;
+    }
+    case AccelKind::Grid: {
+      GridBuildConfig c = config.grid;
+      c.storage = config.storage;
+      c.loose_factor = config.loose_factor;
+      UniformGrid grid;
+      grid.build(leaf_order_bounds(*hierarchy, bounds), c);
+      return grid;
+    }
+    case AccelKind::Octree: {
+      OctreeBuildConfig c = config.octree;
+      c.storage = config.storage;
+      c.loose_factor = config.loose_factor;
+      Octree tree;
+      tree.build(leaf_order_bounds(*hierarchy, bounds), c);
+      return tree;
+    }
+    case AccelKind::Bsp: {
+      // The BSP tree's planes go through the triangles: it is built over
+      // their geometry.
+      std::vector<BspPrim> prims(records.size());
+      for (size_t i = 0; i < prims.size(); ++i) {
+        const PrimRecord& r = records[i];
+        prims[i] = r.id < num_triangles ? BspPrim::triangle(r.a, r.b, r.c)
+                                        : BspPrim::make_sphere(r.a, r.b.x);
+      }
+      BspBuildConfig c = config.bsp;
+      c.storage = config.storage;
+      BspTree tree;
+      tree.build(prims, c);
+      return tree;
+    }
+    case AccelKind::Spheres: {
+      // A triangle's smallest enclosing sphere, a sphere itself.
+      std::vector<BoundingSphere> spheres(records.size());
+      for (size_t i = 0; i < spheres.size(); ++i) {
+        const PrimRecord& r = records[i];
+        spheres[i] =
+            r.id < num_triangles ? min_triangle_sphere(r.a, r.b, r.c) : BoundingSphere{r.a, r.b.x};
+      }
+      SphereTree tree;
+      tree.build(spheres, config.spheres);
+      return tree;
+    }
+  }
+  throw std::invalid_argument("build_accel: unknown structure");
+}
+
+}  // namespace rayscope
