@@ -1,5 +1,5 @@
 # What every RayScope CMake configuration shares: the C++ standard, the
-# warning and optimisation flags of RayScope's own targets, and the packages
+# warning, rounding and optimisation flags of RayScope's own targets, and the packages
 # the core (raytracer/) and rayscope_vtkio (vtkplugin/meshio) link to.
 # Included by the top-level CMakeLists.txt and by the ParaView plugin's own
 # configuration (vtkplugin/paraview), which builds the same core against
@@ -17,13 +17,18 @@ option(RAYSCOPE_NATIVE "Optimise for the build machine (-march=native)" ON)
 # Warnings are an error budget of zero; applied to our targets only.
 add_library(rayscope_warnings INTERFACE)
 target_compile_options(rayscope_warnings INTERFACE -Wall -Wextra)
-add_library(rayscope_opt INTERFACE)
-# No fused multiply-add contraction: every instantiation of the templated tracer
-# (plain, recording, counting) then rounds identically, which is what makes a
-# replayed pixel bit-identical to the full render.
-target_compile_options(rayscope_opt INTERFACE -ffp-contract=off)
+# Exact floating-point rounding: no fused multiply-add contraction, so that
+# every instantiation of the templated tracer (plain, recording, counting)
+# rounds identically, which is what makes a replayed pixel bit-identical to
+# the full render. A correctness flag: the core's public headers hold those
+# templates, so it is part of the core's interface (linked PUBLIC).
+add_library(rayscope_fp_exact INTERFACE)
+target_compile_options(rayscope_fp_exact INTERFACE -ffp-contract=off)
+# Optimisation for the build machine: a directory option, so it applies to the
+# targets of this configuration (RayScope's own) and never to a target that
+# links them (an installed package's or the ParaView plugin's users).
 if(RAYSCOPE_NATIVE)
-  target_compile_options(rayscope_opt INTERFACE -march=native)
+  add_compile_options(-march=native)
 endif()
 
 find_package(glm REQUIRED)

@@ -39,10 +39,14 @@ ExternalProject_Add(rayscope_paraview_plugin
     "-DCMAKE_CXX_COMPILER=${CMAKE_CXX_COMPILER}"
     "-DCMAKE_CXX_COMPILER_LAUNCHER=${CMAKE_CXX_COMPILER_LAUNCHER}"
     "-DRAYSCOPE_NATIVE=${RAYSCOPE_NATIVE}"
-  # Rebuilt (incrementally) with every build: its sources are the core's and
-  # the module's, which this build does not track for it.
-  BUILD_ALWAYS ON
   BUILD_BYPRODUCTS "${RAYSCOPE_PARAVIEW_PLUGIN_PATH}/RayScope.so")
+# Rebuilt (incrementally) when a file it is built from changes: the core's,
+# the mesh library's, the module's and the plugin's own sources, and the
+# shared CMake settings (listed again when a file is added or removed).
+file(GLOB_RECURSE _plugin_inputs CONFIGURE_DEPENDS
+  "${PROJECT_SOURCE_DIR}/raytracer/*" "${PROJECT_SOURCE_DIR}/vtkplugin/*"
+  "${PROJECT_SOURCE_DIR}/cmake/*")
+ExternalProject_Add_StepDependencies(rayscope_paraview_plugin build ${_plugin_inputs})
 
 # Launchers: ParaView's programs with the libraries and Python modules of
 # RAYSCOPE_PARAVIEW_ROOT (its pvpython finds its Python modules next to the
