@@ -1,11 +1,11 @@
-// The BSP tree (bsp.h) behind the aggregate, for its three storage choices
-// (every-cell: straddlers on both sides, mailboxed; smallest-cell: the node
-// list, each primitive once; split: triangles cut into fragments): builder
-// invariants (what each leaf holds, fragment areas and sides), degenerate
-// input, scene queries == brute force and == the BVH bit for bit on random and
-// adversarial rays (lying in and starting on the tree's planes of any
-// orientation), what the observer sees, range queries == brute force (no
-// structure), names and figures, and the default scene's render == the BVH's.
+// The BSP tree (bsp.h), for its three storage choices (every-cell:
+// straddlers on both sides, mailboxed; smallest-cell: the node list, each
+// primitive once; split: triangles cut into fragments): builder invariants
+// (what each leaf holds, fragment areas and sides), degenerate and bad input,
+// figures and the view's polygons. What every structure does (queries ==
+// brute force and == the BVH, rays in and across its planes of any
+// orientation, the observer, range queries, images) is
+// test_accel_conformance's.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,7 +16,6 @@
 
 #include "accel_test_util.h"
 #include "rayscope/accel/accel_view.h"
-#include "rayscope/render.h"
 
 namespace {
 
@@ -303,194 +302,10 @@ void commit_bsp(Scene& scene, PrimStorage storage) {
   scene.commit(ac);
   ASSERT_EQ(scene.accel().kind(), AccelKind::Bsp);
   ASSERT_EQ(scene.accel().storage(), storage);
-  ASSERT_TRUE(scene.accel().walks_structure());
   ASSERT_FALSE(scene.accel().structure_as<BspTree>().empty());
 }
 
-TEST_P(BspStorage, RandomRaysMatchBruteForce) {
-  Rng rng(63);
-  Scene scene = rstest::soup_scene(rng);
-  commit_bsp(scene, GetParam());
-  std::vector<Ray> rays;
-  rstest::add_random_rays(rng, scene, scene.accel().structure_as<BspTree>().bounds(), 20000, rays);
-  rstest::check_queries(scene, rays, "bsp: meshes + soup + spheres + plane", 0);
-}
-
-// Rays that stress the walk: through vertices and edge midpoints (exact
-// ties), along mesh edges, lying in the tree's planes (of any orientation)
-// and starting on them, crossing them at the middle of their polygon,
-// axis-aligned planes through the cube's faces, starting inside, grazing
-// spheres.
-std::vector<Ray> adversarial_rays(Rng& rng, const Scene& scene, const BspTree& t) {
-  std::vector<Ray> rays;
-  rstest::add_mesh_rays(rng, scene, rays);
-  const Bounds3 world = t.bounds();
-  for (size_t i = 0; i < t.nodes.size() && rays.size() < 40000; i += 3) {
-    const BspNode& n = t.nodes[i];
-    const BspTree::Range32 poly = t.plane_polygons[i];
-    if (n.is_leaf() || poly.count < 3) continue;
-    DVec3 mid(0.0);
-    for (uint32_t k = 0; k < poly.count; ++k) mid += to_d(t.plane_vertices[poly.first + k]);
-    mid /= double(poly.count);
-    const DVec3 nrm = glm::normalize(to_d(n.normal));
-    // Project onto the plane in double, round to float: on it up to rounding.
-    const DVec3 on = mid - signed_distance(n, mid) * nrm;
-    const DVec3 r = rng.unit_vector();
-    const DVec3 in_plane = glm::normalize(r - glm::dot(r, nrm) * nrm);
-    rays.push_back(Ray{to_f(on), to_f(in_plane), kInfinity});           // lying in it
-    rays.push_back(Ray{to_f(on), to_f(rng.unit_vector()), kInfinity});  // leaving it
-    rays.push_back(Ray{to_f(on - 3.0 * nrm), to_f(nrm), kInfinity});    // across it
-    rays.push_back(Ray{to_f(on + 1e-3 * in_plane - 2.0 * in_plane + 1e-6 * nrm),
-                       to_f(in_plane + 1e-7 * nrm), kInfinity});  // grazing it
-  }
-  for (int a = 0; a < 3; ++a)
-    for (float plane : {7.0f, 8.0f, 0.0f, 0.5f}) rstest::add_plane_rays(rng, world, a, plane, rays);
-  rstest::add_inside_and_grazing_rays(rng, scene, world, 3000, rays);
-  return rays;
-}
-
-TEST_P(BspStorage, AdversarialRaysMatchBruteForce) {
-  Rng rng(64);
-  Scene scene = rstest::soup_scene(rng);
-  scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
-  commit_bsp(scene, GetParam());
-  const std::vector<Ray> rays = adversarial_rays(rng, scene, scene.accel().structure_as<BspTree>());
-  rstest::check_queries(scene, rays, "bsp: adversarial rays", 20);
-}
-
-TEST(Bsp, SameHitsAsTheBvhBitForBit) {
-  Rng rng(65);
-  Scene scene = rstest::soup_scene(rng);
-  scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
-  std::vector<Ray> rays;
-  for (PrimStorage st : kPrimStorages) {
-    commit_bsp(scene, st);
-    const std::vector<Ray> more =
-        adversarial_rays(rng, scene, scene.accel().structure_as<BspTree>());
-    rays.insert(rays.end(), more.begin(), more.end());
-  }
-  scene.commit();
-  rstest::add_random_rays(rng, scene, scene.bvh().bounds(), 5000, rays);
-  std::vector<PrimHit> bvh(rays.size());
-  std::vector<uint8_t> bvh_occluded(rays.size());
-  for (size_t i = 0; i < rays.size(); ++i) {
-    scene.intersect(rays[i], bvh[i]);
-    bvh_occluded[i] = scene.occluded(rays[i]);
-  }
-  for (PrimStorage st : kPrimStorages) {
-    commit_bsp(scene, st);
-    for (size_t i = 0; i < rays.size(); ++i) {
-      PrimHit h;
-      scene.intersect(rays[i], h);
-      ASSERT_TRUE(rstest::same_bits(h, bvh[i])) << to_string(st) << ", ray " << i;
-      ASSERT_EQ(scene.occluded(rays[i]), bool(bvh_occluded[i])) << to_string(st) << ", ray " << i;
-    }
-  }
-}
-
-TEST_P(BspStorage, TheObserverSeesTheWalk) {
-  // Every ray enters each node at most once, tests the root box and both
-  // children of each inner node entered; a primitive is tested at most once
-  // (every-cell: mailboxed; smallest-cell: stored once) or at most once per
-  // piece (split); the tree prunes far below brute force and culls.
-  Rng rng(66);
-  Scene scene = rstest::soup_scene(rng);
-  commit_bsp(scene, GetParam());
-  const Aggregate& a = scene.accel();
-  const BspTree& t = a.structure_as<BspTree>();
-  std::vector<int> pieces(a.records().size(), 0);
-  for (uint32_t r : t.refs) pieces[r]++;
-  const size_t prims = a.records().size();
-  uint64_t tests = 0, culls = 0, repeated = 0;
-  const int n_rays = 2000;
-  for (int i = 0; i < n_rays; ++i) {
-    const Ray ray{to_f(9.0 * rng.unit_vector()), to_f(rng.unit_vector()), kInfinity};
-    for (int any = 0; any < 2; ++any) {
-      rstest::CountingObserver obs(t.nodes.size(), prims);
-      PrimHit hit;
-      if (any)
-        scene.occluded(ray, obs);
-      else
-        scene.intersect(ray, hit, obs);
-      for (uint32_t r = 0; r < prims; ++r) {
-        const int v = obs.prim_tests[a.records()[r].id];
-        ASSERT_LE(v, GetParam() == PrimStorage::Split ? pieces[r] : 1) << "ray " << i;
-        repeated += v > 1;
-      }
-      for (int v : obs.nodes) ASSERT_LE(v, 1) << "a node entered twice, ray " << i;
-      if (any) continue;
-      for (int v : obs.prim_tests) tests += uint64_t(v);
-      culls += uint64_t(obs.culled);
-      int want = 1;
-      for (size_t n = 0; n < obs.nodes.size(); ++n) {
-        if (obs.nodes[n] && !t.nodes[n].is_leaf()) want += 2;
-        ASSERT_LE(obs.box_tests[n], 1);
-        if (obs.nodes[n]) {
-          ASSERT_EQ(obs.box_tests[n], 1) << "node " << n << " entered untested";
-        }
-      }
-      EXPECT_EQ(obs.boxes, want);
-    }
-  }
-  std::printf("%s: %.1f of %zu primitives tested per ray, %llu culls, %llu repeated tests\n",
-              to_string(GetParam()), double(tests) / n_rays, prims, (unsigned long long)culls,
-              (unsigned long long)repeated);
-  EXPECT_LT(tests, uint64_t(n_rays) * prims / 5);
-  EXPECT_GT(culls, 0u);
-  if (GetParam() == PrimStorage::Split) {
-    EXPECT_GT(repeated, 0u) << "fragments cost repeated tests";
-  }
-}
-
-TEST_P(BspStorage, RangeQueriesMatchBruteForce) {
-  // The aggregate's queries through the BSP tree's walk_range == without a
-  // structure (every record tested), bit for bit, also in order.
-  Rng rng(67);
-  Scene scene = rstest::soup_scene(rng);
-  AccelConfig none;
-  none.kind = AccelKind::None;
-  scene.commit(none);
-  const Bounds3 world = scene.bvh().bounds();
-  std::vector<Bounds3> boxes;
-  std::vector<std::pair<Vec3, float>> spheres;
-  std::vector<Vec3> points;
-  for (int i = 0; i < 200; ++i) {
-    const Vec3 c = rstest::point_in(rng, world);
-    const Vec3 h = to_f(rng.log_uniform(0.001, 0.3) * to_d(world.extent()));
-    boxes.push_back(Bounds3(c - h, c + h));
-    spheres.push_back({rstest::point_in(rng, world), float(rng.log_uniform(0.01, 3))});
-    points.push_back(rstest::point_in(rng, world));
-  }
-  boxes.push_back(Bounds3(Vec3(0.5f)));  // a point
-  auto run = [&] {
-    std::vector<std::vector<RangeHit>> out;
-    for (const Bounds3& b : boxes) out.push_back(scene.accel().query_box(b));
-    for (const auto& [c, r] : spheres) out.push_back(scene.accel().query_sphere(c, r));
-    for (const Vec3& p : points) out.push_back(scene.accel().nearest(p, 7));
-    return out;
-  };
-  const auto want = run();
-  commit_bsp(scene, GetParam());
-  const auto got = run();
-  ASSERT_EQ(got.size(), want.size());
-  size_t found = 0;
-  for (size_t i = 0; i < got.size(); ++i) {
-    ASSERT_EQ(got[i].size(), want[i].size()) << "query " << i;
-    for (size_t k = 0; k < got[i].size(); ++k) {
-      EXPECT_EQ(got[i][k].prim, want[i][k].prim) << "query " << i;
-      EXPECT_EQ(got[i][k].plane, want[i][k].plane) << "query " << i;
-      EXPECT_EQ(std::memcmp(&got[i][k].distance, &want[i][k].distance, sizeof(float)), 0);
-    }
-    found += got[i].size();
-  }
-  EXPECT_GT(found, 1000u);
-}
-
-TEST(Bsp, NamesStorageCheckFiguresAndView) {
-  AccelKind k = AccelKind::Bvh;
-  ASSERT_TRUE(parse_accel_kind("bsp", k));
-  EXPECT_EQ(k, AccelKind::Bsp);
-  EXPECT_STREQ(to_string(AccelKind::Bsp), "bsp");
+TEST(Bsp, StorageCheckFiguresAndView) {
   for (PrimStorage s : kPrimStorages) EXPECT_EQ(accel_storage_error(AccelKind::Bsp, s), "");
   EXPECT_NE(accel_storage_error(AccelKind::Octree, PrimStorage::Split), "");
   Rng rng(68);
@@ -508,11 +323,9 @@ TEST(Bsp, NamesStorageCheckFiguresAndView) {
     if (st == PrimStorage::SmallestCell) {
       EXPECT_DOUBLE_EQ(f.refs_per_prim, 1.0);
     }
-    EXPECT_EQ(f.memory_bytes, a.structure_as<BspTree>().memory_bytes() +
-                                  a.records().size() * sizeof(PrimRecord) +
+    EXPECT_EQ(f.memory_bytes, a.structure_as<BspTree>().memory_bytes() + a.records().size() * sizeof(PrimRecord) +
                                   a.plane_records().size() * sizeof(PlaneRecord));
-    EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes +
-                                    a.structure_as<BspTree>().memory_bytes() +
+    EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.structure_as<BspTree>().memory_bytes() +
                                     a.records().size() * sizeof(PrimRecord) +
                                     a.plane_records().size() * sizeof(PlaneRecord));
     // The teaching view: cell boxes, parents, the split polygons of inner
@@ -539,24 +352,6 @@ TEST(Bsp, NamesStorageCheckFiguresAndView) {
         EXPECT_TRUE(n.box.contains(Bounds3(p)));
       }
     }
-  }
-}
-
-TEST(Bsp, DefaultSceneRendersLikeTheBvh) {
-  Scene scene = make_default_scene();
-  const RenderSettings rs = rstest::small_render(160, 120, 2);
-  scene.commit();
-  const Framebuffer bvh = render(scene, rs);
-  for (PrimStorage st : kPrimStorages) {
-    commit_bsp(scene, st);
-    const Framebuffer b = render(scene, rs);
-    auto same = [](const auto& x, const auto& y) {
-      return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0;
-    };
-    EXPECT_TRUE(same(b.color, bvh.color)) << to_string(st);
-    EXPECT_TRUE(same(b.depth, bvh.depth)) << to_string(st);
-    EXPECT_TRUE(same(b.normal, bvh.normal)) << to_string(st);
-    EXPECT_TRUE(same(b.object_id, bvh.object_id)) << to_string(st);
   }
 }
 

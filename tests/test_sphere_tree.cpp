@@ -1,23 +1,20 @@
-// The hierarchy of bounding spheres (sphere_tree.h) behind the aggregate:
-// the smallest sphere of a triangle (acute, right, obtuse, degenerate), the
-// exact merge of two spheres, builder invariants (every node's sphere holds
-// its children's and its primitives' spheres, each primitive once), bad and
-// degenerate input, scene queries == brute force and == the BVH bit for bit
-// on random and adversarial rays, what the observer sees, range queries ==
-// brute force, the teaching view, and renders == the BVH's.
+// The hierarchy of bounding spheres (sphere_tree.h): the smallest sphere of
+// a triangle (acute, right, obtuse, degenerate), the exact merge of two
+// spheres, builder invariants (every node's sphere holds its children's and
+// its primitives' spheres, each primitive once), bad and degenerate input,
+// that it tests more than a BVH (spheres fit worse), the ball tests of
+// ranges, the storage check, the teaching view and memory. What every
+// structure does (queries == brute force and == the BVH, rays tangent to its
+// spheres, the observer, range queries, images) is test_accel_conformance's.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
-#include <filesystem>
 #include <stdexcept>
+#include <vector>
 
 #include "accel_test_util.h"
 #include "rayscope/accel/accel_view.h"
-#include "rayscope/render.h"
-#include "rayscope/scene_io.h"
-#include "rayscope_vtk/mesh_files.h"
 
 namespace {
 
@@ -266,93 +263,18 @@ TEST(SphereTree, DegenerateInput) {
   check_invariants(t, line);
 }
 
-// --- Queries through the aggregate ------------------------------------------
+// --- Its own walk ---------------------------------------------------------------
 
-void commit_spheres(Scene& scene) {
-  AccelConfig ac;
-  ac.kind = AccelKind::Spheres;
-  scene.commit(ac);
-  ASSERT_EQ(scene.accel().kind(), AccelKind::Spheres);
-  ASSERT_TRUE(scene.accel().walks_structure());
-  ASSERT_FALSE(scene.accel().structure_as<SphereTree>().empty());
-}
-
-TEST(SphereTree, RandomRaysMatchBruteForce) {
-  Rng rng(64);
-  Scene scene = rstest::soup_scene(rng);
-  commit_spheres(scene);
-  std::vector<Ray> rays;
-  rstest::add_random_rays(rng, scene, scene.bvh().bounds(), 20000, rays);
-  rstest::check_queries(scene, rays, "spheres: meshes + soup + spheres + plane", 0);
-}
-
-// Rays that stress the walk: through vertices and edge midpoints (exact ties),
-// along mesh edges, tangent to node spheres (and starting on them), axis
-// parallel through node centers, starting inside, and grazing the spheres.
-std::vector<Ray> adversarial_rays(Rng& rng, const Scene& scene) {
-  std::vector<Ray> rays;
-  rstest::add_mesh_rays(rng, scene, rays);
-  const SphereTree& t = scene.accel().structure_as<SphereTree>();
-  const Bounds3 world = t.sphere().box();
-  for (size_t i = 0; i < t.nodes.size() && rays.size() < 40000; i += 3) {
-    const SphereNode& n = t.nodes[i];
-    const DVec3 nrm = rng.unit_vector();
-    const DVec3 tan = glm::normalize(glm::cross(nrm, rng.unit_vector()));
-    const DVec3 p = to_d(n.center) + double(n.radius) * nrm;
-    rays.push_back(Ray{to_f(p - 3.0 * double(n.radius) * tan), to_f(tan), kInfinity});
-    rays.push_back(Ray{to_f(p), to_f(rng.unit_vector()), kInfinity});
-    for (int a = 0; a < 3; ++a)
-      rstest::add_plane_rays(rng, world, a, n.center[a], rays, true, &n.center);
-  }
-  rstest::add_inside_and_grazing_rays(rng, scene, world, 3000, rays);
-  return rays;
-}
-
-TEST(SphereTree, AdversarialRaysMatchBruteForce) {
-  Rng rng(65);
-  Scene scene = rstest::soup_scene(rng);
-  scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
-  commit_spheres(scene);
-  const std::vector<Ray> rays = adversarial_rays(rng, scene);
-  rstest::check_queries(scene, rays, "spheres: adversarial rays", 20);
-}
-
-TEST(SphereTree, SameHitsAsTheBvhBitForBit) {
-  Rng rng(66);
-  Scene scene = rstest::soup_scene(rng);
-  scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
-  commit_spheres(scene);
-  std::vector<Ray> rays = adversarial_rays(rng, scene);
-  scene.commit();
-  rstest::add_random_rays(rng, scene, scene.bvh().bounds(), 5000, rays);
-  std::vector<PrimHit> bvh(rays.size());
-  std::vector<uint8_t> bvh_occluded(rays.size());
-  for (size_t i = 0; i < rays.size(); ++i) {
-    scene.intersect(rays[i], bvh[i]);
-    bvh_occluded[i] = scene.occluded(rays[i]);
-  }
-  commit_spheres(scene);
-  for (size_t i = 0; i < rays.size(); ++i) {
-    PrimHit h;
-    scene.intersect(rays[i], h);
-    ASSERT_TRUE(rstest::same_bits(h, bvh[i])) << "ray " << i;
-    ASSERT_EQ(scene.occluded(rays[i]), bool(bvh_occluded[i])) << "ray " << i;
-  }
-}
-
-TEST(SphereTree, EachPrimitiveTestedOncePerRayAndTheObserverSeesTheWalk) {
-  // Every ray tests each primitive at most once, enters each node at most
-  // once, tests the root's sphere and both children's spheres of every inner
-  // node entered; early termination culls; the tree prunes far below brute
-  // force, but tests more than the BVH (spheres fit worse than boxes).
+TEST(SphereTree, PrunesButTestsMoreThanTheBvh) {
+  // The tree prunes far below brute force, but tests more primitives than a
+  // BVH built with the sphere tree's cost constants and leaf limit (the two
+  // differ in their bounding volumes only): a sphere fits worse than a box.
+  // (Each primitive once, nodes once, the child spheres of each node entered,
+  // culls: test_accel_conformance.)
   Rng rng(67);
   Scene scene;
   scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
   scene.meshes.push_back(make_torus(Vec3(2.5f, 0.0f, 0.0f), 1.0f, 0.3f, 48, 24));
-  commit_spheres(scene);
-  const SphereTree& t = scene.accel().structure_as<SphereTree>();
-  const size_t prims = scene.accel().records().size();
-  uint64_t tests = 0, culls = 0, bvh_tests = 0;
   const int n_rays = 3000;
   std::vector<Ray> rays;
   for (int i = 0; i < n_rays; ++i) {
@@ -360,112 +282,30 @@ TEST(SphereTree, EachPrimitiveTestedOncePerRayAndTheObserverSeesTheWalk) {
     const DVec3 o = 6.0 * rng.unit_vector(), target = DVec3(1.2, 0, 0) + 1.5 * rng.in_unit_ball();
     rays.push_back(Ray{to_f(o), to_f(target - o), kInfinity});
   }
-  for (int i = 0; i < n_rays; ++i) {
-    for (int any = 0; any < 2; ++any) {
-      rstest::CountingObserver obs(t.nodes.size(), prims);
+  auto tests = [&](const AccelConfig& config) {
+    scene.commit(config);
+    const size_t ids = make_accel_view(scene.accel()).nodes.size();
+    uint64_t n = 0;
+    for (const Ray& r : rays) {
+      rstest::CountingObserver obs(ids, scene.accel().records().size());
       PrimHit hit;
-      if (any)
-        scene.occluded(rays[i], obs);
-      else
-        scene.intersect(rays[i], hit, obs);
-      for (int v : obs.prim_tests) ASSERT_LE(v, 1) << "ray " << i << (any ? " (any hit)" : "");
-      for (int v : obs.nodes) ASSERT_LE(v, 1) << "a node entered twice, ray " << i;
-      if (any) continue;
-      for (int v : obs.prim_tests) tests += uint64_t(v);
-      culls += uint64_t(obs.culled);
-      int want = 1;
-      for (size_t n = 0; n < obs.nodes.size(); ++n)
-        if (obs.nodes[n] && !t.nodes[n].is_leaf()) want += 2;
-      EXPECT_EQ(obs.boxes, want);
-      for (size_t n = 0; n < obs.nodes.size(); ++n) {
-        ASSERT_LE(obs.box_tests[n], 1);
-        if (obs.nodes[n]) {
-          ASSERT_EQ(obs.box_tests[n], 1) << "node " << n << " entered untested";
-        }
-      }
+      scene.intersect(r, hit, obs);
+      n += obs.tested().size();
     }
-  }
-  // The BVH, for comparison, built with the sphere tree's cost constants and
-  // leaf limit, so that the two differ in their bounding volumes only.
-  AccelConfig bvh_config;
-  bvh_config.bvh.traversal_cost = SphereTreeBuildConfig{}.traversal_cost;
-  bvh_config.bvh.intersection_cost = SphereTreeBuildConfig{}.intersection_cost;
-  bvh_config.bvh.max_leaf_size = SphereTreeBuildConfig{}.max_leaf_size;
-  scene.commit(bvh_config);
-  for (const Ray& r : rays) {
-    rstest::CountingObserver obs(scene.bvh().nodes.size() + 8, prims);
-    PrimHit hit;
-    scene.intersect(r, hit, obs);
-    for (int v : obs.prim_tests) bvh_tests += uint64_t(v);
-  }
-  std::printf("spheres: %.1f of %zu primitives tested per ray (BVH %.1f), %llu culls\n",
-              double(tests) / n_rays, prims, double(bvh_tests) / n_rays, (unsigned long long)culls);
-  EXPECT_LT(tests, uint64_t(n_rays) * prims / 10);
-  EXPECT_GT(tests, bvh_tests) << "a sphere fits worse than a box";
-  EXPECT_GT(culls, 0u);
-}
-
-TEST(SphereTree, RangeQueriesMatchBruteForce) {
-  // Box, sphere and k-nearest queries through the sphere tree give what the
-  // brute-force aggregate (none) gives, in the same order, and the walk
-  // enters only part of the tree.
-  Rng rng(68);
-  Scene scene = rstest::soup_scene(rng);
-  AccelConfig none;
-  none.kind = AccelKind::None;
-  scene.commit(none);
-  const Bounds3 world = scene.bvh().bounds();
-  struct Query {
-    int kind;
-    Bounds3 box;
-    Vec3 p;
-    float r;
-    uint32_t k;
+    return n;
   };
-  std::vector<Query> queries;
-  for (int i = 0; i < 600; ++i) {
-    const Vec3 c = rstest::point_in(rng, world);
-    const Vec3 h = to_f(rng.log_uniform(0.01, 0.3) * to_d(world.extent()) *
-                        DVec3(rng.uniform(), rng.uniform(), rng.uniform()));
-    queries.push_back({i % 3, Bounds3(c - h, c + h), c, rstest::round_f(rng.log_uniform(0.01, 3)),
-                       uint32_t(rng.integer(1, 20))});
-  }
-  // Queries touching primitives exactly: a point on a triangle vertex, a
-  // box whose face is a sphere's tangent plane.
-  const TriangleMesh& m = scene.meshes[0];
-  for (size_t v = 0; v < m.positions.size(); v += 37) {
-    queries.push_back({1, {}, m.positions[v], 0.0f, 1});
-    queries.push_back({0, Bounds3(m.positions[v]), {}, 0.0f, 1});
-  }
-  for (const Sphere& s : scene.spheres) {
-    const Vec3 top = s.center + Vec3(0, s.radius, 0);
-    queries.push_back({0, Bounds3(top, top + Vec3(1)), {}, 0.0f, 1});
-  }
-  auto run = [&](const Query& q, auto& obs) {
-    return q.kind == 0   ? scene.accel().query_box(q.box, obs)
-           : q.kind == 1 ? scene.accel().query_sphere(q.p, q.r, obs)
-                         : scene.accel().nearest(q.p, q.k, obs);
-  };
-  std::vector<std::vector<RangeHit>> want;
-  for (const Query& q : queries) {
-    NullTraversalObserver obs;
-    want.push_back(run(q, obs));
-  }
-  commit_spheres(scene);
-  const SphereTree& t = scene.accel().structure_as<SphereTree>();
-  uint64_t entered = 0, found = 0, culled = 0;
-  for (size_t i = 0; i < queries.size(); ++i) {
-    rstest::CountingObserver obs(t.nodes.size(), scene.accel().records().size());
-    const std::vector<RangeHit> got = run(queries[i], obs);
-    ASSERT_EQ(got, want[i]) << "query " << i << " (kind " << queries[i].kind << ")";
-    for (int v : obs.prim_tests) ASSERT_LE(v, 1);
-    for (int v : obs.nodes) entered += uint64_t(v);
-    found += got.size();
-    culled += uint64_t(obs.culled);
-  }
-  EXPECT_GT(found, queries.size());
-  EXPECT_LT(entered, queries.size() * t.nodes.size() / 4);
-  EXPECT_GT(culled, 0u) << "k nearest: nodes pushed before the range shrank are skipped";
+  AccelConfig spheres;
+  spheres.kind = AccelKind::Spheres;
+  AccelConfig bvh;
+  bvh.bvh.traversal_cost = SphereTreeBuildConfig{}.traversal_cost;
+  bvh.bvh.intersection_cost = SphereTreeBuildConfig{}.intersection_cost;
+  bvh.bvh.max_leaf_size = SphereTreeBuildConfig{}.max_leaf_size;
+  const uint64_t sphere_tests = tests(spheres), bvh_tests = tests(bvh);
+  const size_t prims = scene.accel().records().size();
+  std::printf("spheres: %.1f of %zu primitives tested per ray (BVH %.1f)\n",
+              double(sphere_tests) / n_rays, prims, double(bvh_tests) / n_rays);
+  EXPECT_LT(sphere_tests, uint64_t(n_rays) * prims / 10);
+  EXPECT_GT(sphere_tests, bvh_tests) << "a sphere fits worse than a box";
 }
 
 TEST(SphereTree, BallTestsOfRanges) {
@@ -481,13 +321,9 @@ TEST(SphereTree, BallTestsOfRanges) {
   EXPECT_LE(point_ball_distance(Vec3(3, 4, 0), {Vec3(0), 1.0f}), 4.0f) << "never above";
 }
 
-// --- Names, storage, view, renders --------------------------------------------
+// --- Storage, view, memory ------------------------------------------------------
 
-TEST(SphereTree, KindStorageViewAndMemory) {
-  AccelKind k = AccelKind::Bvh;
-  ASSERT_TRUE(parse_accel_kind("spheres", k));
-  EXPECT_EQ(k, AccelKind::Spheres);
-  EXPECT_STREQ(to_string(AccelKind::Spheres), "spheres");
+TEST(SphereTree, StorageViewAndMemory) {
   EXPECT_EQ(accel_storage_error(AccelKind::Spheres, PrimStorage::EveryCell), "");
   for (PrimStorage s : {PrimStorage::SmallestCell, PrimStorage::Split}) {
     const std::string e = accel_storage_error(AccelKind::Spheres, s);
@@ -501,11 +337,12 @@ TEST(SphereTree, KindStorageViewAndMemory) {
   ac.kind = AccelKind::Spheres;
   ac.storage = PrimStorage::SmallestCell;
   EXPECT_THROW(scene.commit(ac), std::invalid_argument);
-  commit_spheres(scene);
+  ac.storage = PrimStorage::EveryCell;
+  scene.commit(ac);
   const Aggregate& a = scene.accel();
+  ASSERT_FALSE(a.structure_as<SphereTree>().empty());
   EXPECT_TRUE(a.structure_as<BvhWalk>().walk().empty());
-  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes +
-                                  a.structure_as<SphereTree>().memory_bytes() +
+  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.structure_as<SphereTree>().memory_bytes() +
                                   a.records().size() * sizeof(PrimRecord));
   const AccelFigures f = a.figures();
   EXPECT_EQ(f.nodes, a.structure_as<SphereTree>().nodes.size());
@@ -529,31 +366,6 @@ TEST(SphereTree, KindStorageViewAndMemory) {
   }
   for (int s : seen) EXPECT_EQ(s, 1);
   EXPECT_EQ(v.depth, int(a.structure_as<SphereTree>().quality().depth) + 1);
-}
-
-void expect_same_render(Scene scene, const RenderSettings& rs) {
-  scene.commit();
-  const Framebuffer bvh = render(scene, rs);
-  commit_spheres(scene);
-  const Framebuffer sp = render(scene, rs);
-  auto same = [](const auto& a, const auto& b) {
-    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
-  };
-  EXPECT_TRUE(same(sp.color, bvh.color));
-  EXPECT_TRUE(same(sp.depth, bvh.depth));
-  EXPECT_TRUE(same(sp.normal, bvh.normal));
-  EXPECT_TRUE(same(sp.object_id, bvh.object_id));
-}
-
-TEST(SphereTree, DefaultSceneRendersLikeTheBvh) {
-  expect_same_render(make_default_scene(), rstest::small_render(160, 120, 2));
-}
-
-TEST(SphereTree, BunnySceneRendersLikeTheBvh) {
-  const std::filesystem::path file =
-      std::filesystem::path(RAYSCOPE_SOURCE_DIR) / "data/scenes/bunny.json";
-  LoadedScene ls = load_scene(file.string(), rayscope_vtk::load_mesh);
-  expect_same_render(std::move(ls.scene), rstest::small_render(160, 120, 2));
 }
 
 }  // namespace
