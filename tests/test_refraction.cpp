@@ -1,5 +1,8 @@
 // Optics of material.h: mirror reflection, Snell's law (refract), Fresnel
-// reflectance and total internal reflection, against double-precision physics.
+// reflectance and total internal reflection, against double-precision physics;
+// then dielectrics in a scene: nested spheres render without NaN and without
+// creating energy, and rays at and around the critical angle (within 48 ulps)
+// both reflect totally and transmit, their ray trees within energy bounds.
 //
 // Tolerances: every quantity is a handful of float operations (< 16) on values
 // of magnitude <= max(n1/n2, 1) (eta) and 1, so absolute errors are below
@@ -10,9 +13,20 @@
 // amplification is at most ~1/sqrt(2e-3) ~ 22.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
 
+#include "rayscope/integrator.h"
 #include "rayscope/material.h"
+#include "rayscope/recorder.h"
+#include "rayscope/render.h"
+#include "rayscope/replay.h"
+#include "rayscope/scene.h"
+#include "rayscope/shapes.h"
+#include "scene_test_util.h"
 #include "test_util.h"
 
 namespace {
@@ -277,6 +291,244 @@ TEST(TotalInternalReflection, JustPastAndJustBeforeTheCriticalAngle) {
   Vec3 t;
   EXPECT_TRUE(refract(glm::normalize(Vec3(1.0f, -1e-3f, 0.0f)), Vec3(0, 1, 0), 1.0f, 1.5f, t));
   EXPECT_LT(fresnel_dielectric(1e-3f, 1.0f, 1.5f), 1.0f);
+}
+
+// ===========================================================================
+// Dielectrics in a scene: total internal reflection, nested spheres, energy
+// ===========================================================================
+
+using rstest::count_nonfinite;
+using rstest::finite_color;
+using rstest::render_scene;
+using rstest::stress_scale;
+
+//
+// Scenes lit only by a white background of radiance 1 (no lights, ambient
+// light 0): nothing emits, so no ray can return more than 1 per channel. Each
+// interface splits a ray's weight w into w * (reflectivity + transparency * R)
+// and w * transparency * (1 - R), at most w * (1 + 4 eps) in float; the color a
+// ray returns is the same weighted sum of its children's colors. Over a
+// recursion of depth d the rounding compounds to at most (1 + 8 eps)^d - 1 <
+// 1e-5 for d <= 24, the tolerance used. The integrator has no medium stack:
+// every interface is treated as air against the material (a sphere inside a
+// sphere is entered from index 1), which is physically approximate but must
+// still conserve energy.
+constexpr float kEnergyTol = 1e-5f;
+
+Material dielectric(const std::string& name, float ior, float transparency, float reflectivity) {
+  Material m;
+  m.name = name;
+  m.color = Color(1.0f);
+  m.ambient = 0.0f;
+  m.diffuse = 0.0f;
+  m.specular = 0.0f;
+  m.ior = ior;
+  m.transparency = transparency;
+  m.reflectivity = reflectivity;
+  return m;
+}
+
+Scene dielectric_scene() {
+  Scene s;
+  s.background = Color(1.0f);
+  s.ambient_light = Color(0.0f);
+  s.materials = {dielectric("glass", 1.5f, 1.0f, 0.0f), dielectric("water", 1.33f, 0.9f, 0.1f),
+                 dielectric("diamond", 2.42f, 1.0f, 0.0f),
+                 // An air bubble in water modelled as a material of index < 1:
+                 // total internal reflection happens when entering it.
+                 dielectric("bubble", 0.75f, 1.0f, 0.0f), dielectric("mirror", 1.0f, 0.0f, 1.0f),
+                 dielectric("coated", 1.6f, 0.55f, 0.45f)};
+  s.spheres = {
+      Sphere{"outer glass", Vec3(0.0f), 1.0f, 0},
+      Sphere{"inner water", Vec3(0.1f, 0.05f, 0.0f), 0.5f, 1},     // nested in the glass
+      Sphere{"inner diamond", Vec3(0.15f, 0.05f, 0.1f), 0.2f, 2},  // nested in the water
+      Sphere{"bubble", Vec3(-0.5f, -0.3f, 0.2f), 0.25f, 3},  // in the glass, cutting the water
+      Sphere{"coincident glass", Vec3(2.2f, 0.0f, 0.0f), 0.7f, 0},  // two surfaces in one place
+      Sphere{"coincident diamond", Vec3(2.2f, 0.0f, 0.0f), 0.7f, 2},
+      Sphere{"touching glass", Vec3(-2.0f, 0.0f, 0.0f), 0.6f, 0},
+      Sphere{"touching water", Vec3(-2.0f, 1.0f, 0.0f), 0.4f, 1},  // touches at y = 0.6
+      Sphere{"mirror", Vec3(0.0f, 0.0f, -2.5f), 0.8f, 4},
+  };
+  // A coarse glass icosphere: its smooth shading normals differ from the
+  // geometric ones by up to ~20 degrees, which exercises the integrator's
+  // fallbacks to the geometric normal.
+  TriangleMesh ico = make_icosphere(Vec3(0.0f, 1.7f, 0.3f), 0.6f, 1);
+  ico.name = "coarse glass";
+  ico.material = 5;
+  s.meshes = {ico};
+  // Everything below y = -1.2 is glass: rays entering it can only leave
+  // upwards, and rays inside meet its surface at every angle.
+  s.planes = {Plane{"glass floor", Vec3(0.0f, -1.2f, 0.0f), Vec3(0.0f, 1.0f, 0.0f), 0}};
+  s.camera.eye = Vec3(0.0f, 1.0f, 5.0f);
+  s.camera.look_at = Vec3(0.0f, 0.0f, 0.0f);
+  s.camera.vfov_degrees = 55.0f;
+  return s;
+}
+
+// Checks a recorded ray tree: finite values, returned colors in [0, 1 + tol],
+// children's weights (reflection + refraction) summing to at most the
+// parent's, Fresnel weights in [0, 1] summing to 1. Returns the number of
+// violations and reports the first few.
+size_t check_tree(const std::vector<RayRecord>& rays, const std::string& what) {
+  size_t bad = 0;
+  auto fail = [&](const std::string& msg) {
+    if (++bad <= 5) ADD_FAILURE() << what << ": " << msg;
+  };
+  for (const RayRecord& r : rays) {
+    if (!finite_color(r.color) || !finite_color(r.weight)) {
+      fail("non-finite color or weight at ray " + std::to_string(r.id));
+      continue;
+    }
+    for (int c = 0; c < 3; ++c)
+      if (r.color[c] < 0.0f || r.color[c] > 1.0f + kEnergyTol)
+        fail("ray " + std::to_string(r.id) + " returned " + std::to_string(r.color[c]));
+    Color sum(0.0f);
+    for (int child : r.children)
+      if (rays[size_t(child)].kind != RayKind::Shadow) sum += rays[size_t(child)].weight;
+    for (int c = 0; c < 3; ++c)
+      if (sum[c] > r.weight[c] * (1.0f + 1e-6f))
+        fail("children of ray " + std::to_string(r.id) + " weigh " + std::to_string(sum[c]) +
+             " > " + std::to_string(r.weight[c]));
+    if (r.has_refraction) {
+      const RefractionEvent& e = r.refraction;
+      if (!(e.fresnel_reflect >= 0.0f && e.fresnel_reflect <= 1.0f && e.fresnel_transmit >= 0.0f &&
+            e.fresnel_transmit <= 1.0f &&
+            std::abs(e.fresnel_reflect + e.fresnel_transmit - 1.0f) <= 0x1p-23f))
+        fail("Fresnel weights R " + std::to_string(e.fresnel_reflect) + " T " +
+             std::to_string(e.fresnel_transmit));
+      if (e.total_internal_reflection && e.fresnel_reflect != 1.0f)
+        fail("total internal reflection with R != 1");
+      if (!std::isfinite(e.cos_incidence) || !std::isfinite(e.cos_transmission))
+        fail("non-finite angles");
+    }
+  }
+  return bad;
+}
+
+TEST(Dielectrics, NestedSpheresRenderWithoutNaNOrEnergyGain) {
+  Scene s = dielectric_scene();
+  RayCounters counters;
+  const int w = 96, h = 72;
+  Framebuffer fb = render_scene(s, w, h, 2, 16, 1e-4f, &counters);
+  EXPECT_EQ(count_nonfinite(fb), 0u);
+  float max_c = 0.0f, min_c = 1.0f;
+  for (const Color& c : fb.color) {
+    max_c = std::max(max_c, max_component(c));
+    min_c = std::min(min_c, std::min(c.r, std::min(c.g, c.b)));
+  }
+  std::printf("pixels in [%.9g, %.9g]; %llu refraction rays, %llu total internal reflections\n",
+              double(min_c), double(max_c),
+              (unsigned long long)counters.rays[int(RayKind::Refraction)],
+              (unsigned long long)counters.total_internal_reflections);
+  EXPECT_LE(max_c, 1.0f + kEnergyTol);
+  EXPECT_GE(min_c, 0.0f);
+  EXPECT_GT(counters.total_internal_reflections, 1000u);  // the scene does exercise TIR
+
+  // The ray trees of every 3rd pixel in both directions (all samples).
+  s.commit();
+  RenderSettings rs;
+  rs.width = w;
+  rs.height = h;
+  rs.samples = 2;
+  rs.max_depth = 16;
+  rs.min_contribution = 1e-4f;
+  prepare_frame(s, rs);
+  size_t bad = 0, rays = 0;
+  const int step = stress_scale() >= 0.5 ? 3 : 9;
+  for (int y = 1; y < h; y += step)
+    for (int x = 1; x < w; x += step) {
+      PixelRecord rec = record_pixel(s, rs, x, y);
+      rays += rec.rays.size();
+      bad += check_tree(rec.rays, "pixel " + std::to_string(x) + "," + std::to_string(y));
+    }
+  std::printf("%zu recorded rays checked\n", rays);
+  EXPECT_EQ(bad, 0u);
+}
+
+TEST(Dielectrics, RaysAtAndAroundTheCriticalAngle) {
+  // Rays inside a dielectric meeting its surface at the critical angle
+  // asin(1 / n) and within +-48 ulps of it (~3e-6 rad either side), and
+  // rays entering the bubble (n = 0.75 < 1) around asin(0.75): on the glass
+  // floor (a plane: the incidence angle is exact up to the rounding of the
+  // direction), at the top of the outer glass sphere and of the coincident
+  // spheres. Then a sweep of incidence angles from 0 to 90 degrees. Each ray is
+  // traced with weight 1 to depth 24 and min contribution 1e-5; its tree must
+  // pass check_tree, and each set of +-48 ulps must contain both total
+  // internal reflection and transmission at the first hit.
+  Scene s = dielectric_scene();
+  s.commit();
+  RenderSettings rs;
+  rs.max_depth = 24;
+  rs.min_contribution = 1e-5f;
+  RayCounters counters;
+
+  struct Config {
+    const char* name;
+    Vec3 hit;      // where the ray meets the surface
+    Vec3 normal;   // outward normal there
+    float n1, n2;  // from n1 into n2 (what the integrator uses there)
+    bool inside;   // the ray starts inside the object
+  };
+  const std::vector<Config> configs = {
+      {"glass floor from inside", Vec3(0.3f, -1.2f, 0.4f), Vec3(0, 1, 0), 1.5f, 1.0f, true},
+      {"outer glass sphere from inside", Vec3(0.0f, 1.0f, 0.0f), Vec3(0, 1, 0), 1.5f, 1.0f, true},
+      // Of two coincident spheres, the one with the lower index is reported
+      // (Scene::intersect's tie rule): the glass one.
+      {"coincident spheres from inside", Vec3(2.2f, 0.7f, 0.0f), Vec3(0, 1, 0), 1.5f, 1.0f, true},
+      {"nested diamond from inside", Vec3(0.15f, 0.25f, 0.1f), Vec3(0, 1, 0), 2.42f, 1.0f, true},
+      {"entering the bubble", Vec3(-0.5f, -0.05f, 0.2f), Vec3(0, 1, 0), 1.0f, 0.75f, false},
+  };
+  size_t bad = 0, traced = 0;
+  auto trace = [&](const Config& c, float theta, const DVec3& tangent, bool& tir) {
+    // Direction toward the hit point at angle theta to the normal; origin a
+    // short way back along it.
+    DVec3 n = to_d(c.normal), dir = (c.inside ? 1.0 : -1.0) * std::cos(double(theta)) * n +
+                                    std::sin(double(theta)) * tangent;
+    Vec3 d = to_f(dir);
+    Vec3 o = to_f(to_d(c.hit) - 0.05 * dir);
+    RayTreeRecorder rec;
+    WhittedIntegrator<RayTreeRecorder> integrator(s, rs, counters, rec);
+    rec.begin_sample(0);
+    Color col = integrator.trace(Ray{o, d, kInfinity}, RayKind::Primary, 0, Color(1.0f), -1);
+    ++traced;
+    bad += check_tree(rec.rays, std::string(c.name) + " theta " + std::to_string(theta));
+    if (!finite_color(col) || max_component(col) > 1.0f + kEnergyTol) ++bad;
+    tir = !rec.rays.empty() && rec.rays[0].has_refraction &&
+          rec.rays[0].refraction.total_internal_reflection;
+    return rec.rays.empty() ? 0.0f : rec.rays[0].refraction.n1;
+  };
+  Rng rng(12);
+  for (const Config& c : configs) {
+    const float crit = critical_angle(c.n1, c.n2);
+    ASSERT_LT(crit, 0.5f * kPi) << c.name;
+    size_t tir_count = 0, transmit_count = 0;
+    for (int tangent_k = 0; tangent_k < 4; ++tangent_k) {
+      DVec3 tangent = glm::normalize(glm::cross(to_d(c.normal), rng.unit_vector()));
+      float theta = crit;
+      for (int k = 0; k < 48; ++k) theta = next_float_down(theta);
+      for (int k = -48; k <= 48; ++k, theta = next_float_up(theta)) {
+        bool tir = false;
+        float n1 = trace(c, theta, tangent, tir);
+        EXPECT_EQ(n1, c.n1) << c.name << ": the ray did not hit the intended surface first";
+        (tir ? tir_count : transmit_count)++;
+      }
+    }
+    std::printf(
+        "%s: critical angle %.9g rad; +-48 ulps: %zu total internal reflections, %zu "
+        "transmissions\n",
+        c.name, double(crit), tir_count, transmit_count);
+    EXPECT_GT(tir_count, 0u) << c.name;
+    EXPECT_GT(transmit_count, 0u) << c.name;
+    // A sweep over all incidence angles, grazing ones included.
+    for (int i = 0; i <= int(rstest::stress_scaled(4000)); ++i) {
+      bool tir;
+      trace(c, float(0.5 * M_PI * i / double(rstest::stress_scaled(4000))) * (1.0f - 1e-7f),
+            glm::normalize(glm::cross(to_d(c.normal), rng.unit_vector())), tir);
+    }
+  }
+  std::printf("%zu rays traced, %llu total internal reflections\n", traced,
+              (unsigned long long)counters.total_internal_reflections);
+  EXPECT_EQ(bad, 0u);
 }
 
 }  // namespace

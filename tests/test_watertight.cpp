@@ -17,13 +17,26 @@
 // and from inside must never escape, through the BVH and without one.
 // WatertightEdgeFunctions: an edge function that float rounds to zero is
 // decided by its exact sign.
+//
+// WatertightMillion: the same at scale, a closed icosphere of 1,310,720
+// triangles centred at (1e6, 1e6, 1e6): 1e6 random rays from interior points
+// and rays aimed exactly at every vertex and every edge midpoint never escape
+// (scaled down by stress_scale() in sanitizer and unoptimised builds).
+// WatertightUnwelded: an icosphere whose triangles each have their own
+// vertices (as STL files store them), with zero-area triangles inside: no ray
+// escapes, none hits a zero-area triangle.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <mutex>
 #include <string>
 #include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "rayscope/scene.h"
 #include "rayscope/shapes.h"
@@ -35,7 +48,21 @@ using namespace rayscope;
 using rstest::DVec3;
 using rstest::Rng;
 using rstest::to_d;
+using rstest::stress_scale;
 using rstest::to_f;
+
+// Every vertex of a mesh, then every edge's midpoint (each edge once),
+// computed in float: targets that rays pass through exactly (vertices) or to
+// within rounding (midpoints, on the shared edge).
+std::vector<Vec3> vertex_and_edge_targets(const TriangleMesh& mesh) {
+  std::vector<Vec3> targets = mesh.positions;
+  for (const glm::uvec3& t : mesh.triangles)
+    for (int e = 0; e < 3; ++e) {
+      uint32_t a = t[e], b = t[(e + 1) % 3];
+      if (a < b) targets.push_back(0.5f * (mesh.positions[a] + mesh.positions[b]));
+    }
+  return targets;
+}
 
 struct IcoConfig {
   Vec3 center;
@@ -120,12 +147,7 @@ TEST_P(Watertight, RaysAtEveryVertexAndEdgeMidpoint) {
   // pass within an ulp or so of the vertex or edge).
   const IcoConfig& s = GetParam();
   Rng rng(555);
-  std::vector<Vec3> targets = mesh_.positions;
-  for (const glm::uvec3& t : mesh_.triangles)
-    for (int e = 0; e < 3; ++e) {
-      uint32_t a = t[e], b = t[(e + 1) % 3];
-      if (a < b) targets.push_back(0.5f * (mesh_.positions[a] + mesh_.positions[b]));
-    }
+  const std::vector<Vec3> targets = vertex_and_edge_targets(mesh_);
   ASSERT_EQ(targets.size(), mesh_.positions.size() + mesh_.triangles.size() * 3 / 2);
   for (const Vec3& v : targets) {
     Vec3 d = v - s.center;
@@ -218,6 +240,248 @@ size_t zero_area(const TriangleMesh& m) {
     if (glm::cross(b - a, c - a) == DVec3(0.0)) ++n;  // exact: few-ulp differences
   }
   return n;
+}
+
+// ===========================================================================
+// Watertightness of a 1.3M-triangle mesh far from the origin
+// ===========================================================================
+//
+// Icosphere level 8 (20 * 4^8 = 1,310,720 triangles, 655,362 vertices,
+// 1,966,080 edges), radius 1e4, centred at (1e6, 1e6, 1e6). Coordinates lie in
+// [0.99e6, 1.01e6] where the float spacing is 0.0625; edges are ~41 long, ~650
+// ulps: every triangle is resolved, and the vertex rounding (<= 0.031 per
+// axis) leaves the mesh closed (vertices are shared by index) and convex to
+// within rounding.
+//
+// Rays aimed "exactly" at a vertex v from an interior point o: o and v are
+// floats within a factor 2 of each other in every component, so d = v - o is
+// exact (Sterbenz) and o + 1 * d = v in real arithmetic: the ray passes through
+// the vertex shared by 5 or 6 triangles. Edge midpoints are 0.5f * (a + b) in
+// float, on the shared edge to within 0.0625 per axis (the rounding of a + b,
+// near 2e6), 1/650 of an edge.
+class WatertightMillion : public ::testing::Test {
+ protected:
+  static constexpr double kCenter = 1e6;
+  static constexpr float kRadius = 1e4f;
+
+  static void SetUpTestSuite() {
+    // Below a quarter of the full counts (sanitizer builds) level 7 (327,680
+    // triangles) keeps the mesh build and BVH within the time budget.
+    level_ = stress_scale() >= 0.25 ? 8 : 7;
+    mesh_ = new TriangleMesh(make_icosphere(Vec3(float(kCenter)), kRadius, level_));
+    scene_ = new Scene;
+    scene_->meshes = {*mesh_};
+    scene_->commit();
+  }
+  static void TearDownTestSuite() {
+    delete scene_;
+    delete mesh_;
+    scene_ = nullptr;
+    mesh_ = nullptr;
+  }
+
+  // Traces o + t d through the scene; returns an error message or "". The hit
+  // must exist for intersect() and occluded(), and lie on the mesh: beyond
+  // the sphere by at most the vertices' distance from it (their rounding,
+  // <= sqrt(3) * 0.032; twice that is allowed) plus the hit point's own error
+  // bound, and inside it by at most the sagitta of the flat triangles (below
+  // 3e-6 r at level 8: circumradius ~0.0024 r, sagitta R^2 / 2r; 2e-5 r is
+  // allowed) plus the same slack.
+  static std::string trace(const Vec3& o, const Vec3& d) {
+    Ray ray{o, d, kInfinity};
+    SurfaceHit hit;
+    bool found = scene_->intersect(ray, hit);
+    bool blocked = scene_->occluded(ray);
+    char buf[256];
+    if (!found || !blocked) {
+      std::snprintf(buf, sizeof buf, "escaped (intersect %d occluded %d) o=(%a,%a,%a) d=(%a,%a,%a)",
+                    int(found), int(blocked), double(o.x), double(o.y), double(o.z), double(d.x),
+                    double(d.y), double(d.z));
+      return buf;
+    }
+    const double r = kRadius;
+    double dist = glm::length(to_d(hit.p) - DVec3(float(kCenter)));
+    double slack = std::sqrt(3.0) * 0.0625 + glm::length(to_d(hit.p_error));
+    if (!(hit.t > 0.0f && dist <= r + slack && dist >= r * (1.0 - 2e-5) - slack)) {
+      std::snprintf(buf, sizeof buf, "hit off the mesh: distance %.9g from the center, t=%g", dist,
+                    double(hit.t));
+      return buf;
+    }
+    return "";
+  }
+
+  // Runs n cases in parallel; case i is made by make(i, rng) with a generator
+  // seeded per chunk of 4096 cases, so the cases do not depend on the thread
+  // schedule. Returns the failure count and keeps the first messages.
+  template <class Make>
+  static size_t run_parallel(size_t n, uint32_t seed, Make&& make,
+                             std::vector<std::string>& messages) {
+    constexpr size_t kChunk = 4096;
+    std::atomic<size_t> failures{0};
+    std::mutex mu;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, (n + kChunk - 1) / kChunk, 1),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        for (size_t c = r.begin(); c != r.end(); ++c) {
+                          Rng rng(seed + uint32_t(c) * 7919u);
+                          for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
+                            Vec3 o, d;
+                            make(i, rng, o, d);
+                            std::string e = trace(o, d);
+                            if (!e.empty()) {
+                              ++failures;
+                              std::lock_guard<std::mutex> lock(mu);
+                              if (messages.size() < 5) messages.push_back(e);
+                            }
+                          }
+                        }
+                      });
+    return failures;
+  }
+
+  static Vec3 interior_point(Rng& rng) {
+    // Within 0.98 r of the center: well inside the inscribed radius.
+    return to_f(DVec3(kCenter) + 0.98 * double(kRadius) * rng.in_unit_ball());
+  }
+
+  static int level_;
+  static TriangleMesh* mesh_;
+  static Scene* scene_;
+};
+int WatertightMillion::level_ = 8;
+TriangleMesh* WatertightMillion::mesh_ = nullptr;
+Scene* WatertightMillion::scene_ = nullptr;
+
+TEST_F(WatertightMillion, MillionRandomRaysFromInsideNeverEscape) {
+  // The mesh is what it should be: big, far from the origin, all used.
+  ASSERT_EQ(mesh_->triangles.size(), size_t(20) << (2 * level_));
+  if (stress_scale() >= 0.25) {
+    ASSERT_GT(mesh_->triangles.size(), 1000000u);
+  }
+  ASSERT_EQ(scene_->summary().triangles, mesh_->triangles.size());
+  ASSERT_TRUE(scene_->summary().walks_structure);
+  ASSERT_TRUE(scene_->summary().warnings.empty());
+  for (const Vec3& p : mesh_->positions) {
+    ASSERT_GE(std::min({p.x, p.y, p.z}), 0.98e6f);
+    ASSERT_LE(std::max({p.x, p.y, p.z}), 1.02e6f);
+  }
+
+  const size_t n = rstest::stress_scaled(1000000);
+  std::vector<std::string> msg;
+  size_t fails = run_parallel(
+      n, 4242u,
+      [](size_t, Rng& rng, Vec3& o, Vec3& d) {
+        o = interior_point(rng);
+        d = to_f(rng.unit_vector() * rng.log_uniform(1e-3, 1e3));
+      },
+      msg);
+  std::printf("%zu random interior rays, %zu failed\n", n, fails);
+  EXPECT_EQ(fails, 0u);
+  for (const std::string& m : msg) ADD_FAILURE() << m;
+}
+
+TEST_F(WatertightMillion, RaysAtEveryVertexAndEdgeMidpointNeverMiss) {
+  // Targets: every vertex, then every edge's midpoint (each edge once). With a
+  // stress scale below 1, an evenly spaced subset.
+  const std::vector<Vec3> targets = vertex_and_edge_targets(*mesh_);
+  ASSERT_EQ(targets.size(), mesh_->positions.size() + mesh_->triangles.size() * 3 / 2);
+  const size_t stride = rstest::stress_stride();
+  const size_t n = (targets.size() + stride - 1) / stride;
+  std::vector<std::string> msg;
+  size_t fails = run_parallel(
+      n, 777u,
+      [&](size_t i, Rng& rng, Vec3& o, Vec3& d) {
+        const Vec3& v = targets[i * stride];
+        o = interior_point(rng);
+        d = v - o;
+      },
+      msg);
+  // The same from the center: there v - center is exact as well.
+  size_t fails_c = run_parallel(
+      n, 778u,
+      [&](size_t i, Rng&, Vec3& o, Vec3& d) {
+        o = Vec3(float(kCenter));
+        d = targets[i * stride] - o;
+      },
+      msg);
+  std::printf("%zu vertex/edge-midpoint targets, %zu + %zu rays failed\n", n, fails, fails_c);
+  EXPECT_EQ(fails, 0u);
+  EXPECT_EQ(fails_c, 0u);
+  for (const std::string& m : msg) ADD_FAILURE() << m;
+}
+
+TEST(WatertightUnwelded, ZeroAreaTrianglesAndDuplicateVerticesKeepTheMeshClosed) {
+  // An unwelded icosphere: every triangle has its own copies of its vertices
+  // (duplicate positions, as in STL files). Shared edges then exist only as
+  // bit-identical coordinates, which is all the watertight test looks at.
+  // Added: zero-area triangles inside it, which must never be hit: a repeated
+  // index, three identical points, and exactly collinear points (coordinates
+  // k * e with e a short binary fraction, so every point is exact), one of
+  // them along the x axis through the center.
+  const Vec3 center(0.25f, -0.125f, 0.5f);
+  const TriangleMesh ico = make_icosphere(center, 1.0f, 3);
+  TriangleMesh m;
+  m.name = "unwelded";
+  for (const glm::uvec3& t : ico.triangles) {
+    uint32_t b = uint32_t(m.positions.size());
+    for (int k = 0; k < 3; ++k) m.positions.push_back(ico.positions[t[k]]);
+    m.triangles.emplace_back(b, b + 1, b + 2);
+  }
+  const size_t closed = m.triangles.size();
+  auto add = [&](Vec3 a, Vec3 b, Vec3 c) {
+    uint32_t i = uint32_t(m.positions.size());
+    m.positions.insert(m.positions.end(), {a, b, c});
+    m.triangles.emplace_back(i, i + 1, i + 2);
+  };
+  m.triangles.emplace_back(0, 0, 1);  // repeated index
+  m.triangles.emplace_back(5, 7, 5);
+  add(center, center, center);  // one point
+  const Vec3 e(0.25f, 0.5f, -0.125f);
+  add(center - e, center, center + e);  // collinear
+  add(center + e, center - e, center + 0.5f * e);
+  add(center - Vec3(0.75f, 0.0f, 0.0f), center, center + Vec3(0.75f, 0.0f, 0.0f));
+  const size_t degenerate = m.triangles.size() - closed;
+
+  Scene s;
+  s.meshes = {m};
+  s.commit();
+  EXPECT_EQ(s.summary().degenerate_triangles, degenerate);
+  EXPECT_EQ(s.summary().triangles, m.triangles.size());
+  EXPECT_TRUE(s.summary().warnings.empty());  // legal input
+
+  Rng rng(77);
+  size_t escaped = 0, degenerate_hits = 0, rays = 0;
+  auto trace = [&](const Vec3& o, const Vec3& d) {
+    Ray ray{o, d, kInfinity};
+    SurfaceHit h;
+    ++rays;
+    if (!s.intersect(ray, h) || !s.occluded(ray))
+      ++escaped;
+    else if (h.prim >= closed)
+      ++degenerate_hits;
+  };
+  for (int i = 0; i < 50000; ++i)
+    trace(to_f(to_d(center) + 0.9 * rng.in_unit_ball()), to_f(rng.unit_vector()));
+  // Rays through the points of the zero-area triangles, from all around.
+  for (size_t t = closed; t < m.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 p = m.positions[m.triangles[t][k]];
+      for (int j = 0; j < 200; ++j) {
+        Vec3 o = to_f(to_d(center) + 0.9 * rng.in_unit_ball());
+        if (o != p) trace(o, p - o);
+      }
+    }
+  // Rays lying in the plane of the axis-aligned zero-area triangle.
+  for (int j = 0; j < 2000; ++j) {
+    Vec3 o = center + Vec3(float(rng.uniform(-0.5, 0.5)), 0.0f, 0.0f);
+    DVec3 u = rng.unit_vector();
+    u.y = 0.0;
+    if (u == DVec3(0.0)) continue;
+    trace(o, to_f(u));
+  }
+  std::printf("%zu rays, %zu escaped, %zu hit a zero-area triangle\n", rays, escaped,
+              degenerate_hits);
+  EXPECT_EQ(escaped, 0u);
+  EXPECT_EQ(degenerate_hits, 0u);
 }
 
 }  // namespace degenerate
