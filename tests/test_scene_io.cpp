@@ -1,7 +1,9 @@
-// Scene files (scene_io.h) with the VTK-side mesh loader (rayscope_vtk/mesh_files.h): a valid
-// scene parses to the expected values; every kind of bad input throws a
-// SceneError whose what() is one line "FILE: problem" naming the problem.
-// Mesh files are written at run time into a temporary folder.
+// Scene files (scene_io.h): a valid scene parses to the expected values;
+// every kind of bad input throws a SceneError whose what() is one line "FILE:
+// problem" naming the problem. Mesh files (OBJ, read by the tests' own
+// loader: the core has no mesh reader) are written at run time into a
+// temporary folder. The rayscope command's loader with scene files:
+// tests/vtk/test_vtk_mesh_files.cpp.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -12,46 +14,28 @@
 #include <map>
 #include <string>
 
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
 #include "rayscope/printable_text.h"
 #include "rayscope/scene_io.h"
-#include "rayscope_vtk/mesh_files.h"
 
 namespace {
 
 using namespace rayscope;
 namespace fs = std::filesystem;
 
-// A regular tetrahedron as an ASCII STL (4 facets).
-const char* kTetraStl = R"(solid tetra
-facet normal 0 0 -1
- outer loop
-  vertex 0 0 0
-  vertex 0 1 0
-  vertex 1 0 0
- endloop
-endfacet
-facet normal 0 -1 0
- outer loop
-  vertex 0 0 0
-  vertex 1 0 0
-  vertex 0 0 1
- endloop
-endfacet
-facet normal -1 0 0
- outer loop
-  vertex 0 0 0
-  vertex 0 0 1
-  vertex 0 1 0
- endloop
-endfacet
-facet normal 1 1 1
- outer loop
-  vertex 1 0 0
-  vertex 0 1 0
-  vertex 0 0 1
- endloop
-endfacet
-endsolid tetra
+// A regular tetrahedron (4 triangles).
+const char* kTetraObj = R"(# tetrahedron
+v 0 0 0
+v 1 0 0
+v 0 1 0
+v 0 0 1
+f 1 3 2
+f 1 2 4
+f 1 4 3
+f 2 3 4
 )";
 
 // A quad (two triangles once triangulated) and a triangle.
@@ -65,20 +49,54 @@ f 1 2 3 4
 f 1 2 5
 )";
 
-// Legacy VTK unstructured grid with one hexahedron: its boundary is 6 quads,
-// 12 triangles.
-const char* kHexVtk = R"(# vtk DataFile Version 3.0
-one hexahedron
-ASCII
-DATASET UNSTRUCTURED_GRID
-POINTS 8 float
-0 0 0  1 0 0  1 1 0  0 1 0
-0 0 1  1 0 1  1 1 1  0 1 1
-CELLS 1 9
-8 0 1 2 3 4 5 6 7
-CELL_TYPES 1
-12
+// A cube's boundary as six quads: 12 triangles.
+const char* kHexObj = R"(# cube
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 0 0 1
+v 1 0 1
+v 1 1 1
+v 0 1 1
+f 1 4 3 2
+f 5 6 7 8
+f 1 2 6 5
+f 2 3 7 6
+f 3 4 8 7
+f 4 1 5 8
 )";
+
+// The mesh loader of these tests: OBJ files of vertices and faces (a face of
+// n corners fanned into n - 2 triangles), the points moved by
+// MeshOptions::to_scene in double before they are rounded, errors as "FILE:
+// problem". A stand-in for the rayscope command's loader
+// (load_obj: its files, formats and messages are tested with
+// scene files in tests/vtk/test_vtk_mesh_files.cpp), so that the parser's
+// tests need no VTK.
+TriangleMesh load_obj(const MeshOptions& mo) {
+  std::ifstream in(mo.file);
+  if (!in) throw std::runtime_error(mo.file.string() + ": cannot be opened");
+  TriangleMesh m;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string tag;
+    words >> tag;
+    if (tag == "v") {
+      glm::dvec4 p(0.0, 0.0, 0.0, 1.0);
+      words >> p.x >> p.y >> p.z;
+      const glm::dvec4 q = mo.to_scene * p;
+      m.positions.push_back(Vec3(float(q.x), float(q.y), float(q.z)));
+    } else if (tag == "f") {
+      std::vector<uint32_t> corners;
+      for (long i; words >> i;) corners.push_back(uint32_t(i - 1));
+      for (size_t k = 2; k < corners.size(); ++k)
+        m.triangles.push_back({corners[0], corners[k - 1], corners[k]});
+    }
+  }
+  return m;
+}
 
 class SceneIo : public ::testing::Test {
  protected:
@@ -88,10 +106,9 @@ class SceneIo : public ::testing::Test {
             ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
-    write("tetra.stl", kTetraStl);
+    write("tetra.obj", kTetraObj);
     write("quad.obj", kQuadObj);
-    write("hex.vtk", kHexVtk);
-    write("mesh.xyz", "1 2 3\n");
+    write("hex.obj", kHexObj);
   }
   void TearDown() override {
     std::error_code ec;
@@ -108,7 +125,7 @@ class SceneIo : public ::testing::Test {
   void expect_error(const std::string& name, const std::string& text, const std::string& problem) {
     fs::path p = write(name, text);
     try {
-      load_scene(p, rayscope_vtk::load_mesh);
+      load_scene(p, load_obj);
       ADD_FAILURE() << name << ": no error, expected one about \"" << problem << "\"";
     } catch (const SceneError& e) {
       std::string msg = e.what();
@@ -124,43 +141,6 @@ class SceneIo : public ::testing::Test {
 
   fs::path dir_;
 };
-
-TEST_F(SceneIo, MeshReaderTriangleCounts) {
-  TriangleMesh tetra = rayscope_vtk::read_mesh_file(dir_ / "tetra.stl");
-  EXPECT_EQ(tetra.triangles.size(), 4u);
-  EXPECT_EQ(tetra.positions.size(), 4u);  // the STL reader merges shared corners
-  TriangleMesh quad = rayscope_vtk::read_mesh_file(dir_ / "quad.obj");
-  EXPECT_EQ(quad.triangles.size(), 3u);
-  EXPECT_EQ(quad.positions.size(), 5u);
-  TriangleMesh hex = rayscope_vtk::read_mesh_file(dir_ / "hex.vtk");
-  EXPECT_EQ(hex.triangles.size(), 12u);
-  EXPECT_EQ(hex.positions.size(), 8u);
-  for (const TriangleMesh* m : {&tetra, &quad, &hex})
-    for (const glm::uvec3& t : m->triangles)
-      EXPECT_TRUE(t.x < m->positions.size() && t.y < m->positions.size() &&
-                  t.z < m->positions.size());
-  // The closed meshes are closed: every edge is shared by exactly two triangles.
-  for (const TriangleMesh* m : {&tetra, &hex}) {
-    std::map<std::pair<uint32_t, uint32_t>, int> edges;
-    for (const glm::uvec3& t : m->triangles)
-      for (int e = 0; e < 3; ++e) edges[std::minmax(t[e], t[(e + 1) % 3])]++;
-    for (const auto& [edge, n] : edges) EXPECT_EQ(n, 2);
-  }
-  // Errors: "FILE: problem".
-  try {
-    rayscope_vtk::read_mesh_file(dir_ / "missing.obj");
-    ADD_FAILURE() << "no error for a missing file";
-  } catch (const std::exception& e) {
-    EXPECT_EQ(std::string(e.what()), (dir_ / "missing.obj").string() + ": file not found");
-  }
-  try {
-    rayscope_vtk::read_mesh_file(dir_ / "mesh.xyz");
-    ADD_FAILURE() << "no error for an unsupported format";
-  } catch (const std::exception& e) {
-    EXPECT_NE(std::string(e.what()).find("unsupported mesh format '.xyz'"), std::string::npos)
-        << e.what();
-  }
-}
 
 TEST_F(SceneIo, ValidSceneParsesToTheExpectedValues) {
   const char* text = R"({
@@ -183,14 +163,14 @@ TEST_F(SceneIo, ValidSceneParsesToTheExpectedValues) {
     "objects": [
       {"type": "sphere", "name": "ball", "center": [0, 1, 0], "radius": 0.5, "material": "red"},
       {"type": "plane", "point": [0, 0, 0], "normal": [0, 2, 0], "material": "floor"},
-      {"type": "mesh", "file": "tetra.stl", "material": "glass",
+      {"type": "mesh", "file": "tetra.obj", "material": "glass",
        "transform": {"translate": [1, 0, 0], "scale": 2}},
       {"type": "mesh", "file": "quad.obj", "name": "q"},
-      {"type": "mesh", "file": "hex.vtk"}
+      {"type": "mesh", "file": "hex.obj"}
     ]
   })";
   fs::path p = write("good.json", text);
-  LoadedScene ls = load_scene(p, rayscope_vtk::load_mesh);
+  LoadedScene ls = load_scene(p, load_obj);
   const Scene& s = ls.scene;
   EXPECT_EQ(s.camera.eye, Vec3(1, 2, 3));
   EXPECT_EQ(s.camera.look_at, Vec3(0, 0.5f, 0));
@@ -312,10 +292,10 @@ TEST_F(SceneIo, EveryBadInputIsOneLineNamingFileAndProblem) {
                R"({"objects": [{"type": "sphere", "center": [0,0,0], "radius": 1,
                    "material": "nope"}]})",
                "objects[0].material: unknown material 'nope'");
+  // The loader's error, under the object's key (the command's loader's own
+  // messages: tests/vtk/test_vtk_mesh_files.cpp).
   expect_error("missing_mesh.json", R"({"objects": [{"type": "mesh", "file": "nothere.obj"}]})",
-               (dir_ / "nothere.obj").string() + ": file not found");
-  expect_error("bad_extension.json", R"({"objects": [{"type": "mesh", "file": "mesh.xyz"}]})",
-               "unsupported mesh format '.xyz'");
+               "objects[0].file: " + (dir_ / "nothere.obj").string() + ": cannot be opened");
   expect_error("too_reflective.json",
                R"({"materials": {"m": {"reflectivity": 0.6, "transparency": 0.5}}})",
                "materials.m: reflectivity + transparency must not exceed 1");
@@ -349,7 +329,7 @@ TEST_F(SceneIo, EveryBadInputIsOneLineNamingFileAndProblem) {
 TEST_F(SceneIo, MissingOrDirectoryScene) {
   for (const fs::path& p : {dir_ / "no_such_scene.json", dir_}) {
     try {
-      load_scene(p, rayscope_vtk::load_mesh);
+      load_scene(p, load_obj);
       ADD_FAILURE() << p << ": no error";
     } catch (const SceneError& e) {
       std::string msg = e.what();
@@ -372,7 +352,7 @@ TEST_F(SceneIo, ANonObjectIsRefusedByItsFirstCharacter) {
   }
   fs::resize_file(big, std::uintmax_t(1) << 30);
   try {
-    load_scene(big, rayscope_vtk::load_mesh);
+    load_scene(big, load_obj);
     ADD_FAILURE() << "no error";
   } catch (const SceneError& e) {
     EXPECT_EQ(std::string(e.what()),
@@ -384,26 +364,26 @@ TEST_F(SceneIo, ANonObjectIsRefusedByItsFirstCharacter) {
                                     {"\x01{}", "\\x01"},
                                     {"\"scene\"", "\""}}) {
     try {
-      parse_scene(text, "inline", dir_, rayscope_vtk::load_mesh);
+      parse_scene(text, "inline", dir_, load_obj);
       ADD_FAILURE() << "no error for " << text;
     } catch (const SceneError& e) {
       EXPECT_EQ(std::string(e.what()),
                 "inline: expected an object ('{'), the file starts with '" + first + "'");
     }
   }
-  EXPECT_NO_THROW(parse_scene("\xEF\xBB\xBF\r\n {}", "bom", dir_, rayscope_vtk::load_mesh));
+  EXPECT_NO_THROW(parse_scene("\xEF\xBB\xBF\r\n {}", "bom", dir_, load_obj));
 }
 
 TEST_F(SceneIo, BytesFromTheFileAreQuotedPrintable) {
   try {
-    parse_scene("{\"colo\\u001b[2Jr\": 1}", "inline", dir_, rayscope_vtk::load_mesh);
+    parse_scene("{\"colo\\u001b[2Jr\": 1}", "inline", dir_, load_obj);
     ADD_FAILURE() << "no error";
   } catch (const SceneError& e) {
     EXPECT_EQ(std::string(e.what()), "inline: unknown key 'colo\\x1B[2Jr'");
   }
   const std::string long_key(100000, 'k');
   try {
-    parse_scene("{\"" + long_key + "\": 1}", "inline", dir_, rayscope_vtk::load_mesh);
+    parse_scene("{\"" + long_key + "\": 1}", "inline", dir_, load_obj);
     ADD_FAILURE() << "no error";
   } catch (const SceneError& e) {
     EXPECT_EQ(std::string(e.what()),
@@ -413,18 +393,18 @@ TEST_F(SceneIo, BytesFromTheFileAreQuotedPrintable) {
 
 TEST_F(SceneIo, ParseSceneUsesTheGivenName) {
   try {
-    parse_scene("{\"bogus\": 1}", "inline scene", dir_, rayscope_vtk::load_mesh);
+    parse_scene("{\"bogus\": 1}", "inline scene", dir_, load_obj);
     ADD_FAILURE() << "no error";
   } catch (const SceneError& e) {
     EXPECT_EQ(std::string(e.what()), "inline scene: unknown key 'bogus'");
   }
   // Relative mesh paths resolve against base_dir.
   LoadedScene ls = parse_scene(R"({"objects": [{"type": "mesh", "file": "quad.obj"}]})", "x", dir_,
-                               rayscope_vtk::load_mesh);
+                               load_obj);
   ASSERT_EQ(ls.scene.meshes.size(), 1u);
   EXPECT_EQ(ls.scene.meshes[0].triangles.size(), 3u);
   // Defaults when the file says nothing.
-  LoadedScene empty = parse_scene("{}", "empty", dir_, rayscope_vtk::load_mesh);
+  LoadedScene empty = parse_scene("{}", "empty", dir_, load_obj);
   EXPECT_EQ(empty.settings.width, RenderSettings{}.width);
   EXPECT_EQ(empty.scene.materials.size(), 1u);
   EXPECT_TRUE(empty.scene.lights.empty());

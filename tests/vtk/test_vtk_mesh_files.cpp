@@ -1,13 +1,18 @@
 // The rayscope command's mesh files (rayscope_vtk::load_mesh, vtkplugin/meshio)
 // against the VTK module's converter: the same file gives the same triangles,
 // normals and colors, normals are computed smooth when the file has none, and
-// a scene file's color_by reaches the loader and colors the mesh.
+// a scene file's color_by reaches the loader and colors the mesh; STL, OBJ
+// and legacy VTK files read as triangles (counts, closed meshes, "FILE:
+// problem" errors), in scene files too.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <map>
 #include <string>
 
 #include <vtkCellData.h>
@@ -105,6 +110,142 @@ void expect_same(const TriangleMesh& a, const TriangleMesh& b) {
   EXPECT_EQ(a.triangles, b.triangles);
   EXPECT_EQ(a.normals, b.normals);
   EXPECT_EQ(a.colors, b.colors);
+}
+
+// A regular tetrahedron as an ASCII STL (4 facets).
+const char* kTetraStl = R"(solid tetra
+facet normal 0 0 -1
+ outer loop
+  vertex 0 0 0
+  vertex 0 1 0
+  vertex 1 0 0
+ endloop
+endfacet
+facet normal 0 -1 0
+ outer loop
+  vertex 0 0 0
+  vertex 1 0 0
+  vertex 0 0 1
+ endloop
+endfacet
+facet normal -1 0 0
+ outer loop
+  vertex 0 0 0
+  vertex 0 0 1
+  vertex 0 1 0
+ endloop
+endfacet
+facet normal 1 1 1
+ outer loop
+  vertex 1 0 0
+  vertex 0 1 0
+  vertex 0 0 1
+ endloop
+endfacet
+endsolid tetra
+)";
+
+// A quad (two triangles once triangulated) and a triangle.
+const char* kQuadObj = R"(# quad and triangle
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 0 0 1
+f 1 2 3 4
+f 1 2 5
+)";
+
+// Legacy VTK unstructured grid with one hexahedron: its boundary is 6 quads,
+// 12 triangles.
+const char* kHexVtk = R"(# vtk DataFile Version 3.0
+one hexahedron
+ASCII
+DATASET UNSTRUCTURED_GRID
+POINTS 8 float
+0 0 0  1 0 0  1 1 0  0 1 0
+0 0 1  1 0 1  1 1 1  0 1 1
+CELLS 1 9
+8 0 1 2 3 4 5 6 7
+CELL_TYPES 1
+12
+)";
+
+TEST_F(VtkMeshFiles, MeshReaderTriangleCounts) {
+  std::ofstream(dir_ / "tetra.stl") << kTetraStl;
+  std::ofstream(dir_ / "quad.obj") << kQuadObj;
+  std::ofstream(dir_ / "hex.vtk") << kHexVtk;
+  std::ofstream(dir_ / "mesh.xyz") << "1 2 3\n";
+  TriangleMesh tetra = rayscope_vtk::read_mesh_file(dir_ / "tetra.stl");
+  EXPECT_EQ(tetra.triangles.size(), 4u);
+  EXPECT_EQ(tetra.positions.size(), 4u);  // the STL reader merges shared corners
+  TriangleMesh quad = rayscope_vtk::read_mesh_file(dir_ / "quad.obj");
+  EXPECT_EQ(quad.triangles.size(), 3u);
+  EXPECT_EQ(quad.positions.size(), 5u);
+  TriangleMesh hex = rayscope_vtk::read_mesh_file(dir_ / "hex.vtk");
+  EXPECT_EQ(hex.triangles.size(), 12u);
+  EXPECT_EQ(hex.positions.size(), 8u);
+  for (const TriangleMesh* m : {&tetra, &quad, &hex})
+    for (const glm::uvec3& t : m->triangles)
+      EXPECT_TRUE(t.x < m->positions.size() && t.y < m->positions.size() &&
+                  t.z < m->positions.size());
+  // The closed meshes are closed: every edge is shared by exactly two triangles.
+  for (const TriangleMesh* m : {&tetra, &hex}) {
+    std::map<std::pair<uint32_t, uint32_t>, int> edges;
+    for (const glm::uvec3& t : m->triangles)
+      for (int e = 0; e < 3; ++e) edges[std::minmax(t[e], t[(e + 1) % 3])]++;
+    for (const auto& [edge, n] : edges) EXPECT_EQ(n, 2);
+  }
+  // Errors: "FILE: problem".
+  try {
+    rayscope_vtk::read_mesh_file(dir_ / "missing.obj");
+    ADD_FAILURE() << "no error for a missing file";
+  } catch (const std::exception& e) {
+    EXPECT_EQ(std::string(e.what()), (dir_ / "missing.obj").string() + ": file not found");
+  }
+  try {
+    rayscope_vtk::read_mesh_file(dir_ / "mesh.xyz");
+    ADD_FAILURE() << "no error for an unsupported format";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("unsupported mesh format '.xyz'"), std::string::npos)
+        << e.what();
+  }
+}
+
+// Scene files whose meshes the command's loader reads (STL, OBJ, legacy VTK):
+// the triangles, the object's transform applied, and the loader's errors
+// under the object's key.
+TEST_F(VtkMeshFiles, SceneFilesReadTheirMeshesThroughTheLoader) {
+  std::ofstream(dir_ / "tetra.stl") << kTetraStl;
+  std::ofstream(dir_ / "quad.obj") << kQuadObj;
+  std::ofstream(dir_ / "hex.vtk") << kHexVtk;
+  std::ofstream(dir_ / "mesh.xyz") << "1 2 3\n";
+  const rayscope::LoadedScene ls = rayscope::parse_scene(R"({"objects": [
+      {"type": "mesh", "file": "tetra.stl", "transform": {"translate": [1, 0, 0], "scale": 2}},
+      {"type": "mesh", "file": "quad.obj"}, {"type": "mesh", "file": "hex.vtk"}]})",
+                                                         "scene", dir_, rayscope_vtk::load_mesh);
+  ASSERT_EQ(ls.scene.meshes.size(), 3u);
+  EXPECT_EQ(ls.scene.meshes[0].triangles.size(), 4u);
+  EXPECT_EQ(ls.scene.meshes[1].triangles.size(), 3u);
+  EXPECT_EQ(ls.scene.meshes[2].triangles.size(), 12u);
+  for (const rayscope::Vec3& w : {rayscope::Vec3(1, 0, 0), rayscope::Vec3(3, 0, 0),
+                                  rayscope::Vec3(1, 2, 0), rayscope::Vec3(1, 0, 2)})
+    EXPECT_NE(std::find(ls.scene.meshes[0].positions.begin(), ls.scene.meshes[0].positions.end(),
+                        w),
+              ls.scene.meshes[0].positions.end());
+  auto error = [&](const std::string& file) -> std::string {
+    try {
+      rayscope::parse_scene(R"({"objects": [{"type": "mesh", "file": ")" + file + R"("}]})",
+                            "scene", dir_, rayscope_vtk::load_mesh);
+    } catch (const rayscope::SceneError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(error("nothere.obj"),
+            "scene: objects[0].file: " + (dir_ / "nothere.obj").string() + ": file not found");
+  EXPECT_NE(error("mesh.xyz").find("objects[0].file: "), std::string::npos);
+  EXPECT_NE(error("mesh.xyz").find("unsupported mesh format '.xyz'"), std::string::npos);
 }
 
 }  // namespace
