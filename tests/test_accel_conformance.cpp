@@ -17,7 +17,8 @@
 //  - mailboxing: primitives stored many times are still tested once per ray;
 //  - range queries (box, sphere, k nearest) == brute force, ties included,
 //    under the walk contract; shrinking ranges cull, walks prune;
-//  - non-finite input: refused or skipped as the scene says, the rest answered.
+//  - bad input: non-finite primitives refused or skipped as the scene says,
+//    the rest answered; a bad loose factor refused with one line.
 //
 // A new structure needs no line here: it joins kAccelKinds, and the cases
 // follow. What is one structure's own (its builder's invariants, split rules,
@@ -556,6 +557,26 @@ TEST_P(AccelConformance, NonFiniteInputIsRefusedOrSkipped) {
     rays.push_back(Ray{to_f(o), to_f(0.4 * rng.unit_vector() - o), kInfinity});
   }
   rstest::check_queries(scene, rays, (name() + ": icosphere with a NaN vertex").c_str(), 0);
+}
+
+TEST_P(AccelConformance, BadLooseFactorsAreRefusedWithOneLine) {
+  // The one check of the loose factor (loose_factor_error), for every
+  // structure and storage: commit() refuses a factor outside 0 .. 0.5 or not
+  // finite with one line, and builds nothing.
+  Scene scene;
+  scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 1));
+  for (float bad : {-0.1f, 0.51f, kInfinity, std::nanf("")}) {
+    AccelConfig ac = GetParam().config();
+    ac.loose_factor = bad;
+    try {
+      scene.commit(ac);
+      ADD_FAILURE() << name() << ": no exception for loose factor " << bad;
+    } catch (const std::invalid_argument& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("loose factor must be a number from 0 to 0.5"), std::string::npos) << m;
+      EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    }
+  }
 }
 
 }  // namespace
