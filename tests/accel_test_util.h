@@ -555,7 +555,7 @@ inline rayscope::Bounds3 scene_bounds(const rayscope::Scene& scene) {
 /// in it, leaving it, across it, grazing it); for a sphere tree node rays
 /// tangent to its sphere and starting on it.
 inline void add_view_rays(Rng& rng, const rayscope::Scene& scene, std::vector<rayscope::Ray>& rays,
-                          size_t max_nodes = 2000) {
+                          size_t max_nodes = stress_scaled(2000)) {
   using namespace rayscope;
   const AccelView v = make_accel_view(scene.accel());
   Bounds3 world = scene_bounds(scene);
@@ -613,7 +613,7 @@ inline std::vector<rayscope::Ray> adversarial_rays(Rng& rng, const rayscope::Sce
   std::vector<rayscope::Ray> rays;
   add_mesh_rays(rng, scene, rays);
   add_view_rays(rng, scene, rays);
-  add_inside_and_grazing_rays(rng, scene, scene_bounds(scene), 3000, rays);
+  add_inside_and_grazing_rays(rng, scene, scene_bounds(scene), int(stress_scaled(3000)), rays);
   return rays;
 }
 
@@ -928,8 +928,9 @@ void check_setting(const rayscope::AccelConfig& config, const std::string& what,
   scene.commit(config);
   std::vector<Ray> rays = adversarial_rays(rng, scene);
   extra(scene, rays);
-  add_random_rays(rng, scene, scene_bounds(scene), 4000, rays);
-  const std::vector<PrimHit> hits = check_queries(scene, rays, what.c_str(), 20);
+  add_random_rays(rng, scene, scene_bounds(scene), int(stress_scaled(4000)), rays);
+  const std::vector<PrimHit> hits =
+      check_queries(scene, rays, what.c_str(), stress_scale() < 1.0 ? 2 : 20);
   if (::testing::Test::HasFailure()) return;
   rstest::check_range_queries(scene, make_range_queries(rng, scene, 10), what);
   if (::testing::Test::HasFailure()) return;
@@ -944,7 +945,7 @@ void check_setting(const rayscope::AccelConfig& config, const std::string& what,
   const std::vector<int> pieces = prim_pieces(slivers.accel());
   MailboxTotals totals;
   mailbox_rays(
-      slivers, rng, 1000, make_accel_view(slivers.accel()).nodes.size(), totals,
+      slivers, rng, int(stress_scaled(1000)), make_accel_view(slivers.accel()).nodes.size(), totals,
       [](const CountingObserver&, bool) {}, &pieces);
 }
 inline void check_setting(const rayscope::AccelConfig& config, const std::string& what, Rng& rng) {
