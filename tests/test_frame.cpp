@@ -2,7 +2,7 @@
 // statistics (per-pixel cost AOVs) and a render that records ray trees are one
 // walk. The images are bit-identical, the cost AOV of every pixel equals the
 // walk its recorded ray tree logs, and that walk is the one renders do (the
-// 4-wide BVH by default; the binary teaching walk or the kD-tree only when
+// 8-wide BVH by default; the binary teaching walk or the kD-tree only when
 // chosen).
 #include <gtest/gtest.h>
 
@@ -119,7 +119,7 @@ TEST_P(FrameWalk, StatisticsAndRecordingObserveThePlainWalk) {
 }
 
 TEST(FrameWalk, DefaultWalkIsTheWideOneAndBinaryIsAChoice) {
-  // The walk that statistics report is the 4-wide one unless the binary walk
+  // The walk that statistics report is the 8-wide one unless the binary walk
   // is chosen: every recorded inner node is the top of a wide node, and the
   // binary walk enters more nodes and tests fewer boxes per node for the same
   // image.
@@ -132,9 +132,9 @@ TEST(FrameWalk, DefaultWalkIsTheWideOneAndBinaryIsAChoice) {
   binary.commit(cfg);
   RayCounters cw, cb;
   const Framebuffer fw = render(wide, rs, &cw), fb = render(binary, rs, &cb);
-  expect_same_image(fw, fb, "4-wide vs binary walk");
+  expect_same_image(fw, fb, "8-wide vs binary walk");
   std::printf(
-      "default scene 64x48: 4-wide walk %llu nodes, %llu boxes; binary walk %llu nodes, "
+      "default scene 64x48: 8-wide walk %llu nodes, %llu boxes; binary walk %llu nodes, "
       "%llu boxes\n",
       (unsigned long long)cw.nodes_visited, (unsigned long long)cw.boxes_tested,
       (unsigned long long)cb.nodes_visited, (unsigned long long)cb.boxes_tested);
@@ -158,7 +158,7 @@ TEST(FrameWalk, DefaultWalkIsTheWideOneAndBinaryIsAChoice) {
   for (const PixelRecord& rec : records)
     for (const RayRecord& r : rec.rays)
       for (uint32_t n : r.traversal.nodes()) {
-        ASSERT_TRUE(is_top[n]) << "node " << n << " is inside a 4-wide node";
+        ASSERT_TRUE(is_top[n]) << "node " << n << " is inside a 8-wide node";
         ++nodes;
       }
   EXPECT_GT(nodes, 0u);

@@ -6,7 +6,7 @@
 # and --kd-split, the BSP tree with each of the three storages) changes how
 # much work a render does, never the image: the renders must be the same file, byte
 # for byte (PNG of identical pixels), and --stats must report more nodes
-# entered by the binary walk (bvh2) than by the 4-wide one (bvh), and none
+# entered by the binary walk (bvh2) than by the 8-wide one (bvh), and none
 # without a structure; the kD-tree and grid walks enter nodes (cells) and name
 # themselves.
 set -euo pipefail
@@ -32,7 +32,7 @@ nodes() { sed -n 's/^ *nodes visited *\([0-9]*\).*/\1/p' "$out/$1.txt"; }
 n4=$(nodes bvh); n2=$(nodes bvh2); nk=$(nodes kdtree); ng=$(nodes grid); ns=$(nodes spheres); n0=$(nodes none)
 echo "nodes visited: bvh $n4, bvh2 $n2, kdtree $nk, grid $ng, spheres $ns, none $n0"
 [ -n "$n4" ] && [ -n "$n2" ] && [ -n "$nk" ] && [ -n "$ng" ] && [ -n "$n0" ] || { echo "FAIL: --stats printed no node counts"; cat "$out/bvh.txt"; exit 1; }
-[ "$n2" -gt "$n4" ] || { echo "FAIL: the binary walk should enter more nodes than the 4-wide one"; exit 1; }
+[ "$n2" -gt "$n4" ] || { echo "FAIL: the binary walk should enter more nodes than the 8-wide one"; exit 1; }
 [ "$nk" -gt 0 ] || { echo "FAIL: the kD-tree walk entered no nodes"; exit 1; }
 [ "$ng" -gt 0 ] || { echo "FAIL: the grid walk entered no cells"; exit 1; }
 [ -n "$ns" ] && [ "$ns" -gt 0 ] || { echo "FAIL: the sphere tree walk entered no nodes"; exit 1; }
