@@ -437,13 +437,7 @@ BspQuality BspTree::quality() const {
 
 AccelFigures BspTree::figures() const {
   const BspQuality q = quality();
-  AccelFigures f;
-  f.build_seconds = q.build_seconds;
-  f.memory_bytes = memory_bytes();
-  f.nodes = q.nodes;
-  f.leaves = q.leaves;
-  f.depth = q.depth;
-  f.refs_per_prim = q.refs_per_prim;
+  AccelFigures f = figures_of(q, q.refs_per_prim);
   f.fragments = q.fragments;
   return f;
 }

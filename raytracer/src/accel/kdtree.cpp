@@ -395,13 +395,8 @@ std::vector<Bounds3> KdTree::cells() const {
 
 AccelFigures KdTree::figures() const {
   const KdTreeQuality q = quality();
-  AccelFigures f;
-  f.build_seconds = q.build_seconds;
-  f.memory_bytes = memory_bytes();
-  f.nodes = q.nodes;
+  AccelFigures f = figures_of(q, q.refs_per_prim);
   f.leaves = q.leaves - q.empty_leaves;
-  f.depth = q.depth;
-  f.refs_per_prim = q.refs_per_prim;
   return f;
 }
 

@@ -194,14 +194,7 @@ OctreeQuality Octree::quality() const {
 
 AccelFigures Octree::figures() const {
   const OctreeQuality q = quality();
-  AccelFigures f;
-  f.build_seconds = q.build_seconds;
-  f.memory_bytes = memory_bytes();
-  f.nodes = q.nodes;
-  f.leaves = q.leaves;
-  f.depth = q.depth;
-  f.refs_per_prim = q.refs_per_prim;
-  return f;
+  return figures_of(q, q.refs_per_prim);
 }
 
 AccelView Octree::view() const {

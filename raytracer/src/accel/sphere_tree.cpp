@@ -305,15 +305,7 @@ SphereTreeQuality SphereTree::quality() const {
 }
 
 AccelFigures SphereTree::figures() const {
-  const SphereTreeQuality q = quality();
-  AccelFigures f;
-  f.build_seconds = q.build_seconds;
-  f.memory_bytes = memory_bytes();
-  f.nodes = q.nodes;
-  f.leaves = q.leaves;
-  f.depth = q.depth;
-  f.refs_per_prim = prim_indices.empty() ? 0.0 : 1.0;
-  return f;
+  return figures_of(quality(), prim_indices.empty() ? 0.0 : 1.0);
 }
 
 AccelView SphereTree::view() const {
