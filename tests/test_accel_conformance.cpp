@@ -135,8 +135,8 @@ TEST_P(AccelConformance, SameHitsAsTheBvhBitForBit) {
   scene.meshes.push_back(rstest::unit_cube(Vec3(7, 0, 0)));
   commit(scene);
   std::vector<Ray> rays = rstest::adversarial_rays(rng, scene);
-  rstest::add_random_rays(rng, scene, rstest::scene_bounds(scene),
-                          int(rstest::stress_scaled(5000)), rays);
+  rstest::add_random_rays(rng, scene, rstest::scene_bounds(scene), int(rstest::stress_scaled(5000)),
+                          rays);
   scene.commit();
   ASSERT_EQ(scene.accel().kind(), AccelKind::Bvh);
   std::vector<PrimHit> bvh(rays.size());
@@ -238,9 +238,8 @@ struct WalkLog : TraversalHooks {
     if (p == kPrimOutsideStructure || order.empty()) return;
     // The leaf that holds it is the node entered last.
     if (!holds(order.back(), p)) {
-      ASSERT_TRUE(held_by_a_box_only(p))
-          << "primitive " << p << " hit, but the node entered last (" << order.back()
-          << ") does not hold it";
+      ASSERT_TRUE(held_by_a_box_only(p)) << "primitive " << p << " hit, but the node entered last ("
+                                         << order.back() << ") does not hold it";
       ++hits_elsewhere;
     }
   }
@@ -292,7 +291,8 @@ TEST_P(AccelConformance, TheObserverSeesTheWalk) {
       for (uint32_t p : log.tested) {
         bool held = false;
         for (uint32_t n : holders[p]) held |= log.entered[n] > 0 || log.box_hit[n] > 0;
-        ASSERT_TRUE(held || !a.walks_structure()) << "primitive " << p << " tested, held by no node entered";
+        ASSERT_TRUE(held || !a.walks_structure())
+            << "primitive " << p << " tested, held by no node entered";
         repeated += log.tests[p] > 1;
       }
       if (!a.walks_structure()) {  // every primitive, no node
@@ -356,7 +356,9 @@ TEST_P(AccelConformance, MailboxTestsEachPrimitiveOncePerRay) {
   }
   const std::vector<int> pieces = rstest::prim_pieces(a);
   const size_t prims = a.records().size();
-  const int n_rays = int(rstest::stress_scaled(3000));
+  // Not scaled down under sanitizers: the counts below (culls above all) need
+  // this many rays, and the sliver scene is small.
+  const int n_rays = 3000;
   rstest::MailboxTotals t;
   rstest::mailbox_rays(
       scene, rng, n_rays, view.nodes.size(), t, [](const rstest::CountingObserver&, bool) {},
@@ -496,10 +498,11 @@ TEST_P(AccelConformance, RangeWalksPrune) {
   EXPECT_EQ(everything.size(), a.object_count());
   const size_t nodes = view.nodes.size(), prims = a.records().size();
   const size_t small_nodes = small.order.size(), small_prims = small.tested().size();
-  std::printf("%s (%zu nodes): small box: %zu nodes, %zu prims; k = 1: %zu nodes, %zu prims, %d "
-              "culled; everything: %zu nodes, %zu prims\n",
-              name().c_str(), nodes, small_nodes, small_prims, knn.order.size(),
-              knn.tested().size(), knn.culled, all.order.size(), all.tested().size());
+  std::printf(
+      "%s (%zu nodes): small box: %zu nodes, %zu prims; k = 1: %zu nodes, %zu prims, %d "
+      "culled; everything: %zu nodes, %zu prims\n",
+      name().c_str(), nodes, small_nodes, small_prims, knn.order.size(), knn.tested().size(),
+      knn.culled, all.order.size(), all.tested().size());
   if (!a.walks_structure()) {
     EXPECT_EQ(small_prims, prims) << "no structure: every primitive";
     return;
