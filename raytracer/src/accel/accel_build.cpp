@@ -15,6 +15,18 @@ std::vector<Bounds3> leaf_order_bounds(const Bvh& hierarchy, std::span<const Bou
   return out;
 }
 
+// A cell structure (kD-tree, grid, octree) over the records' bounds, with
+// the config's one storage choice and loose factor in place of its builder's.
+template <class Tree, class BuildConfig>
+Tree build_cells(BuildConfig own, const AccelConfig& config, const Bvh& hierarchy,
+                 std::span<const Bounds3> bounds) {
+  own.storage = config.storage;
+  own.loose_factor = config.loose_factor;
+  Tree tree;
+  tree.build(leaf_order_bounds(hierarchy, bounds), own);
+  return tree;
+}
+
 }  // namespace
 
 std::string accel_config_error(const AccelConfig& config) {
@@ -38,30 +50,12 @@ AccelStructureVariant build_accel(const AccelConfig& config, std::shared_ptr<con
     }
     case AccelKind::None:
       return BruteForce(uint32_t(records.size()), std::move(hierarchy));
-    case AccelKind::KdTree: {
-      KdTreeBuildConfig c = config.kdtree;
-      c.storage = config.storage;
-      c.loose_factor = config.loose_factor;
-      KdTree tree;
-      tree.build(leaf_order_bounds(*hierarchy, bounds), c);
-      return tree;
-    }
-    case AccelKind::Grid: {
-      GridBuildConfig c = config.grid;
-      c.storage = config.storage;
-      c.loose_factor = config.loose_factor;
-      UniformGrid grid;
-      grid.build(leaf_order_bounds(*hierarchy, bounds), c);
-      return grid;
-    }
-    case AccelKind::Octree: {
-      OctreeBuildConfig c = config.octree;
-      c.storage = config.storage;
-      c.loose_factor = config.loose_factor;
-      Octree tree;
-      tree.build(leaf_order_bounds(*hierarchy, bounds), c);
-      return tree;
-    }
+    case AccelKind::KdTree:
+      return build_cells<KdTree>(config.kdtree, config, *hierarchy, bounds);
+    case AccelKind::Grid:
+      return build_cells<UniformGrid>(config.grid, config, *hierarchy, bounds);
+    case AccelKind::Octree:
+      return build_cells<Octree>(config.octree, config, *hierarchy, bounds);
     case AccelKind::Bsp: {
       // The BSP tree's planes go through the triangles: it is built over
       // their geometry.
