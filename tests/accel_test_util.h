@@ -574,7 +574,8 @@ inline void add_view_rays(Rng& rng, const rayscope::Scene& scene, std::vector<ra
     add_plane_rays(rng, world, a, box.lo[a], rays, true, &mid);
     add_plane_rays(rng, world, a, box.hi[a], rays, false);
     add_plane_rays(rng, world, rng.integer(0, 2), mid[a], rays, true, &mid);
-    const Vec3 c0 = corner(box), c1 = corner(v.nodes[size_t(rng.integer(0, int(v.nodes.size()) - 1))].box);
+    const Vec3 c0 = corner(box),
+               c1 = corner(v.nodes[size_t(rng.integer(0, int(v.nodes.size()) - 1))].box);
     if (c0 != c1 && all_finite(c1)) rays.push_back(Ray{c0 - 1.5f * (c1 - c0), c1 - c0, kInfinity});
     if (n.polygon_count >= 3) {
       DVec3 centre(0.0), nrm(0.0);

@@ -22,9 +22,9 @@ inline size_t count_nonfinite(const rayscope::Framebuffer& fb) {
                               [](const rayscope::Color& c) { return !finite_color(c); }));
 }
 
-inline rayscope::Framebuffer render_scene(rayscope::Scene scene, int width, int height, int spp, int max_depth = 5,
-                         float min_contribution = 1e-3f,
-                                         rayscope::RayCounters* counters = nullptr) {
+inline rayscope::Framebuffer render_scene(rayscope::Scene scene, int width, int height, int spp,
+                                          int max_depth = 5, float min_contribution = 1e-3f,
+                                          rayscope::RayCounters* counters = nullptr) {
   using namespace rayscope;
   scene.commit();
   RenderSettings rs;

@@ -151,16 +151,18 @@ TEST(Aggregate, MemoryCountsEveryStructure) {
   scene.planes.push_back(Plane{"floor", Vec3(0, -5, 0), Vec3(0, 1, 0), 0});
   scene.commit();
   const Aggregate& a = scene.accel();
-  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.structure_as<BvhWalk>().walk().memory_bytes() +
-                                  (a.structure_as<BvhWalk>().triangle_blocks().size() * sizeof(TriangleBlock)) +
-                                  a.records().size() * sizeof(PrimRecord) + sizeof(PlaneRecord));
+  EXPECT_EQ(a.memory_bytes(),
+            a.bvh().quality().memory_bytes + a.structure_as<BvhWalk>().walk().memory_bytes() +
+                (a.structure_as<BvhWalk>().triangle_blocks().size() * sizeof(TriangleBlock)) +
+                a.records().size() * sizeof(PrimRecord) + sizeof(PlaneRecord));
   EXPECT_GT(a.structure_as<BvhWalk>().walk().memory_bytes(), 0u);
   // One block per started group of TriangleBlock::kLanes records of each leaf.
   size_t blocks = 0;
   for (const BvhNode& n : a.bvh().nodes)
     if (n.is_leaf()) blocks += (n.count + TriangleBlock::kLanes - 1) / TriangleBlock::kLanes;
   EXPECT_EQ(a.structure_as<BvhWalk>().triangle_blocks().size(), blocks);
-  EXPECT_EQ((a.structure_as<BvhWalk>().triangle_blocks().size() * sizeof(TriangleBlock)), blocks * sizeof(TriangleBlock));
+  EXPECT_EQ((a.structure_as<BvhWalk>().triangle_blocks().size() * sizeof(TriangleBlock)),
+            blocks * sizeof(TriangleBlock));
 }
 
 TEST(Aggregate, WalkLeavesNameTheirFirstBlockAndItsRecords) {

@@ -323,9 +323,11 @@ TEST(Bsp, StorageCheckFiguresAndView) {
     if (st == PrimStorage::SmallestCell) {
       EXPECT_DOUBLE_EQ(f.refs_per_prim, 1.0);
     }
-    EXPECT_EQ(f.memory_bytes, a.structure_as<BspTree>().memory_bytes() + a.records().size() * sizeof(PrimRecord) +
+    EXPECT_EQ(f.memory_bytes, a.structure_as<BspTree>().memory_bytes() +
+                                  a.records().size() * sizeof(PrimRecord) +
                                   a.plane_records().size() * sizeof(PlaneRecord));
-    EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.structure_as<BspTree>().memory_bytes() +
+    EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes +
+                                    a.structure_as<BspTree>().memory_bytes() +
                                     a.records().size() * sizeof(PrimRecord) +
                                     a.plane_records().size() * sizeof(PlaneRecord));
     // The teaching view: cell boxes, parents, the split polygons of inner

@@ -22,12 +22,12 @@ using namespace rayscope;
 using rstest::count_nonfinite;
 using rstest::DVec3;
 using rstest::finite_color;
+using rstest::pixels_differing;
+using rstest::psnr;
 using rstest::render_scene;
 using rstest::Rng;
 using rstest::to_d;
 using rstest::to_f;
-using rstest::pixels_differing;
-using rstest::psnr;
 
 // The scene moved by p -> scale * p + offset (positions rounded once from
 // double), with everything that has a length scaled along: sphere radii,

@@ -23,11 +23,11 @@ using namespace rayscope;
 using rstest::count_nonfinite;
 using rstest::DVec3;
 using rstest::finite_color;
+using rstest::mesh_scene;
 using rstest::render_scene;
 using rstest::Rng;
 using rstest::to_d;
 using rstest::to_f;
-using rstest::mesh_scene;
 
 TEST(Grazing, RaysInThePlaneOfTrianglesAndAlongEdges) {
   // A flat grid mesh in the plane z = 0.5 (coordinates multiples of 1/8: all

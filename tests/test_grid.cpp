@@ -486,22 +486,18 @@ class GridOwnSetting : public ::testing::TestWithParam<GridSetting> {
 constexpr PrimStorage kEvery = PrimStorage::EveryCell, kLoose = PrimStorage::SmallestCell;
 INSTANTIATE_TEST_SUITE_P(
     Own, GridOwnSetting,
-    ::testing::Values(GridSetting{"auto_every_cell", glm::uvec3(0u), kEvery, 0.0f},
-                      GridSetting{"1x1x1_every_cell", glm::uvec3(1u), kEvery, 0.0f},
-                      GridSetting{"200x1x3_every_cell", glm::uvec3(200u, 1u, 3u), kEvery, 0.0f},
-                      GridSetting{"160x160x160_every_cell", glm::uvec3(160u), kEvery, 0.0f},
-                      GridSetting{"auto_loose_0", glm::uvec3(0u), kLoose, 0.0f},
-                      GridSetting{"auto_loose_default", glm::uvec3(0u), kLoose,
-                                  kDefaultLooseFactor},
-                      GridSetting{"auto_loose_max", glm::uvec3(0u), kLoose, kMaxLooseFactor},
-                      GridSetting{"1x1x1_loose_default", glm::uvec3(1u), kLoose,
-                                  kDefaultLooseFactor},
-                      GridSetting{"200x1x3_loose_default", glm::uvec3(200u, 1u, 3u), kLoose,
-                                  kDefaultLooseFactor},
-                      GridSetting{"3x90x2_loose_default", glm::uvec3(3u, 90u, 2u), kLoose,
-                                  kDefaultLooseFactor},
-                      GridSetting{"128x128x128_loose_default", glm::uvec3(128u), kLoose,
-                                  kDefaultLooseFactor}),
+    ::testing::Values(
+        GridSetting{"auto_every_cell", glm::uvec3(0u), kEvery, 0.0f},
+        GridSetting{"1x1x1_every_cell", glm::uvec3(1u), kEvery, 0.0f},
+        GridSetting{"200x1x3_every_cell", glm::uvec3(200u, 1u, 3u), kEvery, 0.0f},
+        GridSetting{"160x160x160_every_cell", glm::uvec3(160u), kEvery, 0.0f},
+        GridSetting{"auto_loose_0", glm::uvec3(0u), kLoose, 0.0f},
+        GridSetting{"auto_loose_default", glm::uvec3(0u), kLoose, kDefaultLooseFactor},
+        GridSetting{"auto_loose_max", glm::uvec3(0u), kLoose, kMaxLooseFactor},
+        GridSetting{"1x1x1_loose_default", glm::uvec3(1u), kLoose, kDefaultLooseFactor},
+        GridSetting{"200x1x3_loose_default", glm::uvec3(200u, 1u, 3u), kLoose, kDefaultLooseFactor},
+        GridSetting{"3x90x2_loose_default", glm::uvec3(3u, 90u, 2u), kLoose, kDefaultLooseFactor},
+        GridSetting{"128x128x128_loose_default", glm::uvec3(128u), kLoose, kDefaultLooseFactor}),
     [](const auto& info) { return info.param.name; });
 
 TEST_P(GridOwnSetting, QueriesMatchBruteForceAndTheBvh) {
@@ -647,7 +643,8 @@ TEST(Grid, MemoryOfTheAggregate) {
   const Aggregate& a = scene.accel();
   EXPECT_TRUE(a.structure_as<BvhWalk>().walk().empty());
   EXPECT_TRUE(a.structure_as<KdTree>().empty());
-  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.structure_as<UniformGrid>().memory_bytes() +
+  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes +
+                                  a.structure_as<UniformGrid>().memory_bytes() +
                                   a.records().size() * sizeof(PrimRecord));
   EXPECT_GT(a.structure_as<UniformGrid>().memory_bytes(), 0u);
 }

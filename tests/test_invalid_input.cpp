@@ -27,11 +27,11 @@ using namespace rayscope;
 using rstest::count_nonfinite;
 using rstest::DVec3;
 using rstest::finite_color;
+using rstest::mesh_scene;
 using rstest::render_scene;
 using rstest::Rng;
 using rstest::to_d;
 using rstest::to_f;
-using rstest::mesh_scene;
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 

@@ -161,15 +161,14 @@ TEST_P(KdTreeSetting, QueriesMatchBruteForceAndTheBvh) {
   ac.kdtree.rule = GetParam().rule;
   ac.storage = GetParam().storage;
   ac.loose_factor = GetParam().loose_factor;
-  rstest::check_setting(ac, "kD-tree " + GetParam().name, rng,
-                        [&](const Scene& scene, std::vector<Ray>& rays) {
-                          const KdTree& kd = scene.accel().structure_as<KdTree>();
-                          ASSERT_EQ(kd.loose(), GetParam().storage == PrimStorage::SmallestCell);
-                          for (size_t i = 0; i < kd.nodes.size(); i += 7)
-                            if (!kd.nodes[i].is_leaf())
-                              rstest::add_plane_rays(rng, kd.bounds(), kd.nodes[i].axis(),
-                                                     kd.nodes[i].split(), rays);
-                        });
+  rstest::check_setting(
+      ac, "kD-tree " + GetParam().name, rng, [&](const Scene& scene, std::vector<Ray>& rays) {
+        const KdTree& kd = scene.accel().structure_as<KdTree>();
+        ASSERT_EQ(kd.loose(), GetParam().storage == PrimStorage::SmallestCell);
+        for (size_t i = 0; i < kd.nodes.size(); i += 7)
+          if (!kd.nodes[i].is_leaf())
+            rstest::add_plane_rays(rng, kd.bounds(), kd.nodes[i].axis(), kd.nodes[i].split(), rays);
+      });
 }
 
 TEST(KdTree, MedianRulePrunesLessOnSlivers) {
@@ -274,7 +273,8 @@ TEST(KdTree, MemoryOfTheAggregate) {
   scene.commit(ac);
   const Aggregate& a = scene.accel();
   EXPECT_TRUE(a.structure_as<BvhWalk>().walk().empty());
-  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.structure_as<KdTree>().memory_bytes() +
+  EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes +
+                                  a.structure_as<KdTree>().memory_bytes() +
                                   a.records().size() * sizeof(PrimRecord));
   EXPECT_GT(a.structure_as<KdTree>().memory_bytes(), 0u);
 }

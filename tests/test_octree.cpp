@@ -306,7 +306,8 @@ TEST(Octree, StorageNamesAndMemory) {
     const Aggregate& a = scene.accel();
     EXPECT_TRUE(a.structure_as<BvhWalk>().walk().empty());
     EXPECT_TRUE(a.structure_as<KdTree>().empty());
-    EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes + a.structure_as<Octree>().memory_bytes() +
+    EXPECT_EQ(a.memory_bytes(), a.bvh().quality().memory_bytes +
+                                    a.structure_as<Octree>().memory_bytes() +
                                     a.records().size() * sizeof(PrimRecord));
     EXPECT_GT(a.structure_as<Octree>().memory_bytes(), 0u);
   }

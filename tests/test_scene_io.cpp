@@ -399,8 +399,8 @@ TEST_F(SceneIo, ParseSceneUsesTheGivenName) {
     EXPECT_EQ(std::string(e.what()), "inline scene: unknown key 'bogus'");
   }
   // Relative mesh paths resolve against base_dir.
-  LoadedScene ls = parse_scene(R"({"objects": [{"type": "mesh", "file": "quad.obj"}]})", "x", dir_,
-                               load_obj);
+  LoadedScene ls =
+      parse_scene(R"({"objects": [{"type": "mesh", "file": "quad.obj"}]})", "x", dir_, load_obj);
   ASSERT_EQ(ls.scene.meshes.size(), 1u);
   EXPECT_EQ(ls.scene.meshes[0].triangles.size(), 3u);
   // Defaults when the file says nothing.

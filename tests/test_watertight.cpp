@@ -47,8 +47,8 @@ namespace {
 using namespace rayscope;
 using rstest::DVec3;
 using rstest::Rng;
-using rstest::to_d;
 using rstest::stress_scale;
+using rstest::to_d;
 using rstest::to_f;
 
 // Every vertex of a mesh, then every edge's midpoint (each edge once),

@@ -230,9 +230,9 @@ TEST_F(VtkMeshFiles, SceneFilesReadTheirMeshesThroughTheLoader) {
   EXPECT_EQ(ls.scene.meshes[2].triangles.size(), 12u);
   for (const rayscope::Vec3& w : {rayscope::Vec3(1, 0, 0), rayscope::Vec3(3, 0, 0),
                                   rayscope::Vec3(1, 2, 0), rayscope::Vec3(1, 0, 2)})
-    EXPECT_NE(std::find(ls.scene.meshes[0].positions.begin(), ls.scene.meshes[0].positions.end(),
-                        w),
-              ls.scene.meshes[0].positions.end());
+    EXPECT_NE(
+        std::find(ls.scene.meshes[0].positions.begin(), ls.scene.meshes[0].positions.end(), w),
+        ls.scene.meshes[0].positions.end());
   auto error = [&](const std::string& file) -> std::string {
     try {
       rayscope::parse_scene(R"({"objects": [{"type": "mesh", "file": ")" + file + R"("}]})",
