@@ -126,7 +126,7 @@ def main():
         tracer.ResetCamera()
         tracer.SetAccel(accel)
         tracer.SetStorage(storage)
-        leaves = rayscope.vtkRayScopeBVHSource()
+        leaves = rayscope.vtkRayScopeAccelSource()
         leaves.SetSceneSource(tracer)
         leaves.SetVisitModeToFrame()
         leaves.OnlyLeavesOn()

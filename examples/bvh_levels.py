@@ -53,7 +53,7 @@ def main():
     tracer.SetPosition(0.3, 0.4, 1.0)
     tracer.ResetCamera()
 
-    bvh = rayscope.vtkRayScopeBVHSource()
+    bvh = rayscope.vtkRayScopeAccelSource()
     bvh.SetSceneSource(tracer)
     bvh.SetVisitModeToFrame()
 
@@ -73,7 +73,7 @@ def main():
     mesh_mapper.SetInputConnection(source.GetOutputPort())
     mesh_mapper.ScalarVisibilityOff()
     for k, level in enumerate(levels):
-        boxes = rayscope.vtkRayScopeBVHSource()
+        boxes = rayscope.vtkRayScopeAccelSource()
         boxes.SetSceneSource(tracer)
         boxes.SetVisitModeToFrame()
         boxes.SetLevelRange(level, level)

@@ -13,8 +13,10 @@ must already be in paraview.simple. Then:
   from the solid-color render.
 - "Ray Tree" of a pixel: line cells per ray with the documented arrays, one
   primary ray, a reflection ray when the material reflects.
-- "BVH": boxes with Level, NodeId, PrimitiveCount, SAHCost, VisitCount; the
-  leaves hold every triangle once; the level range limits the levels.
+- "Acceleration Structure": boxes with Level, NodeId, PrimitiveCount, SAHCost,
+  VisitCount; the leaves hold every triangle once; the level range limits the
+  levels. Its old name, "BVH", makes the same boxes and warns that it is
+  deprecated.
 - "Range Query": a box query through the kD-tree (and the BSP tree with split
   storage, the bounding spheres, the loose median-split kD-tree, a 3 x 7 x 5
   grid) finds the same triangles as through no structure, testing fewer; the
@@ -31,7 +33,7 @@ from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.vtkConstants import VTK_STRING
 from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 
-for name in ("RayTrace", "RayTree", "BVH", "RangeQuery"):
+for name in ("RayTrace", "RayTree", "AccelerationStructure", "RangeQuery"):
     assert name in globals(), f"{name} is missing: the plugin was not loaded from PV_PLUGIN_PATH"
 
 W, H = 120, 90
@@ -115,8 +117,8 @@ assert 1 in kinds and 2 in kinds, kinds      # a shadow ray, a reflection ray
 assert pdt.GetNumberOfVerts() >= 1           # the primary ray's hit point
 print(f"ray tree of pixel ({W // 2}, {H // 2}): {len(kinds)} rays, kinds {sorted(set(kinds))}")
 
-# ---- BVH ---------------------------------------------------------------------
-bvh = BVH(Input=[sphere])
+# ---- Acceleration Structure (the BVH by default) -------------------------------
+bvh = AccelerationStructure(Input=[sphere])
 boxes = fetch(bvh)
 bcd = boxes.GetCellData()
 for a in ("Level", "NodeId", "ParentId", "IsLeaf", "PrimitiveCount", "SAHCost", "VisitCount"):
@@ -144,8 +146,27 @@ bvh.LevelRange = [0, 64]
 bvh.VisitMode = "Every ray of the image"
 visits = fetch(bvh).GetCellData().GetArray("VisitCount").GetRange()
 assert visits[1] > 0, visits
-print(f"BVH: {len(seen)} nodes, levels {levels}, leaves hold {leaf_prims} triangles; "
-      f"visit counts {visits}")
+print(f"Acceleration Structure (BVH): {len(seen)} nodes, levels {levels}, leaves hold "
+      f"{leaf_prims} triangles; visit counts {visits}")
+
+# The filter's old name still makes it, for this release, with a warning.
+warnings = []
+
+
+@calldata_type(VTK_STRING)
+def on_warning(obj, event, text):
+    warnings.append(text)
+
+
+tag = vtkOutputWindow.GetInstance().AddObserver(vtkCommand.WarningEvent, on_warning)
+old = fetch(BVH(Input=[sphere]))
+vtkOutputWindow.GetInstance().RemoveObserver(tag)
+assert old.GetNumberOfCells() == boxes.GetNumberOfCells(), (old.GetNumberOfCells(),
+                                                            boxes.GetNumberOfCells())
+deprecated = [w for w in warnings if "vtkRayScopeBVHSource is deprecated" in w]
+assert deprecated, warnings
+print(f"BVH (the old name): the same {old.GetNumberOfCells()} cells, warning: "
+      f"{deprecated[0].strip().splitlines()[-1]}")
 
 # ---- Range Query -------------------------------------------------------------
 query = RangeQuery(Input=[sphere], QueryType="Box", Box=[0.1, 0.6, -0.2, 0.2, -0.6, 0.6])

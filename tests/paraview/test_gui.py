@@ -12,7 +12,7 @@ from paraview import servermanager as sm
 
 pxm = sm.ProxyManager().SMProxyManager  # the session proxy manager
 lines = []
-for name in ("RayScopeRayTrace", "RayScopeRayTree", "RayScopeBVH"):
+for name in ("RayScopeRayTrace", "RayScopeRayTree", "RayScopeAccelStructure", "RayScopeBVH"):
     proxy = pxm.GetPrototypeProxy("filters", name)
     if proxy is None:
         lines.append(f"{name} missing")

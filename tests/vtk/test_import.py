@@ -1,9 +1,10 @@
 """`import vtk, rayscope` works (from the build tree, or from an install when
-PYTHONPATH points there), exposes every class and does not load OpenImageIO."""
-import vtk  # noqa: F401
+PYTHONPATH points there), exposes every class (an old name with a deprecation
+warning) and does not load OpenImageIO."""
+import vtk
 import rayscope
 
-for name in ("vtkRayScopeImageAlgorithm", "vtkRayScopeRayTreeSource", "vtkRayScopeBVHSource",
+for name in ("vtkRayScopeImageAlgorithm", "vtkRayScopeRayTreeSource", "vtkRayScopeAccelSource",
              "vtkRayScopeRangeQuery", "vtkRayScopeMeshConverter", "vtkRayScopeMeshReader",
              "vtkRayScopeMaterial", "vtkRayScopePass"):
     cls = getattr(rayscope, name)
@@ -18,6 +19,17 @@ assert rayscope.vtkRayScopeMeshReader().IsA("vtkDataSetAlgorithm")
 assert alg.GetConverter().GetMapper().IsA("vtkMapper")
 assert rayscope.vtkRayScopePass().IsA("vtkRenderPass")
 assert rayscope.vtkRayScopePass().GetImageAlgorithm().IsA("vtkRayScopeImageAlgorithm")
+# The structure source's old name is the same filter and warns once per
+# instance that it is deprecated.
+warnings = []
+out = vtk.vtkOutputWindow.GetInstance()
+tag = out.AddObserver(vtk.vtkCommand.WarningEvent,
+                      vtk.calldata_type(vtk.VTK_STRING)(lambda o, e, text: warnings.append(text)))
+old = rayscope.vtkRayScopeBVHSource()
+out.RemoveObserver(tag)
+assert old.IsA("vtkRayScopeAccelSource")
+assert any("vtkRayScopeBVHSource is deprecated" in w and "vtkRayScopeAccelSource" in w
+           for w in warnings), warnings
 # The module links the core, which loads OpenImageIO (about 260 libraries)
 # only when an image file is read or written (image.h), never here.
 with open("/proc/self/maps") as maps:

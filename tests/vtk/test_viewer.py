@@ -100,7 +100,7 @@ def main():
     node = boxes.GetCellData().GetArray("NodeId")
     entered = sorted({(int(order.GetValue(c)), int(node.GetValue(c)))
                       for c in range(boxes.GetNumberOfCells()) if order.GetValue(c) >= 0})
-    bvh = rayscope.vtkRayScopeBVHSource()
+    bvh = rayscope.vtkRayScopeAccelSource()
     bvh.SetSceneSource(tracer)
     bvh.SetVisitModeToPixel()
     bvh.SetPixel(i, j)

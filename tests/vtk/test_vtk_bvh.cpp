@@ -1,4 +1,4 @@
-// vtkRayScopeBVHSource: leaf boxes contain their triangles (and every triangle
+// vtkRayScopeAccelSource: leaf boxes contain their triangles (and every triangle
 // is in exactly one leaf), levels, SAH terms and visit counts, for every
 // structure (the sphere tree's nodes drawn as spheres).
 #include <gtest/gtest.h>
@@ -23,7 +23,7 @@
 #include <vtkSuperquadricSource.h>
 
 #include "rayscope/scene.h"
-#include "vtkRayScopeBVHSource.h"
+#include "vtkRayScopeAccelSource.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeMaterial.h"
 #include "vtkRayScopeMeshConverter.h"
@@ -92,7 +92,7 @@ struct Scene3 {
 // exactly one leaf.
 TEST(VtkBVH, LeafBoxesContainAllTriangles) {
   Scene3 s;
-  vtkNew<vtkRayScopeBVHSource> bvh;
+  vtkNew<vtkRayScopeAccelSource> bvh;
   bvh->SetSceneSource(s.alg);
   bvh->OnlyLeavesOn();
   bvh->Update();
@@ -146,7 +146,7 @@ TEST(VtkBVH, LeafBoxesContainAllTriangles) {
 // quads for faces.
 TEST(VtkBVH, LevelsCountsAndSAH) {
   Scene3 s;
-  vtkNew<vtkRayScopeBVHSource> bvh;
+  vtkNew<vtkRayScopeAccelSource> bvh;
   bvh->SetSceneSource(s.alg);
   bvh->Update();
   vtkPolyData* all = bvh->GetOutput();
@@ -197,7 +197,7 @@ TEST(VtkBVH, VisitCounts) {
   vtkDataArray* c = s.alg->GetOutput()->GetPointData()->GetArray("Cost");
   for (vtkIdType k = 0; k < c->GetNumberOfTuples(); ++k) cost += c->GetTuple1(k);
 
-  vtkNew<vtkRayScopeBVHSource> bvh;
+  vtkNew<vtkRayScopeAccelSource> bvh;
   bvh->SetSceneSource(s.alg);
   bvh->SetVisitModeToFrame();
   bvh->Update();
@@ -470,7 +470,7 @@ TEST(VtkBVH, VisitCounts) {
 // as the scene source with those inputs; a changed input rebuilds them.
 TEST(VtkBVH, InputPortWithoutSceneSource) {
   Scene3 s;
-  vtkNew<vtkRayScopeBVHSource> from_source, from_port;
+  vtkNew<vtkRayScopeAccelSource> from_source, from_port;
   from_source->SetSceneSource(s.alg);
   from_port->AddInputConnection(s.quad->GetOutputPort());
   from_port->AddInputConnection(s.sphere->GetOutputPort());

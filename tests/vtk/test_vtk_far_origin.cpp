@@ -22,7 +22,7 @@
 #include <vtkTransformFilter.h>
 #include <vtkUnsignedCharArray.h>
 
-#include "vtkRayScopeBVHSource.h"
+#include "vtkRayScopeAccelSource.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeMaterial.h"
 #include "vtkRayScopeRayTreeSource.h"
@@ -108,7 +108,7 @@ TEST(VtkFarFromOrigin, SourcesOutputWorldCoordinates) {
   ASSERT_TRUE(std::filesystem::exists(kBunny)) << kBunny << " is missing (scripts/setup)";
   const double d = 1e6;
   MovedScene far(d);
-  vtkNew<vtkRayScopeBVHSource> bvh;
+  vtkNew<vtkRayScopeAccelSource> bvh;
   bvh->SetSceneSource(far.alg);
   bvh->SetLevelRange(0, 0);  // the root's box
   bvh->Update();

@@ -40,7 +40,7 @@
 #include "rayscope/render.h"
 #include "rayscope/replay.h"
 #include "rayscope/shapes.h"
-#include "vtkRayScopeBVHSource.h"
+#include "vtkRayScopeAccelSource.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeViewer.h"
 
@@ -338,17 +338,17 @@ TEST_F(Viewer, PlaysTheSelectedRaysBvhWalk) {
       f.key("t");
       ASSERT_EQ(f.viewer->GetTraversalSteps(), int(n));
       std::map<int, std::set<int>> shown = boxes_by_state(f.viewer->GetShownBVH());
-      std::set<int> entered = shown[vtkRayScopeBVHSource::ENTERED];
-      entered.insert(shown[vtkRayScopeBVHSource::HIT_LEAF].begin(),
-                     shown[vtkRayScopeBVHSource::HIT_LEAF].end());
+      std::set<int> entered = shown[vtkRayScopeAccelSource::ENTERED];
+      entered.insert(shown[vtkRayScopeAccelSource::HIT_LEAF].begin(),
+                     shown[vtkRayScopeAccelSource::HIT_LEAF].end());
       EXPECT_EQ(entered, std::set<int>(nodes.begin(), nodes.begin() + long(n))) << "step " << n;
-      EXPECT_FALSE(shown[vtkRayScopeBVHSource::BOX_MISSED].empty() &&
-                   shown[vtkRayScopeBVHSource::BOX_HIT].empty() && n < nodes.size())
+      EXPECT_FALSE(shown[vtkRayScopeAccelSource::BOX_MISSED].empty() &&
+                   shown[vtkRayScopeAccelSource::BOX_HIT].empty() && n < nodes.size())
           << "step " << n << ": the boxes tested on the way are shown";
     }
     std::map<int, std::set<int>> done = boxes_by_state(f.viewer->GetShownBVH());
     if (walk.hit_leaf != rayscope::kNoNode) {
-      EXPECT_EQ(done[vtkRayScopeBVHSource::HIT_LEAF], std::set<int>{int(walk.hit_leaf)});
+      EXPECT_EQ(done[vtkRayScopeAccelSource::HIT_LEAF], std::set<int>{int(walk.hit_leaf)});
     }
     f.key("t");
     EXPECT_NE(std::string(f.viewer->GetMessage()).find("complete"), std::string::npos);
@@ -475,9 +475,9 @@ TEST_F(Viewer, DrawsNamesAndPlaysTheChosenStructure) {
     for (size_t n = 1; n <= nodes.size(); ++n) {
       f.key("t");
       std::map<int, std::set<int>> states = boxes_by_state(f.viewer->GetShownBVH());
-      std::set<int> entered = states[vtkRayScopeBVHSource::ENTERED];
-      entered.insert(states[vtkRayScopeBVHSource::HIT_LEAF].begin(),
-                     states[vtkRayScopeBVHSource::HIT_LEAF].end());
+      std::set<int> entered = states[vtkRayScopeAccelSource::ENTERED];
+      entered.insert(states[vtkRayScopeAccelSource::HIT_LEAF].begin(),
+                     states[vtkRayScopeAccelSource::HIT_LEAF].end());
       EXPECT_EQ(entered, std::set<int>(nodes.begin(), nodes.begin() + long(n))) << "step " << n;
     }
     EXPECT_TRUE(has_label(legend_labels(f.viewer), name + ": entered"))

@@ -34,7 +34,7 @@
  * the "Cost" arrays and the totals in its field data (see
  * vtkRayScopeImageAlgorithm). DisplayMode COST shows the per-pixel BVH cost as
  * a heat map instead of the colors. GetLastImage() is the last ray-traced
- * image with all its arrays. vtkRayScopeRayTreeSource and vtkRayScopeBVHSource
+ * image with all its arrays. vtkRayScopeRayTreeSource and vtkRayScopeAccelSource
  * take GetImageAlgorithm() as their scene source to show the ray tree of a
  * pixel of this very view, or its BVH.
  *

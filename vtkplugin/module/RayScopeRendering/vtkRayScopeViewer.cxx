@@ -55,8 +55,13 @@ vtkRenderer* vtkRayScopeViewer::GetTextRenderer() {
 vtkRayScopeRayTreeSource* vtkRayScopeViewer::GetRayTreeSource() {
   return this->Internal->Tree;
 }
-vtkRayScopeBVHSource* vtkRayScopeViewer::GetBVHSource() {
+vtkRayScopeAccelSource* vtkRayScopeViewer::GetAccelSource() {
   return this->Internal->BVH;
+}
+vtkRayScopeAccelSource* vtkRayScopeViewer::GetBVHSource() {
+  vtkWarningMacro(<< "GetBVHSource() is deprecated and will be removed in the next release: use "
+                     "GetAccelSource()");
+  return this->GetAccelSource();
 }
 const char* vtkRayScopeViewer::GetInspectText() {
   return this->Internal->InspectText.c_str();
@@ -516,7 +521,7 @@ void vtkRayScopeViewer::Internals::UpdateLabels() {
 void vtkRayScopeViewer::Internals::UpdateBVH() {
   vtkRayScopeViewer* self = this->Self;
   const int i = self->PickedPixel[0], j = self->PickedPixel[1];
-  vtkRayScopeBVHSource* bvh = this->BVH;
+  vtkRayScopeAccelSource* bvh = this->BVH;
   if (self->PickedPixel[0] >= 0 && self->TraversalSteps >= 0 && self->SelectedRay >= 0) {
     bvh->SetVisitModeToPixel();
     bvh->SetPixel(i, j);

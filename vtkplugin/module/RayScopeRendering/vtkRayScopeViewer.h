@@ -21,7 +21,7 @@
  * ">>", and drawn white and thick in 3D). The overlay is the output of a
  * vtkRayScopeRayTreeSource (a line per ray in its kind's color, gray for rays
  * the integrator skipped, hit points, shading normals, a red dot where a
- * shadow ray is blocked), and of a vtkRayScopeBVHSource (the structure the
+ * shadow ray is blocked), and of a vtkRayScopeAccelSource (the structure the
  * rays walk, as the scene source's Accel chose it: the BVH, the kD-tree's,
  * grid's or octree's cells, ...; by level, or the selected ray's walk played
  * node by node: entered boxes, missed boxes, culled boxes and the hit leaf in
@@ -62,7 +62,7 @@
 
 class vtkImageData;
 class vtkPolyData;
-class vtkRayScopeBVHSource;
+class vtkRayScopeAccelSource;
 class vtkRayScopeImageAlgorithm;
 class vtkRayScopeRayTreeSource;
 class vtkRenderWindow;
@@ -169,7 +169,9 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   vtkPolyData* GetShownBVH();
   /// The sources behind the overlay.
   vtkRayScopeRayTreeSource* GetRayTreeSource();
-  vtkRayScopeBVHSource* GetBVHSource();
+  vtkRayScopeAccelSource* GetAccelSource();
+  /// Deprecated name of GetAccelSource() (warns; removed in the next release).
+  vtkRayScopeAccelSource* GetBVHSource();
 
   /// The picked pixel's tree as `rayscope inspect` prints it (empty before a
   /// pick), and the text panel as shown.

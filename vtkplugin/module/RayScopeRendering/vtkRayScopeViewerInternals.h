@@ -72,7 +72,7 @@
 #include "rayscope/image.h"
 #include "rayscope/raytree_format.h"
 #include "rayscope/replay.h"
-#include "vtkRayScopeBVHSource.h"
+#include "vtkRayScopeAccelSource.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeRayTreeSource.h"
 #include "vtkRayScopeViewer.h"
@@ -96,7 +96,7 @@ inline constexpr double kSceneZoom =
     1.6;  // the 3D view, closer than VTK's ResetCamera (a bounding sphere)
 
 // Colors of the overlay, one per ray kind (rayscope::RayKind order), then
-// skipped rays; and the played walk's states (vtkRayScopeBVHSource order).
+// skipped rays; and the played walk's states (vtkRayScopeAccelSource order).
 inline constexpr double kKindColors[4][3] = {
     {1.0, 0.85, 0.1}, {0.55, 0.75, 1.0}, {0.2, 1.0, 0.45}, {1.0, 0.35, 0.9}};
 inline constexpr const char* kKindNames[4] = {"primary", "shadow", "reflection", "refraction"};
@@ -178,7 +178,7 @@ struct vtkRayScopeViewer::Internals {
   vtkNew<vtkPolyData> Occluders;  // where shown shadow rays are blocked
   vtkNew<vtkActor> OccluderActor;
   vtkNew<vtkHedgeHog> Normals;
-  vtkNew<vtkRayScopeBVHSource> BVH;
+  vtkNew<vtkRayScopeAccelSource> BVH;
   vtkNew<vtkPolyData> NoBoxes;
   vtkNew<vtkPolyDataMapper> BVHMapper;
   vtkNew<vtkActor> BVHActor;

@@ -212,7 +212,7 @@ int vtkRayScopeViewer::ExportVTP(const char* prefix) {
     in.Message = "nothing to export: pick a pixel first";
     return 0;
   }
-  vtkNew<vtkRayScopeBVHSource> all;
+  vtkNew<vtkRayScopeAccelSource> all;
   all->SetSceneSource(in.Algorithm);
   vtkPolyData* boxes = this->GetShownBVH();
   if (!boxes || boxes->GetNumberOfCells() == 0) {

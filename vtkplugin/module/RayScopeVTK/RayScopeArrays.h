@@ -1,5 +1,5 @@
 // The output arrays of the module's algorithms (private header): the image
-// algorithm, the ray-tree source and the BVH source make every point, cell and
+// algorithm, the ray-tree source and the structure source make every point, cell and
 // field array they output with these functions.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The scene of vtkRayScopeRayTreeSource and vtkRayScopeBVHSource (private
+// The scene of vtkRayScopeRayTreeSource and vtkRayScopeAccelSource (private
 // header): their input datasets, and the vtkRayScopeImageAlgorithm that holds
 // the camera, lights, materials and sampling.
 #pragma once
@@ -12,11 +12,11 @@ class vtkRayScopeImageAlgorithm;
 
 namespace rayscope_vtk {
 
-/// Input port 0 of the ray-tree and BVH sources: vtkDataSet, repeatable, and
+/// Input port 0 of the ray-tree and structure sources: vtkDataSet, repeatable, and
 /// optional (without a connection the scene source's own inputs are used).
 void fill_scene_input_port(vtkInformation* info);
 
-/// The scene algorithm of a ray-tree or BVH source `self`, its scene updated:
+/// The scene algorithm of a ray-tree or structure source `self`, its scene updated:
 /// `source` (SetSceneSource), or without one `fallback`, a default
 /// vtkRayScopeImageAlgorithm made on first use with AutoCamera on. When
 /// `inputs` (port 0 of `self`) has datasets, they become the scene

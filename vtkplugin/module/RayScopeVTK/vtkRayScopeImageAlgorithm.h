@@ -56,7 +56,7 @@
  * below quotes, the rest by ValidateParameters(). A bad value gives one vtkErrorMacro naming it and
  * an empty output.
  *
- * vtkRayScopeRayTreeSource and vtkRayScopeBVHSource take this algorithm as
+ * vtkRayScopeRayTreeSource and vtkRayScopeAccelSource take this algorithm as
  * their scene (SetSceneSource): they see the same scene, camera and sampling.
  */
 #ifndef vtkRayScopeImageAlgorithm_h
@@ -152,13 +152,13 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// The structure rays walk (rayscope::AccelKind, docs/acceleration.md):
   /// ACCEL_BVH, the BVH in 8-wide nodes, what renders use (default);
   /// ACCEL_BINARY_BVH, the same BVH node by node, the lecture's binary walk,
-  /// so that ray trees, the "Cost" arrays and vtkRayScopeBVHSource's visit
+  /// so that ray trees, the "Cost" arrays and vtkRayScopeAccelSource's visit
   /// counts show every binary node a ray enters; ACCEL_NONE, every primitive
   /// tested against every ray; ACCEL_KDTREE, the SAH kD-tree; ACCEL_GRID, the
   /// uniform grid; ACCEL_OCTREE, the octree, and ACCEL_BSP, the BSP tree
   /// (planes through the triangles), both stored as Storage says;
   /// ACCEL_SPHERES, the hierarchy of bounding spheres. Each walk
-  /// names its own nodes or cells, and vtkRayScopeBVHSource draws the
+  /// names its own nodes or cells, and vtkRayScopeAccelSource draws the
   /// structure walked. The image is the same for all.
   enum AccelKinds {
     ACCEL_BVH = 0,
@@ -406,7 +406,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
 
   /// Updates the inputs and builds (or reuses) the scene without rendering,
   /// preparing the camera for the image size. Returns 1 on success, 0 after an
-  /// error. Used by the ray-tree and BVH sources.
+  /// error. Used by the ray-tree and structure sources.
   int UpdateScene();
 
   /// Name of scene object k (the input index, "input k").

@@ -11,7 +11,7 @@
  * query as `rayscope query`.
  *
  * The scene's datasets come through input port 0 (one or more vtkDataSets),
- * as for vtkRayScopeBVHSource; SetSceneSource gives the structure choice
+ * as for vtkRayScopeAccelSource; SetSceneSource gives the structure choice
  * (without one, a default scene over the inputs, walked by the BVH).
  *
  * Ranges are in world coordinates:
