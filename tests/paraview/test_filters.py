@@ -23,6 +23,9 @@ must already be in paraview.simple. Then:
   range output is the box; the k nearest come nearest first.
 - bad parameters (a pixel outside the image, samples 0): an empty output and
   an error in ParaView's output.
+- one settings proxy, "RayScopeScene" (Edit > Settings): its camera and
+  samples reach every filter, which renders from them; a filter whose own
+  value was set keeps it.
 """
 import math
 import sys
@@ -269,4 +272,36 @@ assert all(taken[k] == 8 for k in border), "the flat background took more than t
 assert max(taken) > 8, "no pixel took more than two batches"
 print(f"adaptive: {sum(taken) / len(taken):.2f} samples per pixel on average, "
       f"{min(taken)} to {max(taken)} of 36")
+
+# ---- One settings proxy for every filter ----------------------------------------
+scene = GetSettingsProxy("RayScopeScene")
+assert scene is not None, "no RayScopeScene settings proxy"
+trace, raytree, structure = (RayTrace(Input=[sphere]), RayTree(Input=[sphere]),
+                             AccelerationStructure(Input=[sphere]))
+ranges = RangeQuery(Input=[sphere])  # shows the structure settings only
+scene.AutoCamera = 0
+scene.FocalPoint = [0, 0, 0]
+scene.ImageSize = [40, 30]
+for z in (4.0, 6.0):
+    scene.Position = [0, 0, z]
+    for f in (trace, raytree, structure):
+        assert list(f.Position) == [0, 0, z] and f.AutoCamera == 0, list(f.Position)
+    # The center pixel's depth and the primary ray's origin follow the camera.
+    depth = fetch(trace).GetPointData().GetArray("Depth").GetValue(15 * 40 + 20)
+    assert abs(depth - (z - 0.5)) < 0.02, (z, depth)
+    raytree.Pixel = [20, 15]
+    rays = fetch(raytree)
+    gap = min(max(abs(a - b) for a, b in zip(rays.GetPoint(p), (0, 0, z)))
+              for p in range(rays.GetNumberOfPoints()))
+    assert gap < 1e-6, (z, gap)  # a ray starts at the eye
+scene.Accel = "kD-tree (SAH)"
+accels = [f.GetProperty("Accel").GetData() for f in (trace, raytree, structure, ranges)]
+assert accels == ["kD-tree (SAH)"] * 4, accels
+assert fetch(structure).GetFieldData().GetAbstractArray("Structure").GetValue(0) == "kdtree"
+# A filter's own value unlinks that property from the settings.
+raytree.Samples = 2
+scene.Samples = 3
+assert [f.Samples for f in (trace, raytree, structure)] == [3, 2, 3], [f.Samples for f in (trace, raytree, structure)]
+print("RayScopeScene settings: the camera and the structure reached every filter (depth "
+      f"{depth:.3f} at distance 6); a filter's own Samples stays")
 print("OK")

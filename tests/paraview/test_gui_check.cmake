@@ -8,7 +8,7 @@ set(launcher)
 if(NOT DEFINED ENV{DISPLAY} OR "$ENV{DISPLAY}" STREQUAL "")
   set(launcher xvfb-run -a)
 endif()
-execute_process(COMMAND ${launcher} "${PARAVIEW}" "--script=${SCRIPT}" --exit
+execute_process(COMMAND ${launcher} "${PARAVIEW}" --dr "--script=${SCRIPT}" --exit
   RESULT_VARIABLE rc TIMEOUT 300)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "paraview --script exited with ${rc}")
