@@ -1,7 +1,17 @@
-// The private state of vtkRayScopeViewer, shared by its source files
-// (vtkRayScopeViewer.cxx: the API, renders, picking and the overlay;
-// vtkRayScopeViewerWindow.cxx: the window, the scene drawn in 3D and the
-// interactor style; vtkRayScopeViewerKeys.cxx: keys, screenshots, export).
+// The private state of vtkRayScopeViewer, shared by its source files, one
+// per part of the viewer:
+//   vtkRayScopeViewer.cxx               the API: setup, picking, screenshots, .vtp export
+//   RayScopeViewerWindow.cxx            the window, its viewports, the image viewport and
+//                                       the scene drawn in 3D (objects, lights, camera)
+//   RayScopeViewerBackgroundRender.cxx  the render on the worker thread feeding the image
+//   RayScopeViewerOverlay.cxx           the 3D overlay: the picked pixel's rays, hit
+//                                       points, normals, labels, the structure's boxes
+//                                       and the selected ray's walk
+//   RayScopeViewerTextPanel.cxx         the text: help and message lines, the inspect
+//                                       panel, the legend
+//   RayScopeViewerKeyTable.cxx          the table of keys, from which HandleKey() and
+//                                       the help line are made
+//   vtkRayScopeViewerStyle.h/.cxx       the interactor style
 // Private header.
 #pragma once
 
@@ -34,7 +44,6 @@
 #include "vtkImageData.h"
 #include "vtkImageMapper3D.h"
 #include "vtkIntArray.h"
-#include "vtkInteractorStyleTrackballCamera.h"
 #include "vtkLabeledDataMapper.h"
 #include "vtkLegendBoxActor.h"
 #include "vtkLookupTable.h"
@@ -83,11 +92,10 @@ namespace rayscope_vtk::viewer {
 // image and the 3D view side by side, the text panel below.
 inline constexpr double kHeaderBottom = 0.95;
 inline constexpr double kPanelTop = 0.30;
-inline constexpr int kProgressTimerMs = 40;  // how often finished tiles are shown
-inline constexpr int kPanelLines = 18;       // lines of the inspect text shown at once
-inline constexpr int kPanelLinesBefore = 4;  // of them, before the selected ray's line
-inline constexpr int kGridRadius = 4;        // pixel grid shown: the picked pixel +- this
-inline constexpr int kClickSlop = 3;  // a press and release this close is a click, not a drag
+inline constexpr int kProgressTimerMs = 40;          // how often finished tiles are shown
+inline constexpr int kPanelLines = 18;               // lines of the inspect text shown at once
+inline constexpr int kPanelLinesBefore = 4;          // of them, before the selected ray's line
+inline constexpr int kGridRadius = 4;                // pixel grid shown: the picked pixel +- this
 inline constexpr double kImagePlaneFraction = 0.25;  // image plane at this fraction of eye..look_at
 inline constexpr double kNormalFraction = 0.04;  // normals drawn this fraction of the scene size
 inline constexpr double kLightFraction = 0.015;  // light markers' radius, same
@@ -115,11 +123,6 @@ inline constexpr const char* kWalkNames[6] = {"",        "box hit, not entered y
 // The window's viewports, as bits of Internals::Changed.
 inline constexpr unsigned kHeaderView = 1, kImageView = 2, kSceneView = 4, kPanelView = 8,
                           kAllViews = 15;
-
-inline constexpr const char* kHelp =
-    "click: pick | Up/Down: depth | Right/Left: ray | t/T: BVH walk | b: BVH, l/L: level | "
-    "k: kind | d: labels | m: image | +/-: spp, ]/[: depth, p: projection, r: 3D camera | "
-    "s: screenshot, x: .vtp | q: quit";
 
 }  // namespace rayscope_vtk::viewer
 
@@ -189,6 +192,9 @@ struct vtkRayScopeViewer::Internals {
   vtkNew<vtkPolyData> CameraGeometry, PickedCell;
   vtkNew<vtkActor> CameraActor, PickedCellActor;
   vtkNew<vtkCellPicker> Picker;
+
+  // The text: the legend of the 3D view, the help and message lines, the
+  // inspect panel.
   vtkNew<vtkLegendBoxActor> Legend;
   /// What the legend shows now (label, color), to rebuild it only on a change.
   std::vector<std::pair<std::string, std::array<double, 3>>> LegendEntries;
@@ -199,13 +205,13 @@ struct vtkRayScopeViewer::Internals {
   std::vector<vtkSmartPointer<vtkTextActor>> PanelLines;
   std::vector<std::string> PanelLineText;  // what each of them shows
   int PanelLineHeight = 0;                 // pixels from one line to the next
+
   vtkSmartPointer<vtkRayScopeViewerStyle> Style;
   int ScreenshotCount = 0, ExportCount = 0;
   /// The viewports changed since the window was last drawn (k*View bits).
   unsigned Changed = 0;
 
   explicit Internals(vtkRayScopeViewer* self) : Self(self) {}
-  struct Policy;
 
   ~Internals() {
     if (this->Worker.joinable()) this->Worker.join();
@@ -222,43 +228,42 @@ struct vtkRayScopeViewer::Internals {
                ? std::string("BVH")
                : std::string(rayscope::to_string(a.kind()));
   }
+
+  // The window (RayScopeViewerWindow.cxx).
   void Build();
   void BuildSceneGeometry();
   void UpdateCameraGeometry();
+  void UpdateMarker();
+  void Redraw();
+
+  // The render on the worker thread (RayScopeViewerBackgroundRender.cxx).
+  struct Policy;
+  void StartProgressTimer();
   void StartRender();
   bool Restart(const std::string& message);
   void Poll();
   void ShowTiles();
   void FinishRender();
   void ShowImage();
+
+  // The 3D overlay (RayScopeViewerOverlay.cxx).
+  void BuildOverlay();
   void UpdateOverlay();
   void UpdateBVH();
   void UpdateLabels();
   void UpdateOccluders();
+
+  // The text (RayScopeViewerTextPanel.cxx).
+  void BuildTextPanel();
+  void Say(const std::string& message);
   void UpdatePanel();
   void ShowPanelLines(const std::vector<std::string>& lines);
   void UpdateLegend();
-  void Say(const std::string& message) {
-    this->Message = message;
-    this->MessageActor->SetInput(message.c_str());
-    this->Changed |= rayscope_vtk::viewer::kHeaderView;
-  }
-  /// Draws the viewports that changed (Changed), and only those: the others
-  /// keep their pixels (VTK draws into a framebuffer of its own, and a
-  /// renderer whose Draw is off leaves its viewport as it was). Under
-  /// software OpenGL a click then costs the window what the click changed, a
-  /// render's progress the header and the image. Renders of the window by
-  /// anyone else (orbiting, resizing, a screenshot) draw every viewport.
-  void Redraw() {
-    using namespace rayscope_vtk::viewer;
-    if (!this->Initialized || this->Changed == 0) return;
-    const std::pair<vtkRenderer*, unsigned> views[4] = {{this->HeaderRen, kHeaderView},
-                                                        {this->ImageRen, kImageView},
-                                                        {this->SceneRen, kSceneView},
-                                                        {this->PanelRen, kPanelView}};
-    for (auto [ren, view] : views) ren->SetDraw((this->Changed & view) != 0);
-    this->Changed = 0;
-    this->Window->Render();
-    for (auto [ren, view] : views) ren->SetDraw(1);
-  }
+
+  // The keys (RayScopeViewerKeyTable.cxx): one table, from which
+  // HandleKey() and the help line are made.
+  struct Key;
+  struct KeyPress;
+  static const std::vector<Key>& KeyTable();
+  static const std::string& HelpLine();
 };

@@ -1,0 +1,264 @@
+// vtkRayScopeViewer's 3D overlay: the picked pixel's ray tree (a line per
+// ray in its kind's color, skipped rays gray, hit points, shading normals,
+// the selected ray white, labels, where shadow rays are blocked), filtered by
+// depth, ray and kind; and the structure the rays walk (vtkRayScopeAccelSource),
+// by level or as the selected ray's walk played node by node.
+#include "vtkRayScopeViewerInternals.h"
+
+using namespace rayscope_vtk::viewer;
+
+namespace {
+
+vtkSmartPointer<vtkThreshold> make_threshold(vtkAlgorithmOutput* input, const char* array) {
+  auto t = vtkSmartPointer<vtkThreshold>::New();
+  t->SetInputConnection(input);
+  t->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, array);
+  t->SetThresholdFunction(vtkThreshold::THRESHOLD_BETWEEN);
+  t->SetLowerThreshold(-VTK_DOUBLE_MAX);
+  t->SetUpperThreshold(VTK_DOUBLE_MAX);
+  return t;
+}
+
+vtkSmartPointer<vtkLookupTable> make_table(int n, const double (*colors)[3]) {
+  auto lut = vtkSmartPointer<vtkLookupTable>::New();
+  lut->SetNumberOfTableValues(n);
+  lut->SetTableRange(0, n - 1);
+  for (int i = 0; i < n; ++i) lut->SetTableValue(i, colors[i][0], colors[i][1], colors[i][2], 1.0);
+  lut->Build();
+  return lut;
+}
+
+}  // namespace
+
+// The overlay's pipelines and actors, in the 3D view.
+void vtkRayScopeViewer::Internals::BuildOverlay() {
+  // Ray tree: filtered by depth, ray and kind; traced rays in their kind's
+  // color with hit points and normals, skipped rays gray.
+  this->Tree->SetSceneSource(this->Algorithm);
+  // KindName (strings) is left out: VTK 9.1's threshold and geometry filters
+  // drop its values, and Kind says the same.
+  this->NoStrings->SetInputConnection(this->Tree->GetOutputPort());
+  this->NoStrings->RemoveArraysOn();
+  this->NoStrings->AddCellDataArray("KindName");
+  this->ByDepth = make_threshold(this->NoStrings->GetOutputPort(), "Depth");
+  this->ByRay = make_threshold(this->ByDepth->GetOutputPort(), "RayId");
+  this->ByKind = make_threshold(this->ByRay->GetOutputPort(), "Kind");
+  this->Shown->SetInputConnection(this->ByKind->GetOutputPort());
+  this->Traced = make_threshold(this->Shown->GetOutputPort(), "Skipped");
+  this->Traced->SetLowerThreshold(0);
+  this->Traced->SetUpperThreshold(0);
+  this->Skipped = make_threshold(this->Shown->GetOutputPort(), "Skipped");
+  this->Skipped->SetLowerThreshold(1);
+  vtkNew<vtkDataSetMapper> traced_mapper;
+  traced_mapper->SetInputConnection(this->Traced->GetOutputPort());
+  traced_mapper->SetLookupTable(make_table(4, kKindColors));
+  traced_mapper->SetScalarModeToUseCellFieldData();
+  traced_mapper->SelectColorArray("Kind");
+  traced_mapper->SetScalarRange(0, 3);
+  this->TracedActor->SetMapper(traced_mapper);
+  this->TracedActor->GetProperty()->SetLineWidth(2.5);
+  this->TracedActor->GetProperty()->SetPointSize(9.0);
+  this->TracedActor->GetProperty()->RenderPointsAsSpheresOn();
+  // Unlit: the tree's point normals are those of hit points, 0 at other ends.
+  this->TracedActor->GetProperty()->LightingOff();
+  vtkNew<vtkDataSetMapper> skipped_mapper;
+  skipped_mapper->SetInputConnection(this->Skipped->GetOutputPort());
+  skipped_mapper->ScalarVisibilityOff();
+  this->SkippedActor->SetMapper(skipped_mapper);
+  this->SkippedActor->GetProperty()->SetColor(kSkippedColor[0], kSkippedColor[1], kSkippedColor[2]);
+  this->SkippedActor->GetProperty()->SetLineWidth(1.5);
+  this->SkippedActor->GetProperty()->LightingOff();
+  this->Normals->SetInputConnection(this->Traced->GetOutputPort());
+  this->Normals->SetVectorModeToUseNormal();
+  vtkNew<vtkPolyDataMapper> normal_mapper;
+  normal_mapper->SetInputConnection(this->Normals->GetOutputPort());
+  normal_mapper->ScalarVisibilityOff();
+  this->NormalActor->SetMapper(normal_mapper);
+  this->NormalActor->GetProperty()->SetColor(kNormalColor[0], kNormalColor[1], kNormalColor[2]);
+  this->NormalActor->GetProperty()->SetLineWidth(2.0);
+  this->NormalActor->GetProperty()->LightingOff();
+  // The selected ray, drawn over the others.
+  this->Selected = make_threshold(this->Shown->GetOutputPort(), "RayId");
+  vtkNew<vtkDataSetMapper> selected_mapper;
+  selected_mapper->SetInputConnection(this->Selected->GetOutputPort());
+  selected_mapper->ScalarVisibilityOff();
+  this->SelectedActor->SetMapper(selected_mapper);
+  this->SelectedActor->GetProperty()->SetColor(kSelectedColor[0], kSelectedColor[1],
+                                               kSelectedColor[2]);
+  this->SelectedActor->GetProperty()->SetLineWidth(6.0);
+  this->SelectedActor->GetProperty()->SetPointSize(12.0);
+  this->SelectedActor->GetProperty()->RenderPointsAsSpheresOn();
+  this->SelectedActor->GetProperty()->LightingOff();
+  for (vtkActor* a : {this->TracedActor.Get(), this->SkippedActor.Get(), this->NormalActor.Get(),
+                      this->SelectedActor.Get()}) {
+    a->VisibilityOff();
+    a->PickableOff();
+    this->SceneRen->AddActor(a);
+  }
+  // Occluders of shadow rays.
+  vtkNew<vtkPolyDataMapper> occluder_mapper;
+  occluder_mapper->SetInputData(this->Occluders);
+  occluder_mapper->ScalarVisibilityOff();
+  this->OccluderActor->SetMapper(occluder_mapper);
+  this->OccluderActor->GetProperty()->SetColor(kOccluderColor[0], kOccluderColor[1],
+                                               kOccluderColor[2]);
+  this->OccluderActor->GetProperty()->SetPointSize(13.0);
+  this->OccluderActor->GetProperty()->RenderPointsAsSpheresOn();
+  this->OccluderActor->GetProperty()->LightingOff();
+  this->OccluderActor->PickableOff();
+  this->OccluderActor->VisibilityOff();
+  this->SceneRen->AddActor(this->OccluderActor);
+  // Labels on demand: "#id dDEPTH wWEIGHT" at the middle of each shown ray
+  // (the mapper's "field data" mode reads the named point-data array).
+  vtkNew<vtkLabeledDataMapper> label_mapper;
+  label_mapper->SetInputData(this->Labels);
+  label_mapper->SetLabelModeToLabelFieldData();
+  label_mapper->SetFieldDataName("Label");
+  label_mapper->GetLabelTextProperty()->SetFontSize(12);
+  label_mapper->GetLabelTextProperty()->SetColor(1.0, 1.0, 1.0);
+  label_mapper->GetLabelTextProperty()->ShadowOn();
+  this->LabelActor->SetMapper(label_mapper);
+  this->LabelActor->VisibilityOff();
+  this->SceneRen->AddActor2D(this->LabelActor);
+
+  // BVH boxes: by level, or a played walk by state.
+  this->BVH->SetSceneSource(this->Algorithm);
+  this->LevelTable = vtkSmartPointer<vtkLookupTable>::New();
+  this->LevelTable->SetHueRange(0.66, 0.0);
+  this->LevelTable->Build();
+  this->WalkTable = make_table(6, kWalkColors);
+  this->BVHMapper->SetInputData(this->NoBoxes);
+  this->BVHMapper->SetScalarModeToUseCellFieldData();
+  this->BVHActor->SetMapper(this->BVHMapper);
+  this->BVHActor->GetProperty()->SetLineWidth(1.5);
+  this->BVHActor->GetProperty()->LightingOff();
+  this->BVHActor->PickableOff();
+  this->SceneRen->AddActor(this->BVHActor);
+}
+
+// Records the picked pixel (its tree and the inspect text) and shows what
+// the viewer's settings select of it: the rays, their labels and occluders,
+// the marker in the image, the structure, the panel.
+void vtkRayScopeViewer::Internals::UpdateOverlay() {
+  vtkRayScopeViewer* self = this->Self;
+  const int i = self->PickedPixel[0], j = self->PickedPixel[1];
+  const rayscope::Scene& s = *this->scene();
+  try {
+    this->Record = rayscope::record_pixel(s, this->Settings, i, this->Settings.height - 1 - j);
+  } catch (const std::exception& e) {
+    this->Say(std::string("recording the pixel failed: ") + e.what());
+    return;
+  }
+  this->HasRecord = true;
+  this->RecordDepth = 0;
+  for (const rayscope::RayRecord& r : this->Record.rays)
+    this->RecordDepth = std::max(this->RecordDepth, r.depth);
+  self->ShownDepth = std::min(self->ShownDepth, this->RecordDepth);
+  if (self->SelectedRay >= int(this->Record.rays.size())) self->SelectedRay = -1;
+  this->InspectText = rayscope::format_text(this->Record, s);
+
+  this->Tree->SetPixel(i, j);
+  this->ByDepth->SetUpperThreshold(self->ShownDepth);
+  this->ByRay->SetUpperThreshold(self->SelectedRay < 0 ? VTK_DOUBLE_MAX : self->SelectedRay);
+  this->ByKind->SetLowerThreshold(self->ShownKind < 0 ? -VTK_DOUBLE_MAX : self->ShownKind);
+  this->ByKind->SetUpperThreshold(self->ShownKind < 0 ? VTK_DOUBLE_MAX : self->ShownKind);
+  this->Shown->Update();
+  for (vtkActor* a : {this->TracedActor.Get(), this->SkippedActor.Get(), this->NormalActor.Get()})
+    a->VisibilityOn();
+  this->Selected->SetLowerThreshold(self->SelectedRay);
+  this->Selected->SetUpperThreshold(self->SelectedRay);
+  this->SelectedActor->SetVisibility(self->SelectedRay >= 0);
+  this->UpdateLabels();
+  this->UpdateOccluders();
+  this->UpdateMarker();
+  this->UpdateBVH();
+  this->UpdatePanel();
+  this->Changed |= kSceneView | kPanelView | kImageView;  // the tree, its text, the marker
+}
+
+// A marker where each shown shadow ray is blocked: the end of its line, on
+// the nearest occluder (the ray-tree source's EndKind 3).
+void vtkRayScopeViewer::Internals::UpdateOccluders() {
+  vtkPolyData* shown = this->Shown->GetOutput();
+  vtkDataArray* end = shown->GetCellData()->GetArray("EndKind");
+  vtkNew<vtkPoints> pts;
+  vtkNew<vtkCellArray> verts;
+  for (vtkIdType c = 0; end && c < shown->GetNumberOfCells(); ++c) {
+    if (shown->GetCellType(c) != VTK_LINE || int(end->GetTuple1(c)) != kEndOccluder) continue;
+    const vtkIdType k = pts->InsertNextPoint(shown->GetPoint(shown->GetCell(c)->GetPointId(1)));
+    verts->InsertNextCell(1, &k);
+  }
+  this->Occluders->Initialize();
+  this->Occluders->SetPoints(pts);
+  this->Occluders->SetVerts(verts);
+  this->OccluderActor->VisibilityOn();
+}
+
+// A label per shown ray (line cell): its id, depth and weight, at its middle.
+void vtkRayScopeViewer::Internals::UpdateLabels() {
+  this->LabelActor->SetVisibility(this->Self->ShowLabels);
+  vtkPolyData* shown = this->Shown->GetOutput();
+  vtkDataArray* id = shown->GetCellData()->GetArray("RayId");
+  vtkDataArray* depth = shown->GetCellData()->GetArray("Depth");
+  vtkDataArray* weight = shown->GetCellData()->GetArray("Weight");
+  vtkNew<vtkPoints> pts;
+  vtkNew<vtkStringArray> text;
+  text->SetName("Label");
+  vtkNew<vtkCellArray> verts;
+  for (vtkIdType c = 0; id && depth && weight && c < shown->GetNumberOfCells(); ++c) {
+    if (shown->GetCellType(c) != VTK_LINE) continue;
+    double a[3], b[3];
+    shown->GetPoint(shown->GetCell(c)->GetPointId(0), a);
+    shown->GetPoint(shown->GetCell(c)->GetPointId(1), b);
+    const vtkIdType k =
+        pts->InsertNextPoint(0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2]));
+    verts->InsertNextCell(1, &k);
+    const double* w = weight->GetTuple3(c);
+    char label[64];
+    std::snprintf(label, sizeof label, "#%d d%d w%.3g", int(id->GetTuple1(c)),
+                  int(depth->GetTuple1(c)), std::max({w[0], w[1], w[2]}));
+    text->InsertNextValue(label);
+  }
+  this->Labels->Initialize();
+  this->Labels->SetPoints(pts);
+  this->Labels->SetVerts(verts);
+  this->Labels->GetPointData()->AddArray(text);
+}
+
+// The BVH shown: the selected ray's walk, or the boxes of a level (all
+// levels), or nothing.
+void vtkRayScopeViewer::Internals::UpdateBVH() {
+  vtkRayScopeViewer* self = this->Self;
+  const int i = self->PickedPixel[0], j = self->PickedPixel[1];
+  vtkRayScopeAccelSource* bvh = this->BVH;
+  if (self->PickedPixel[0] >= 0 && self->TraversalSteps >= 0 && self->SelectedRay >= 0) {
+    bvh->SetVisitModeToPixel();
+    bvh->SetPixel(i, j);
+    bvh->SetVisitRay(self->SelectedRay);
+    bvh->SetTraversalSteps(self->TraversalSteps);
+    bvh->SetLevelRange(0, VTK_INT_MAX);
+    bvh->Update();
+    this->BVHMapper->SetInputConnection(bvh->GetOutputPort());
+    this->BVHMapper->SetLookupTable(this->WalkTable);
+    this->BVHMapper->SelectColorArray("TraversalState");
+    this->BVHMapper->SetScalarRange(0, 5);
+    this->BVHMapper->ScalarVisibilityOn();
+  } else if (self->ShowBVH) {
+    bvh->SetVisitModeToNone();
+    bvh->SetTraversalSteps(-1);
+    if (self->BVHLevel < 0)
+      bvh->SetLevelRange(0, VTK_INT_MAX);
+    else
+      bvh->SetLevelRange(self->BVHLevel, self->BVHLevel);
+    bvh->Update();
+    this->BVHMapper->SetInputConnection(bvh->GetOutputPort());
+    this->BVHMapper->SetLookupTable(this->LevelTable);
+    this->BVHMapper->SelectColorArray("Level");
+    vtkDataArray* depth = bvh->GetOutput()->GetFieldData()->GetArray("TreeDepth");
+    this->BVHMapper->SetScalarRange(0, depth ? std::max(1.0, depth->GetTuple1(0) - 1) : 1.0);
+    this->BVHMapper->ScalarVisibilityOn();
+  } else {
+    this->BVHMapper->SetInputData(this->NoBoxes);
+  }
+  this->Changed |= kSceneView;
+}

@@ -1,0 +1,184 @@
+// vtkRayScopeViewer's text: the help line (made from the key table) and the
+// message line on top, the panel below with the picked pixel's tree as
+// `rayscope inspect` prints it, and the legend of the 3D view.
+#include "vtkRayScopeViewerInternals.h"
+
+using namespace rayscope_vtk::viewer;
+
+namespace {
+
+// A short horizontal line: the symbol of a legend entry.
+vtkSmartPointer<vtkPolyData> legend_symbol() {
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> pts;
+  pts->InsertNextPoint(0, 0, 0);
+  pts->InsertNextPoint(1, 0, 0);
+  vtkNew<vtkCellArray> lines;
+  vtkIdType ids[2] = {0, 1};
+  lines->InsertNextCell(2, ids);
+  pd->SetPoints(pts);
+  pd->SetLines(lines);
+  return pd;
+}
+
+}  // namespace
+
+// The text actors, in the header, the panel and the 3D view.
+void vtkRayScopeViewer::Internals::BuildTextPanel() {
+  // Help and message lines on top, the inspect text below.
+  this->HelpActor->SetInput(HelpLine().c_str());
+  this->HelpActor->GetTextProperty()->SetFontSize(13);
+  this->HelpActor->GetTextProperty()->SetColor(0.8, 0.8, 0.8);
+  this->HelpActor->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+  this->HelpActor->GetPositionCoordinate()->SetValue(0.005, 0.52);
+  this->HeaderRen->AddActor2D(this->HelpActor);
+  this->MessageActor->GetTextProperty()->SetFontSize(13);
+  this->MessageActor->GetTextProperty()->SetColor(1.0, 0.85, 0.3);
+  this->MessageActor->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+  this->MessageActor->GetPositionCoordinate()->SetValue(0.005, 0.06);
+  this->HeaderRen->AddActor2D(this->MessageActor);
+  // The panel: a text actor per line, from the top left corner down, a line
+  // height apart (FreeType's own spacing of the lines of one text: drawn
+  // so, the panel is pixel for pixel the text drawn by one actor).
+  vtkNew<vtkTextProperty> panel_text;
+  panel_text->SetFontFamilyToCourier();
+  panel_text->SetFontSize(12);
+  panel_text->SetVerticalJustificationToTop();
+  int one[4], two[4];
+  vtkTextRenderer* text = vtkTextRenderer::GetInstance();
+  this->PanelLineHeight =
+      text && text->GetBoundingBox(panel_text, vtkStdString("Xg"), one, this->Window->GetDPI()) &&
+              text->GetBoundingBox(panel_text, vtkStdString("Xg\nXg"), two, this->Window->GetDPI())
+          ? (two[3] - two[2]) - (one[3] - one[2])
+          : 14;
+  vtkNew<vtkCoordinate> panel_corner;
+  panel_corner->SetCoordinateSystemToNormalizedViewport();
+  panel_corner->SetValue(0.005, 0.98);
+  for (int k = 0; k < kPanelLines; ++k) {
+    auto line = vtkSmartPointer<vtkTextActor>::New();
+    line->GetTextProperty()->ShallowCopy(panel_text);
+    line->GetPositionCoordinate()->SetCoordinateSystemToViewport();
+    line->GetPositionCoordinate()->SetReferenceCoordinate(panel_corner);
+    this->PanelRen->AddActor2D(line);
+    this->PanelLines.push_back(line);
+  }
+  this->PanelLineText.assign(size_t(kPanelLines), std::string());
+  this->ShowPanelLines({"click a pixel of the image (left) or a surface (right)"});
+  // The legend, in the 3D view's bottom left corner.
+  this->Legend->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+  this->Legend->GetPositionCoordinate()->SetValue(0.0, 0.0);
+  this->Legend->GetPosition2Coordinate()->SetValue(0.2, 0.3);
+  this->Legend->UseBackgroundOn();
+  this->Legend->SetBackgroundColor(0.0, 0.0, 0.0);
+  this->SceneRen->AddActor2D(this->Legend);
+  this->UpdateLegend();
+}
+
+// The message line: what the last key did, the end of a key's range, render
+// progress, errors.
+void vtkRayScopeViewer::Internals::Say(const std::string& message) {
+  this->Message = message;
+  this->MessageActor->SetInput(message.c_str());
+  this->Changed |= kHeaderView;
+}
+
+// The panel: the inspect text from a few lines before the selected ray,
+// that ray's line marked ">>".
+void vtkRayScopeViewer::Internals::UpdatePanel() {
+  std::vector<std::string> lines;
+  std::istringstream text(this->InspectText);
+  for (std::string l; std::getline(text, l);) lines.push_back(l);
+  int selected = -1;
+  if (this->Self->SelectedRay >= 0) {
+    // (Appended, not "#" + std::to_string(...): GCC 12 warns falsely on that
+    // operator+ here, -Wrestrict.)
+    std::string tag = "#";
+    tag += std::to_string(this->Self->SelectedRay);
+    tag += ' ';
+    for (size_t k = 0; k < lines.size(); ++k) {
+      const size_t at = lines[k].find_first_not_of(' ');
+      if (at != std::string::npos && lines[k].compare(at, tag.size(), tag) == 0) {
+        selected = int(k);
+        lines[k].replace(0, std::min<size_t>(2, at), ">>");
+        break;
+      }
+    }
+  }
+  const int first =
+      std::max(0, std::min(selected - kPanelLinesBefore, int(lines.size()) - kPanelLines));
+  std::string shown;
+  for (int k = std::max(0, first); k < int(lines.size()) && k < first + kPanelLines; ++k)
+    shown += lines[size_t(k)] + "\n";
+  this->PanelText = shown;
+  this->ShowPanelLines(std::vector<std::string>(
+      lines.begin() + std::max(0, first),
+      lines.begin() + std::min<int>(int(lines.size()), first + kPanelLines)));
+}
+
+// Puts `lines` (at most kPanelLines) on the panel, top down. A line already
+// shown keeps its actor and is only moved; the others take the actors left.
+void vtkRayScopeViewer::Internals::ShowPanelLines(const std::vector<std::string>& lines) {
+  const size_t n = this->PanelLines.size();
+  std::vector<int> actor(lines.size(), -1);
+  std::vector<bool> taken(n, false);
+  for (size_t k = 0; k < lines.size() && k < n; ++k)
+    for (size_t a = 0; a < n; ++a)
+      if (!taken[a] && this->PanelLineText[a] == lines[k]) {
+        actor[k] = int(a);
+        taken[a] = true;
+        break;
+      }
+  size_t free_actor = 0;
+  for (size_t k = 0; k < lines.size() && k < n; ++k) {
+    if (actor[k] >= 0) continue;
+    while (taken[free_actor]) ++free_actor;
+    actor[k] = int(free_actor);
+    taken[free_actor] = true;
+    this->PanelLineText[free_actor] = lines[k];
+    this->PanelLines[free_actor]->SetInput(lines[k].c_str());
+  }
+  for (size_t a = 0; a < n; ++a)
+    this->PanelLines[a]->SetVisibility(taken[a] && !this->PanelLineText[a].empty());
+  for (size_t k = 0; k < lines.size() && k < n; ++k) {
+    vtkCoordinate* at = this->PanelLines[size_t(actor[k])]->GetPositionCoordinate();
+    const double y = -double(k) * double(this->PanelLineHeight);
+    if (at->GetValue()[1] != y) at->SetValue(0.0, y);
+  }
+  this->Changed |= kPanelView;
+}
+
+void vtkRayScopeViewer::Internals::UpdateLegend() {
+  // The entries for what is shown: the ray kinds and markers, then the
+  // played walk's states or the BVH's level ramp (root to deepest level).
+  std::vector<std::pair<std::string, std::array<double, 3>>> entries;
+  auto add = [&](std::string label, const double(&c)[3]) {
+    entries.push_back({std::move(label), {c[0], c[1], c[2]}});
+  };
+  for (int k = 0; k < 4; ++k) add(std::string(kKindNames[k]) + " ray", kKindColors[k]);
+  add("skipped (not traced)", kSkippedColor);
+  add("shading normal", kNormalColor);
+  add("shadow ray blocked here", kOccluderColor);
+  if (this->Self->TraversalSteps >= 0) {
+    const std::string name = this->StructureLabel();
+    for (int k = 1; k < 6; ++k) add(name + ": " + kWalkNames[k], kWalkColors[k]);
+  } else if (this->Self->ShowBVH) {
+    vtkDataArray* depth = this->BVH->GetOutput()->GetFieldData()->GetArray("TreeDepth");
+    const int deepest = depth ? std::max(0, int(depth->GetTuple1(0)) - 1) : 0;
+    const vtkIdType n = this->LevelTable->GetNumberOfTableValues();
+    double root[4], leaves[4];
+    this->LevelTable->GetTableValue(0, root);
+    this->LevelTable->GetTableValue(n - 1, leaves);
+    const std::string name = this->StructureLabel();
+    add(name + ": level 0 (root)", {root[0], root[1], root[2]});
+    add(name + ": level " + std::to_string(deepest) + " (deepest)",
+        {leaves[0], leaves[1], leaves[2]});
+  }
+  // Rebuilt only when its entries change: each entry is text to rasterize.
+  if (entries == this->LegendEntries) return;
+  this->LegendEntries = entries;
+  this->Changed |= kSceneView;
+  this->Legend->SetNumberOfEntries(int(entries.size()));
+  vtkSmartPointer<vtkPolyData> symbol = legend_symbol();
+  for (size_t e = 0; e < entries.size(); ++e)
+    this->Legend->SetEntry(int(e), symbol, entries[e].first.c_str(), entries[e].second.data());
+}
