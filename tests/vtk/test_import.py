@@ -6,7 +6,7 @@ import rayscope
 
 for name in ("vtkRayScopeImageAlgorithm", "vtkRayScopeRayTreeSource", "vtkRayScopeAccelSource",
              "vtkRayScopeRangeQuery", "vtkRayScopeMeshConverter", "vtkRayScopeMeshReader",
-             "vtkRayScopeMaterial", "vtkRayScopePass"):
+             "vtkRayScopeMaterial", "vtkRayScopeSceneSettings", "vtkRayScopePass"):
     cls = getattr(rayscope, name)
     obj = cls()
     assert obj.GetClassName() == name, obj.GetClassName()

@@ -14,6 +14,7 @@
 #include <vtkCamera.h>
 #include <vtkDataArray.h>
 #include <vtkExecutive.h>
+#include <vtkFieldData.h>
 #include <vtkFloatArray.h>
 #include <vtkImageData.h>
 #include <vtkIntArray.h>
@@ -26,6 +27,7 @@
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkSphereSource.h>
+#include <vtkStringArray.h>
 #include <vtkUnsignedCharArray.h>
 
 #include "RayScopeImageArrays.h"
@@ -33,8 +35,12 @@
 #include "rayscope/image.h"
 #include "rayscope/render_settings.h"
 #include "rayscope/scene.h"
+#include "vtkRayScopeAccelSource.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeMaterial.h"
+#include "vtkRayScopeRangeQuery.h"
+#include "vtkRayScopeRayTreeSource.h"
+#include "vtkRayScopeSceneSettings.h"
 #include "vtk_test_util.h"
 
 namespace {
@@ -582,6 +588,66 @@ TEST(VtkImage, AutoCameraFitsLikeResetCamera) {
   EXPECT_EQ(object_at(autocam->GetOutput(), 0, 0), -1);
 }
 
+// One settings object shared by the image algorithm and the ray-tree,
+// structure and range-query filters: a change made once (camera, structure)
+// re-executes every filter, each on its own inputs, from the new values; a
+// filter given other settings keeps its own.
+TEST(VtkImage, SettingsSharedByEveryFilter) {
+  vtkNew<vtkSphereSource> s;
+  configure_sphere(s, 0, 0, 0, 0.5);
+  vtkNew<vtkRayScopeSceneSettings> settings;
+  settings->SetSize(40, 30);
+  vtkNew<vtkRayScopeImageAlgorithm> image;
+  vtkNew<vtkRayScopeRayTreeSource> tree;
+  vtkNew<vtkRayScopeAccelSource> structure;
+  vtkNew<vtkRayScopeRangeQuery> query;
+  image->SetSettings(settings);
+  EXPECT_EQ(image->GetSettings(), settings.Get());
+  tree->SetSettings(image->GetSettings());
+  structure->SetSettings(settings);
+  query->SetSettings(settings);
+  for (vtkAlgorithm* a : std::initializer_list<vtkAlgorithm*>{image, tree, structure, query})
+    a->AddInputConnection(s->GetOutputPort());
+  tree->SetPixel(20, 15);
+  query->SetQueryTypeToNearest();
+  query->SetCenter(0, 0, 2);
+  for (double z : {4.0, 6.0}) {
+    settings->SetPosition(0, 0, z);  // one change, through the shared object
+    EXPECT_EQ(image->GetPosition()[2], z);
+    ASSERT_EQ(update(image), 1);
+    const double depth =
+        image->GetOutput()->GetPointData()->GetArray("Depth")->GetTuple1(15 * 40 + 20);
+    EXPECT_NEAR(depth, z - 0.5, 0.02);
+    ASSERT_EQ(update(tree), 1);
+    vtkPolyData* rays = tree->GetOutput();
+    double gap = 1e30;  // the primary ray starts at the eye
+    for (vtkIdType p = 0; p < rays->GetNumberOfPoints(); ++p) {
+      const double* x = rays->GetPoint(p);
+      gap = std::min(gap, std::abs(x[0]) + std::abs(x[1]) + std::abs(x[2] - z));
+    }
+    EXPECT_LT(gap, 1e-6) << z;
+  }
+  auto structure_of = [](vtkPolyDataAlgorithm* a) {
+    EXPECT_EQ(update(a), 1);
+    auto* names =
+        vtkStringArray::SafeDownCast(a->GetOutput()->GetFieldData()->GetAbstractArray("Structure"));
+    return names ? names->GetValue(0) : std::string("none");
+  };
+  EXPECT_EQ(structure_of(structure), "bvh");
+  settings->SetAccelToKdTree();
+  EXPECT_EQ(structure_of(structure), "kdtree");
+  EXPECT_EQ(structure_of(query), "kdtree");
+  // Other settings for one filter: the shared object no longer reaches it.
+  vtkNew<vtkRayScopeSceneSettings> own;
+  query->SetSettings(own);
+  settings->SetAccelToOctree();
+  EXPECT_EQ(structure_of(structure), "octree");
+  EXPECT_EQ(structure_of(query), "bvh");
+  query->SetSettings(nullptr);  // back to new defaults of its own
+  EXPECT_NE(query->GetSettings(), own.Get());
+  EXPECT_EQ(query->GetSettings()->GetAutoCamera(), 1);
+}
+
 // SetMaterial replaces the default material; AddLight adds either kind and
 // rejects other types.
 TEST(VtkImage, SetMaterialAndAddLight) {
@@ -607,8 +673,8 @@ TEST(VtkImage, SetMaterialAndAddLight) {
 
   EXPECT_EQ(alg->AddLight(vtkRayScopeImageAlgorithm::LIGHT_POINT, 1, 2, 3, 1, 1, 1, 1), 0);
   EXPECT_EQ(alg->AddLight(vtkRayScopeImageAlgorithm::LIGHT_DIRECTIONAL, 0, -1, 0, 1, 1, 1, 1), 1);
-  vtkNew<ErrorCatcher> errors;
-  alg->AddObserver(vtkCommand::ErrorEvent, errors);
+  vtkNew<ErrorCatcher> errors;  // the lights are the settings': they report it
+  alg->GetSettings()->AddObserver(vtkCommand::ErrorEvent, errors);
   EXPECT_EQ(alg->AddLight(2, 0, 0, 0, 1, 1, 1, 1), -1);
   EXPECT_EQ(errors->count, 1);
   EXPECT_NE(errors->last.find("AddLight: type 2"), std::string::npos) << errors->last;

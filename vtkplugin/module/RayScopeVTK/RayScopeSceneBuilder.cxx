@@ -17,11 +17,6 @@
 
 namespace rayscope_vtk {
 
-bool SceneLight::operator==(const SceneLight& o) const {
-  return point == o.point && std::equal(v, v + 3, o.v) && std::equal(color, color + 3, o.color) &&
-         intensity == o.intensity && std::equal(attenuation, attenuation + 3, o.attenuation);
-}
-
 namespace {
 
 bool same_material(const rayscope::Material& a, const rayscope::Material& b) {
@@ -171,8 +166,7 @@ int storage_value_of(rayscope::PrimStorage storage) {
                                                    : vtkRayScopeImageAlgorithm::STORAGE_EVERY_CELL;
 }
 
-glm::uvec3 grid_resolution_of(vtkRayScopeImageAlgorithm* alg) {
-  const int* r = alg->GetGridResolution();
+glm::uvec3 grid_resolution_of(const int r[3]) {
   return glm::uvec3(uint32_t(std::max(r[0], 0)), uint32_t(std::max(r[1], 0)),
                     uint32_t(std::max(r[2], 0)));
 }
@@ -183,7 +177,7 @@ rayscope::AccelConfig accel_config_of(vtkRayScopeImageAlgorithm* alg) {
     accel.kind = rayscope::AccelConfig{}.kind;
   accel.storage = storage_of(alg->GetStorage());
   accel.loose_factor = float(alg->GetLooseFactor());
-  accel.grid.resolution = grid_resolution_of(alg);
+  accel.grid.resolution = grid_resolution_of(alg->GetGridResolution());
   accel.kdtree.rule = alg->GetKdSplit() == vtkRayScopeImageAlgorithm::KD_SPLIT_MEDIAN
                           ? rayscope::KdSplitRule::Median
                           : rayscope::KdSplitRule::Sah;

@@ -8,6 +8,7 @@
 #include "vtkTimeStamp.h"
 
 #include "rayscope/scene.h"
+#include "vtkRayScopeSceneSettings.h"
 
 class vtkDataSet;
 class vtkRayScopeImageAlgorithm;
@@ -15,15 +16,7 @@ class vtkRayScopeImageAlgorithm;
 namespace rayscope_vtk {
 
 /// A light besides the headlight, in VTK terms (sRGB color).
-struct SceneLight {
-  bool point = true;
-  double v[3] = {0.0, 0.0, 0.0};  // position (point) or direction of travel (directional)
-  double color[3] = {1.0, 1.0, 1.0};
-  double intensity = 1.0;
-  double attenuation[3] = {1.0, 0.0, 0.0};
-
-  bool operator==(const SceneLight& o) const;
-};
+using SceneLight = vtkRayScopeSceneSettings::Light;
 
 /// A camera that sees `bounds` whole, as vtkRenderer::ResetCamera() places
 /// it: the bounds' sphere fills the vertical view angle; the view direction
@@ -41,7 +34,7 @@ rayscope::PrimStorage storage_of(int storage);
 int storage_value_of(rayscope::PrimStorage storage);
 /// The algorithm's GridResolution as the grid builder takes it (negative
 /// values, which Validate refuses, as 0).
-glm::uvec3 grid_resolution_of(vtkRayScopeImageAlgorithm* alg);
+glm::uvec3 grid_resolution_of(const int resolution[3]);
 /// What `alg` asks to build: its Accel, Storage, LooseFactor, KdSplit and
 /// GridResolution, in the core's terms (its parameters validated: an unknown
 /// Accel gives the BVH).

@@ -9,6 +9,7 @@
 #include "vtkInformationVector.h"
 
 #include "vtkRayScopeImageAlgorithm.h"
+#include "vtkRayScopeSceneSettings.h"
 
 namespace rayscope_vtk {
 
@@ -18,8 +19,22 @@ void fill_scene_input_port(vtkInformation* info) {
   info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
 }
 
+vtkSmartPointer<vtkRayScopeSceneSettings> new_source_settings() {
+  auto settings = vtkSmartPointer<vtkRayScopeSceneSettings>::New();
+  settings->AutoCameraOn();
+  return settings;
+}
+
+bool replace_settings(vtkSmartPointer<vtkRayScopeSceneSettings>& held,
+                      vtkRayScopeSceneSettings* settings) {
+  if (settings && settings == held) return false;
+  held = settings ? vtkSmartPointer<vtkRayScopeSceneSettings>(settings) : new_source_settings();
+  return true;
+}
+
 vtkRayScopeImageAlgorithm* update_scene(vtkAlgorithm* self, vtkInformationVector* inputs,
                                         vtkRayScopeImageAlgorithm* source,
+                                        vtkRayScopeSceneSettings* settings,
                                         vtkSmartPointer<vtkRayScopeImageAlgorithm>& fallback) {
   std::vector<vtkDataObject*> data;
   for (int i = 0; inputs && i < inputs->GetNumberOfInformationObjects(); ++i)
@@ -31,10 +46,8 @@ vtkRayScopeImageAlgorithm* update_scene(vtkAlgorithm* self, vtkInformationVector
                                        "SetSceneSource(vtkRayScopeImageAlgorithm)");
       return nullptr;
     }
-    if (!fallback) {
-      fallback = vtkSmartPointer<vtkRayScopeImageAlgorithm>::New();
-      fallback->AutoCameraOn();
-    }
+    if (!fallback) fallback = vtkSmartPointer<vtkRayScopeImageAlgorithm>::New();
+    fallback->SetSettings(settings);
     scene = fallback;
   }
   if (!data.empty()) {

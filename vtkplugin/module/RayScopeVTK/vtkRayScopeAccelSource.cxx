@@ -30,6 +30,7 @@
 #include "rayscope/replay.h"
 #include "rayscope/scene.h"
 #include "vtkRayScopeImageAlgorithm.h"
+#include "vtkRayScopeSceneSettings.h"
 
 vtkStandardNewMacro(vtkRayScopeAccelSource);
 vtkCxxSetObjectMacro(vtkRayScopeAccelSource, SceneSource, vtkRayScopeImageAlgorithm);
@@ -44,6 +45,7 @@ vtkRayScopeAccelSource::vtkRayScopeAccelSource()
       VisitRay(-1),
       TraversalSteps(-1),
       NumberOfTraversalEntries(0) {
+  this->Settings = rayscope_vtk::new_source_settings();
   this->SetNumberOfInputPorts(1);
 }
 
@@ -51,9 +53,18 @@ vtkRayScopeAccelSource::~vtkRayScopeAccelSource() {
   this->SetSceneSource(nullptr);
 }
 
+vtkRayScopeSceneSettings* vtkRayScopeAccelSource::GetSettings() {
+  return this->Settings;
+}
+
+void vtkRayScopeAccelSource::SetSettings(vtkRayScopeSceneSettings* settings) {
+  if (rayscope_vtk::replace_settings(this->Settings, settings)) this->Modified();
+}
+
 vtkMTimeType vtkRayScopeAccelSource::GetMTime() {
   vtkMTimeType t = this->Superclass::GetMTime();
   if (this->SceneSource) t = std::max(t, this->SceneSource->GetMTime());
+  t = std::max(t, this->Settings->GetMTime());
   return t;
 }
 
@@ -117,7 +128,7 @@ int vtkRayScopeAccelSource::FillInputPortInformation(int port, vtkInformation* i
 }
 
 int vtkRayScopeAccelSource::RequestData(vtkInformation*, vtkInformationVector** inputVector,
-                                      vtkInformationVector* outputVector) {
+                                        vtkInformationVector* outputVector) {
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   if (this->LevelRange[0] < 0 || this->LevelRange[1] < this->LevelRange[0]) {
     vtkErrorMacro(<< "LevelRange (" << this->LevelRange[0] << ", " << this->LevelRange[1]
@@ -125,8 +136,8 @@ int vtkRayScopeAccelSource::RequestData(vtkInformation*, vtkInformationVector** 
     return 0;
   }
   this->UpdateProgress(0.0);
-  vtkRayScopeImageAlgorithm* source =
-      rayscope_vtk::update_scene(this, inputVector[0], this->SceneSource, this->DefaultScene);
+  vtkRayScopeImageAlgorithm* source = rayscope_vtk::update_scene(
+      this, inputVector[0], this->SceneSource, this->Settings, this->DefaultScene);
   if (!source) return 0;
   const rayscope::Scene& scene = *source->GetCoreScene();
   const rayscope::RenderSettings settings = source->GetRenderSettings();

@@ -27,10 +27,11 @@
  * structure.
  *
  * The scene's datasets come through input port 0 (one or more vtkDataSets),
- * as for vtkRayScopeRayTreeSource; SetSceneSource gives the camera and the
- * sampling of the visit counts (without one, a default scene with its camera
- * fitted to the data). With no input connected, the scene source's own inputs
- * are used.
+ * as for vtkRayScopeRayTreeSource, and the camera, sampling and structure
+ * from its settings (GetSettings(), shareable with the other RayScope
+ * filters; by default its own, with the camera fitted to the data), or from a
+ * scene source (SetSceneSource) whose settings, and, with no input connected,
+ * inputs are used.
  *
  * Takes the scene of a vtkRayScopeImageAlgorithm (SetSceneSource) and outputs
  * one box per BVH node whose level (root = 0) lies in LevelRange (and, with
@@ -74,6 +75,7 @@
 #include "vtkSmartPointer.h"  // DefaultScene
 
 class vtkRayScopeImageAlgorithm;
+class vtkRayScopeSceneSettings;
 
 class RAYSCOPEVTK_EXPORT vtkRayScopeAccelSource : public vtkPolyDataAlgorithm {
  public:
@@ -86,6 +88,18 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeAccelSource : public vtkPolyDataAlgorithm {
   /// this filter's, when it has any).
   virtual void SetSceneSource(vtkRayScopeImageAlgorithm*);
   vtkGetObjectMacro(SceneSource, vtkRayScopeImageAlgorithm);
+  ///@}
+
+  ///@{
+  /// The scene settings (image and sampling, structure, camera, lights,
+  /// material; vtkRayScopeSceneSettings), used when there is no scene source:
+  /// the inputs are then rendered with them. Never null: each filter starts
+  /// with its own, AutoCamera on. SetSettings() shares one settings object
+  /// with other RayScope filters, e.g. a vtkRayScopeImageAlgorithm's
+  /// GetSettings(), so that one change reaches all of them (null: new
+  /// defaults).
+  vtkRayScopeSceneSettings* GetSettings();
+  void SetSettings(vtkRayScopeSceneSettings* settings);
   ///@}
 
   ///@{
@@ -175,6 +189,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeAccelSource : public vtkPolyDataAlgorithm {
  private:
   // The scene without a scene source: inputs only, camera fitted to them.
   vtkSmartPointer<vtkRayScopeImageAlgorithm> DefaultScene;
+  vtkSmartPointer<vtkRayScopeSceneSettings> Settings;
   vtkRayScopeAccelSource(const vtkRayScopeAccelSource&) = delete;
   void operator=(const vtkRayScopeAccelSource&) = delete;
 };

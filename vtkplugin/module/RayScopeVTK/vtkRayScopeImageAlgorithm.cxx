@@ -29,70 +29,11 @@
 #include "rayscope_vtk/mesh_conversion.h"
 #include "vtkRayScopeImageAlgorithmInternals.h"
 
-// The Accel values are the core's table's (rayscope/accel/accel_kind.h).
-static_assert(vtkRayScopeImageAlgorithm::ACCEL_BVH ==
-                  rayscope::accel_kind_name(rayscope::AccelKind::Bvh).vtk_id &&
-              vtkRayScopeImageAlgorithm::ACCEL_BINARY_BVH ==
-                  rayscope::accel_kind_name(rayscope::AccelKind::BinaryBvh).vtk_id &&
-              vtkRayScopeImageAlgorithm::ACCEL_NONE ==
-                  rayscope::accel_kind_name(rayscope::AccelKind::None).vtk_id &&
-              vtkRayScopeImageAlgorithm::ACCEL_KDTREE ==
-                  rayscope::accel_kind_name(rayscope::AccelKind::KdTree).vtk_id &&
-              vtkRayScopeImageAlgorithm::ACCEL_GRID ==
-                  rayscope::accel_kind_name(rayscope::AccelKind::Grid).vtk_id &&
-              vtkRayScopeImageAlgorithm::ACCEL_OCTREE ==
-                  rayscope::accel_kind_name(rayscope::AccelKind::Octree).vtk_id &&
-              vtkRayScopeImageAlgorithm::ACCEL_BSP ==
-                  rayscope::accel_kind_name(rayscope::AccelKind::Bsp).vtk_id &&
-              vtkRayScopeImageAlgorithm::ACCEL_SPHERES ==
-                  rayscope::accel_kind_name(rayscope::AccelKind::Spheres).vtk_id);
-
 vtkStandardNewMacro(vtkRayScopeImageAlgorithm);
 vtkCxxSetObjectMacro(vtkRayScopeImageAlgorithm, LookupTable, vtkScalarsToColors);
 
-// The Seed setter clamps to 0..VTK_INT_MAX, which is the core's seed range.
-static_assert(rayscope::RenderSettings::kMaxSeed == unsigned(VTK_INT_MAX));
-
-namespace {
-
-bool finite3(const double v[3]) {
-  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-}
-
-}  // namespace
-
 vtkRayScopeImageAlgorithm::vtkRayScopeImageAlgorithm()
-    : Width(300),
-      Height(300),
-      Samples(1),
-      MaxDepth(5),
-      MinContribution(1e-3),
-      MaxSamples(0),
-      TargetError(0.0),
-      TextureFilter(0),
-      Threads(0),
-      Seed(0),
-      ComputeCost(1),
-      Accel(ACCEL_BVH),
-      Storage(STORAGE_EVERY_CELL),
-      LooseFactor(double(rayscope::kDefaultLooseFactor)),
-      KdSplit(KD_SPLIT_SAH),
-      GridResolution{0, 0, 0},
-      Position{0.0, 0.0, 1.0},
-      FocalPoint{0.0, 0.0, 0.0},
-      ViewUp{0.0, 1.0, 0.0},
-      ViewAngle(30.0),
-      ParallelProjection(0),
-      ParallelScale(1.0),
-      Background{0.0, 0.0, 0.0},
-      AmbientLight{1.0, 1.0, 1.0},
-      Headlight(1),
-      HeadlightIntensity(1.0),
-      Shadows(1),
-      AutoCamera(0),
-      ScalarColoring(COLOR_BY_MAPPER),
-      LookupTable(nullptr),
-      Internal(new Internals) {
+    : ScalarColoring(COLOR_BY_MAPPER), LookupTable(nullptr), Internal(new Internals) {
   this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(1);
 }
@@ -100,21 +41,6 @@ vtkRayScopeImageAlgorithm::vtkRayScopeImageAlgorithm()
 vtkRayScopeImageAlgorithm::~vtkRayScopeImageAlgorithm() {
   this->SetLookupTable(nullptr);
   delete this->Internal;
-}
-
-void vtkRayScopeImageAlgorithm::SetSize(int width, int height) {
-  this->SetWidth(width);
-  this->SetHeight(height);
-}
-
-void vtkRayScopeImageAlgorithm::CopyCamera(vtkCamera* camera) {
-  if (!camera) return;
-  this->SetPosition(camera->GetPosition());
-  this->SetFocalPoint(camera->GetFocalPoint());
-  this->SetViewUp(camera->GetViewUp());
-  this->SetViewAngle(camera->GetViewAngle());
-  this->SetParallelProjection(camera->GetParallelProjection());
-  this->SetParallelScale(camera->GetParallelScale());
 }
 
 int vtkRayScopeImageAlgorithm::ResetCamera() {
@@ -134,8 +60,8 @@ int vtkRayScopeImageAlgorithm::ResetCamera() {
     vtkErrorMacro(<< "ResetCamera: the inputs have no finite points");
     return 0;
   }
-  const rayscope_vtk::FittedCamera c =
-      rayscope_vtk::fit_camera(b, this->Position, this->FocalPoint, this->ViewUp, this->ViewAngle);
+  const rayscope_vtk::FittedCamera c = rayscope_vtk::fit_camera(
+      b, this->GetPosition(), this->GetFocalPoint(), this->GetViewUp(), this->GetViewAngle());
   this->SetFocalPoint(c.focal_point);
   this->SetPosition(c.position);
   this->SetViewUp(c.view_up);
@@ -143,71 +69,14 @@ int vtkRayScopeImageAlgorithm::ResetCamera() {
   return 1;
 }
 
-int vtkRayScopeImageAlgorithm::AddPointLight(double x, double y, double z, double r, double g,
-                                             double b, double intensity) {
-  rayscope_vtk::SceneLight l;
-  l.point = true;
-  l.v[0] = x;
-  l.v[1] = y;
-  l.v[2] = z;
-  l.color[0] = r;
-  l.color[1] = g;
-  l.color[2] = b;
-  l.intensity = intensity;
-  this->Internal->lights.push_back(l);
-  this->Modified();
-  return int(this->Internal->lights.size()) - 1;
+vtkRayScopeSceneSettings* vtkRayScopeImageAlgorithm::GetSettings() {
+  return this->Internal->settings;
 }
 
-int vtkRayScopeImageAlgorithm::AddDirectionalLight(double dx, double dy, double dz, double r,
-                                                   double g, double b, double intensity) {
-  int i = this->AddPointLight(dx, dy, dz, r, g, b, intensity);
-  this->Internal->lights[size_t(i)].point = false;
-  return i;
-}
-
-void vtkRayScopeImageAlgorithm::SetLightAttenuation(int index, double constant, double linear,
-                                                    double quadratic) {
-  if (index < 0 || size_t(index) >= this->Internal->lights.size()) {
-    vtkErrorMacro(<< "SetLightAttenuation: no light " << index);
-    return;
-  }
-  double* a = this->Internal->lights[size_t(index)].attenuation;
-  if (a[0] == constant && a[1] == linear && a[2] == quadratic) return;
-  a[0] = constant;
-  a[1] = linear;
-  a[2] = quadratic;
-  this->Modified();
-}
-
-void vtkRayScopeImageAlgorithm::RemoveAllLights() {
-  if (this->Internal->lights.empty()) return;
-  this->Internal->lights.clear();
-  this->Modified();
-}
-
-int vtkRayScopeImageAlgorithm::AddLight(double type, double x, double y, double z, double r,
-                                        double g, double b, double intensity) {
-  if (type == double(LIGHT_POINT)) return this->AddPointLight(x, y, z, r, g, b, intensity);
-  if (type == double(LIGHT_DIRECTIONAL))
-    return this->AddDirectionalLight(x, y, z, r, g, b, intensity);
-  vtkErrorMacro(<< "AddLight: type " << type
-                << " is neither LIGHT_POINT (0) nor LIGHT_DIRECTIONAL (1)");
-  return -1;
-}
-
-int vtkRayScopeImageAlgorithm::GetNumberOfLights() {
-  return int(this->Internal->lights.size());
-}
-
-vtkRayScopeMaterial* vtkRayScopeImageAlgorithm::GetMaterial() {
-  return this->Internal->material;
-}
-
-void vtkRayScopeImageAlgorithm::SetMaterial(vtkRayScopeMaterial* material) {
-  if (material && material == this->Internal->material) return;
-  this->Internal->material =
-      material ? material : vtkSmartPointer<vtkRayScopeMaterial>::New().GetPointer();
+void vtkRayScopeImageAlgorithm::SetSettings(vtkRayScopeSceneSettings* settings) {
+  if (settings && settings == this->Internal->settings) return;
+  this->Internal->settings =
+      settings ? settings : vtkSmartPointer<vtkRayScopeSceneSettings>::New().GetPointer();
   this->Modified();
 }
 
@@ -262,7 +131,7 @@ vtkRayScopeMeshConverter* vtkRayScopeImageAlgorithm::GetInputConverter(int index
 vtkMTimeType vtkRayScopeImageAlgorithm::GetMTime() {
   vtkMTimeType t = this->Superclass::GetMTime();
   if (this->LookupTable) t = std::max(t, this->LookupTable->GetMTime());
-  t = std::max(t, this->Internal->material->GetMTime());
+  t = std::max(t, this->Internal->settings->GetMTime());
   t = std::max(t, this->Internal->converter->GetMTime());
   for (auto& [index, m] : this->Internal->input_materials) t = std::max(t, m->GetMTime());
   for (auto& [index, c] : this->Internal->input_converters) t = std::max(t, c->GetMTime());
@@ -274,56 +143,7 @@ std::string vtkRayScopeImageAlgorithm::GetObjectName(int object) {
 }
 
 std::string vtkRayScopeImageAlgorithm::ValidateParameters() {
-  if (!finite3(this->Position) || !finite3(this->FocalPoint) || !finite3(this->ViewUp))
-    return "camera Position, FocalPoint and ViewUp must be finite";
-  double d[3] = {this->FocalPoint[0] - this->Position[0], this->FocalPoint[1] - this->Position[1],
-                 this->FocalPoint[2] - this->Position[2]};
-  if (!(vtkMath::Norm(d) > 0.0)) return "camera Position and FocalPoint coincide";
-  double up[3] = {this->ViewUp[0], this->ViewUp[1], this->ViewUp[2]}, c[3];
-  vtkMath::Cross(d, up, c);
-  if (!(vtkMath::Norm(c) > 1e-12 * vtkMath::Norm(d) * vtkMath::Norm(up)))
-    return "camera ViewUp is zero or parallel to the view direction";
-  if (!this->ParallelProjection && !(this->ViewAngle > 0.0 && this->ViewAngle < 180.0))
-    return "ViewAngle must be in (0, 180) degrees";
-  if (this->ParallelProjection &&
-      !(std::isfinite(this->ParallelScale) && this->ParallelScale > 0.0))
-    return "ParallelScale must be finite and > 0";
-  auto unit3 = [](const double* v) {
-    for (int k = 0; k < 3; ++k)
-      if (!(std::isfinite(v[k]) && v[k] >= 0.0 && v[k] <= 1.0)) return false;
-    return true;
-  };
-  if (!unit3(this->Background)) return "Background components must be in [0, 1]";
-  if (!unit3(this->AmbientLight)) return "AmbientLight components must be in [0, 1]";
-  if (!(std::isfinite(this->HeadlightIntensity) && this->HeadlightIntensity >= 0.0))
-    return "HeadlightIntensity must be finite and >= 0";
-  for (size_t i = 0; i < this->Internal->lights.size(); ++i) {
-    const rayscope_vtk::SceneLight& l = this->Internal->lights[i];
-    const std::string name = "light " + std::to_string(i);
-    if (!finite3(l.v)) return name + ": position/direction must be finite";
-    if (!l.point && !(vtkMath::Norm(l.v) > 0.0)) return name + ": direction must be non-zero";
-    if (!unit3(l.color)) return name + ": color components must be in [0, 1]";
-    if (!(std::isfinite(l.intensity) && l.intensity >= 0.0))
-      return name + ": intensity must be finite and >= 0";
-    for (double a : l.attenuation)
-      if (!(std::isfinite(a) && a >= 0.0))
-        return name + ": attenuation values must be finite and >= 0";
-  }
-  rayscope::AccelKind kind;
-  if (!rayscope::accel_kind_of_vtk_id(this->Accel, kind))
-    return "Accel " + std::to_string(this->Accel) + " names no structure of this build";
-  if (std::string e = rayscope::accel_storage_error(kind, rayscope_vtk::storage_of(this->Storage));
-      !e.empty())
-    return e;
-  if (std::string e = rayscope::loose_factor_error(float(this->LooseFactor)); !e.empty())
-    return "LooseFactor: " + e;
-  for (int r : this->GridResolution)
-    if (r < 0) return "GridResolution: cells per axis must be >= 0 (0: automatic)";
-  if (std::string e = rayscope::grid_resolution_error(rayscope_vtk::grid_resolution_of(this));
-      !e.empty())
-    return "GridResolution: " + e;
-  if (std::string m = this->Internal->material->Validate(); !m.empty())
-    return "default material: " + m;
+  if (std::string e = this->Internal->settings->Validate(); !e.empty()) return e;
   for (auto& [index, mat] : this->Internal->input_materials)
     if (std::string m = mat->Validate(); !m.empty())
       return "material of input " + std::to_string(index) + ": " + m;
@@ -345,19 +165,7 @@ void vtkRayScopeImageAlgorithm::WarnAboutUnconnectedInputs() {
 }
 
 rayscope::RenderSettings vtkRayScopeImageAlgorithm::GetRenderSettings() {
-  rayscope::RenderSettings s;
-  s.width = this->Width;
-  s.height = this->Height;
-  s.samples = this->Samples;
-  s.max_depth = this->MaxDepth;
-  s.min_contribution = float(this->MinContribution);
-  s.max_samples = this->MaxSamples;
-  s.target_error = float(this->TargetError);
-  s.texture_filter = this->TextureFilter != 0;
-  s.threads = this->Threads;
-  s.seed = uint32_t(this->Seed);
-  s.statistics = this->ComputeCost != 0;
-  return s;
+  return this->Internal->settings->GetRenderSettings();
 }
 
 void vtkRayScopeImageAlgorithm::SetCoreScene(const rayscope::Scene& scene) {
@@ -400,21 +208,15 @@ vtkIdType vtkRayScopeImageAlgorithm::GetNumberOfSceneCommits() {
 }
 
 int vtkRayScopeImageAlgorithm::BuildScene() {
-  // The one check of the parameters per update: the render settings by the
-  // core's own RenderSettings::validate(), then what only VTK has.
-  try {
-    this->GetRenderSettings().validate();
-  } catch (const std::invalid_argument& e) {
-    vtkErrorMacro(<< "invalid render settings: " << e.what());
-    return 0;
-  }
+  // The one check of the parameters per update (the settings', then the
+  // inputs' own materials).
   if (std::string e = this->ValidateParameters(); !e.empty()) {
     vtkErrorMacro(<< e);
     return 0;
   }
   this->WarnAboutUnconnectedInputs();
   if (!this->ConfigureColoring()) return 0;
-  return this->Internal->builder.Update(this, this->Internal->lights);
+  return this->Internal->builder.Update(this, this->Internal->settings->GetLights());
 }
 
 vtkRayScopeMeshConverter* vtkRayScopeImageAlgorithm::GetConverterOf(int index) {
@@ -499,7 +301,7 @@ int vtkRayScopeImageAlgorithm::RequestInformation(vtkInformation*, vtkInformatio
   // The size is checked with the other parameters in RequestData; a bad one
   // gives an empty extent or one RequestData then rejects.
   vtkInformation* out = outputVector->GetInformationObject(0);
-  int extent[6] = {0, this->Width - 1, 0, this->Height - 1, 0, 0};
+  int extent[6] = {0, this->GetWidth() - 1, 0, this->GetHeight() - 1, 0, 0};
   out->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
   double spacing[3] = {1.0, 1.0, 1.0}, origin[3] = {0.0, 0.0, 0.0};
   out->Set(vtkDataObject::SPACING(), spacing, 3);
@@ -552,47 +354,10 @@ int vtkRayScopeImageAlgorithm::RequestData(vtkInformation*, vtkInformationVector
 
 void vtkRayScopeImageAlgorithm::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
-  auto v3 = [&](const char* name, const double* v) {
-    os << indent << name << ": (" << v[0] << ", " << v[1] << ", " << v[2] << ")\n";
-  };
-  os << indent << "Width: " << this->Width << "\n";
-  os << indent << "Height: " << this->Height << "\n";
-  os << indent << "Samples: " << this->Samples << "\n";
-  os << indent << "MaxDepth: " << this->MaxDepth << "\n";
-  os << indent << "MinContribution: " << this->MinContribution << "\n";
-  os << indent << "MaxSamples: " << this->MaxSamples << "\n";
-  os << indent << "TargetError: " << this->TargetError << "\n";
-  os << indent << "TextureFilter: " << this->TextureFilter << "\n";
-  os << indent << "Threads: " << this->Threads << "\n";
-  os << indent << "Seed: " << this->Seed << "\n";
-  os << indent << "ComputeCost: " << this->ComputeCost << "\n";
-  rayscope::AccelKind kind;
-  os << indent << "Accel: "
-     << (rayscope::accel_kind_of_vtk_id(this->Accel, kind) ? rayscope::to_string(kind) : "?")
-     << "\n";
-  os << indent << "Storage: " << rayscope::to_string(rayscope_vtk::storage_of(this->Storage))
-     << "\n";
-  os << indent << "LooseFactor: " << this->LooseFactor << "\n";
-  os << indent << "GridResolution: " << this->GridResolution[0] << " " << this->GridResolution[1]
-     << " " << this->GridResolution[2] << "\n";
-  os << indent << "KdSplit: " << (this->KdSplit == KD_SPLIT_MEDIAN ? "median" : "sah") << "\n";
-  v3("Position", this->Position);
-  v3("FocalPoint", this->FocalPoint);
-  v3("ViewUp", this->ViewUp);
-  os << indent << "ViewAngle: " << this->ViewAngle << "\n";
-  os << indent << "ParallelProjection: " << this->ParallelProjection << "\n";
-  os << indent << "ParallelScale: " << this->ParallelScale << "\n";
-  v3("Background", this->Background);
-  v3("AmbientLight", this->AmbientLight);
-  os << indent << "Headlight: " << this->Headlight << "\n";
-  os << indent << "HeadlightIntensity: " << this->HeadlightIntensity << "\n";
-  os << indent << "Shadows: " << this->Shadows << "\n";
-  os << indent << "AutoCamera: " << this->AutoCamera << "\n";
+  os << indent << "Settings:\n";
+  this->Internal->settings->PrintSelf(os, indent.GetNextIndent());
   os << indent << "ScalarColoring: " << this->ScalarColoring << "\n";
   os << indent << "LookupTable: " << this->LookupTable << "\n";
-  os << indent << "Lights: " << this->Internal->lights.size() << "\n";
-  os << indent << "Material:\n";
-  this->Internal->material->PrintSelf(os, indent.GetNextIndent());
   for (auto& [index, m] : this->Internal->input_materials) {
     os << indent << "Material of input " << index << ":\n";
     m->PrintSelf(os, indent.GetNextIndent());

@@ -58,12 +58,15 @@
  *
  * vtkRayScopeRayTreeSource and vtkRayScopeAccelSource take this algorithm as
  * their scene (SetSceneSource): they see the same scene, camera and sampling.
+ * Or they share only the settings (SetSettings(GetSettings())), each with
+ * its own inputs.
  */
 #ifndef vtkRayScopeImageAlgorithm_h
 #define vtkRayScopeImageAlgorithm_h
 
 #include "RayScopeVTKModule.h"  // export macro
 #include "vtkImageAlgorithm.h"
+#include "vtkRayScopeSceneSettings.h"  // the settings and the shorthands for them
 
 #include <string>  // std::string
 
@@ -90,247 +93,163 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /// Image size in pixels (default 300 x 300), each in 1..kMaxImageSide, at
-  /// most kMaxPixels pixels.
-  vtkSetMacro(Width, int);
-  vtkGetMacro(Width, int);
-  vtkSetMacro(Height, int);
-  vtkGetMacro(Height, int);
-  void SetSize(int width, int height);
+  /// The scene settings: image size and sampling, acceleration structure,
+  /// camera, lights and the default material (never null; each algorithm
+  /// starts with its own). SetSettings() shares one settings object between
+  /// this algorithm and the ray-tree, structure and range-query filters, so
+  /// that one change reaches all of them (null: a new default object).
+  vtkRayScopeSceneSettings* GetSettings();
+  void SetSettings(vtkRayScopeSceneSettings* settings);
   ///@}
 
   ///@{
-  /// N: each pixel takes N x N stratified samples (1..kMaxSamples, default 1).
-  vtkSetMacro(Samples, int);
-  vtkGetMacro(Samples, int);
-  ///@}
-
-  ///@{
-  /// Maximum recursion depth of reflection and refraction rays (0..kMaxDepth,
-  /// default 5).
-  vtkSetMacro(MaxDepth, int);
-  vtkGetMacro(MaxDepth, int);
-  ///@}
-
-  ///@{
-  /// Secondary rays whose weight within their sample is smaller are skipped
-  /// (0..kMaxMinContribution, i.e. 0..1; default 1e-3).
-  vtkSetMacro(MinContribution, double);
-  vtkGetMacro(MinContribution, double);
-  ///@}
-
-  ///@{
-  /// Adaptive sampling (RenderSettings::max_samples, target_error): 0 (off;
-  /// default), or M, a multiple of Samples up to kMaxSamples: each pixel takes
-  /// Samples x Samples samples at a time from an M x M grid until the standard
-  /// error of its mean is below TargetError (0..kMaxTargetError, default 0:
-  /// all M x M). TargetError > 0 needs MaxSamples > 0.
-  vtkSetMacro(MaxSamples, int);
-  vtkGetMacro(MaxSamples, int);
-  vtkSetMacro(TargetError, double);
-  vtkGetMacro(TargetError, double);
-  ///@}
-
-  ///@{
-  /// Box-filter the checkerboard over each primary sample's footprint, from
-  /// ray differentials (RenderSettings::texture_filter; default off).
-  vtkSetMacro(TextureFilter, vtkTypeBool);
-  vtkGetMacro(TextureFilter, vtkTypeBool);
-  vtkBooleanMacro(TextureFilter, vtkTypeBool);
-  ///@}
-
-  ///@{
-  /// Render threads (0..kMaxThreads; 0: all hardware threads) and the seed of
-  /// the jitter (0..kMaxSeed, which is VTK_INT_MAX; clamped to that range).
-  vtkSetMacro(Threads, int);
-  vtkGetMacro(Threads, int);
-  vtkSetClampMacro(Seed, int, 0, VTK_INT_MAX);
-  vtkGetMacro(Seed, int);
-  ///@}
-
-  ///@{
-  /// The structure rays walk (rayscope::AccelKind, docs/acceleration.md):
-  /// ACCEL_BVH, the BVH in 8-wide nodes, what renders use (default);
-  /// ACCEL_BINARY_BVH, the same BVH node by node, the lecture's binary walk,
-  /// so that ray trees, the "Cost" arrays and vtkRayScopeAccelSource's visit
-  /// counts show every binary node a ray enters; ACCEL_NONE, every primitive
-  /// tested against every ray; ACCEL_KDTREE, the SAH kD-tree; ACCEL_GRID, the
-  /// uniform grid; ACCEL_OCTREE, the octree, and ACCEL_BSP, the BSP tree
-  /// (planes through the triangles), both stored as Storage says;
-  /// ACCEL_SPHERES, the hierarchy of bounding spheres. Each walk
-  /// names its own nodes or cells, and vtkRayScopeAccelSource draws the
-  /// structure walked. The image is the same for all.
+  /// Shorthands for the settings' own methods, documented in
+  /// vtkRayScopeSceneSettings: alg->SetSamples(4) is
+  /// alg->GetSettings()->SetSamples(4), and the constants are the settings'.
   enum AccelKinds {
-    ACCEL_BVH = 0,
-    ACCEL_BINARY_BVH = 1,
-    ACCEL_NONE = 2,
-    ACCEL_KDTREE = 3,
-    ACCEL_GRID = 4,
-    ACCEL_OCTREE = 5,
-    ACCEL_BSP = 6,
-    ACCEL_SPHERES = 7
+    ACCEL_BVH = vtkRayScopeSceneSettings::ACCEL_BVH,
+    ACCEL_BINARY_BVH = vtkRayScopeSceneSettings::ACCEL_BINARY_BVH,
+    ACCEL_NONE = vtkRayScopeSceneSettings::ACCEL_NONE,
+    ACCEL_KDTREE = vtkRayScopeSceneSettings::ACCEL_KDTREE,
+    ACCEL_GRID = vtkRayScopeSceneSettings::ACCEL_GRID,
+    ACCEL_OCTREE = vtkRayScopeSceneSettings::ACCEL_OCTREE,
+    ACCEL_BSP = vtkRayScopeSceneSettings::ACCEL_BSP,
+    ACCEL_SPHERES = vtkRayScopeSceneSettings::ACCEL_SPHERES
   };
-  vtkSetClampMacro(Accel, int, ACCEL_BVH, ACCEL_SPHERES);
-  vtkGetMacro(Accel, int);
-  void SetAccelToBvh() { this->SetAccel(ACCEL_BVH); }
-  void SetAccelToBinaryBvh() { this->SetAccel(ACCEL_BINARY_BVH); }
-  void SetAccelToNone() { this->SetAccel(ACCEL_NONE); }
-  void SetAccelToKdTree() { this->SetAccel(ACCEL_KDTREE); }
-  void SetAccelToGrid() { this->SetAccel(ACCEL_GRID); }
-  void SetAccelToOctree() { this->SetAccel(ACCEL_OCTREE); }
-  void SetAccelToBsp() { this->SetAccel(ACCEL_BSP); }
-  void SetAccelToSpheres() { this->SetAccel(ACCEL_SPHERES); }
+  enum StorageKinds {
+    STORAGE_EVERY_CELL = vtkRayScopeSceneSettings::STORAGE_EVERY_CELL,
+    STORAGE_SMALLEST_CELL = vtkRayScopeSceneSettings::STORAGE_SMALLEST_CELL,
+    STORAGE_SPLIT = vtkRayScopeSceneSettings::STORAGE_SPLIT
+  };
+  enum KdSplitRules {
+    KD_SPLIT_SAH = vtkRayScopeSceneSettings::KD_SPLIT_SAH,
+    KD_SPLIT_MEDIAN = vtkRayScopeSceneSettings::KD_SPLIT_MEDIAN
+  };
+  enum LightTypes {
+    LIGHT_POINT = vtkRayScopeSceneSettings::LIGHT_POINT,
+    LIGHT_DIRECTIONAL = vtkRayScopeSceneSettings::LIGHT_DIRECTIONAL
+  };
+  void SetWidth(int v) { this->GetSettings()->SetWidth(v); }
+  int GetWidth() { return this->GetSettings()->GetWidth(); }
+  void SetHeight(int v) { this->GetSettings()->SetHeight(v); }
+  int GetHeight() { return this->GetSettings()->GetHeight(); }
+  void SetSamples(int v) { this->GetSettings()->SetSamples(v); }
+  int GetSamples() { return this->GetSettings()->GetSamples(); }
+  void SetMaxDepth(int v) { this->GetSettings()->SetMaxDepth(v); }
+  int GetMaxDepth() { return this->GetSettings()->GetMaxDepth(); }
+  void SetMinContribution(double v) { this->GetSettings()->SetMinContribution(v); }
+  double GetMinContribution() { return this->GetSettings()->GetMinContribution(); }
+  void SetMaxSamples(int v) { this->GetSettings()->SetMaxSamples(v); }
+  int GetMaxSamples() { return this->GetSettings()->GetMaxSamples(); }
+  void SetTargetError(double v) { this->GetSettings()->SetTargetError(v); }
+  double GetTargetError() { return this->GetSettings()->GetTargetError(); }
+  void SetTextureFilter(vtkTypeBool v) { this->GetSettings()->SetTextureFilter(v); }
+  vtkTypeBool GetTextureFilter() { return this->GetSettings()->GetTextureFilter(); }
+  void TextureFilterOn() { this->GetSettings()->TextureFilterOn(); }
+  void TextureFilterOff() { this->GetSettings()->TextureFilterOff(); }
+  void SetThreads(int v) { this->GetSettings()->SetThreads(v); }
+  int GetThreads() { return this->GetSettings()->GetThreads(); }
+  void SetSeed(int v) { this->GetSettings()->SetSeed(v); }
+  int GetSeed() { return this->GetSettings()->GetSeed(); }
+  void SetAccel(int v) { this->GetSettings()->SetAccel(v); }
+  int GetAccel() { return this->GetSettings()->GetAccel(); }
+  void SetStorage(int v) { this->GetSettings()->SetStorage(v); }
+  int GetStorage() { return this->GetSettings()->GetStorage(); }
+  void SetLooseFactor(double v) { this->GetSettings()->SetLooseFactor(v); }
+  double GetLooseFactor() { return this->GetSettings()->GetLooseFactor(); }
+  void SetKdSplit(int v) { this->GetSettings()->SetKdSplit(v); }
+  int GetKdSplit() { return this->GetSettings()->GetKdSplit(); }
+  void SetGridResolution(int x, int y, int z) { this->GetSettings()->SetGridResolution(x, y, z); }
+  void SetGridResolution(const int v[3]) { this->GetSettings()->SetGridResolution(v); }
+  int* GetGridResolution() VTK_SIZEHINT(3) { return this->GetSettings()->GetGridResolution(); }
+  void GetGridResolution(int v[3]) { this->GetSettings()->GetGridResolution(v); }
+  void SetComputeCost(vtkTypeBool v) { this->GetSettings()->SetComputeCost(v); }
+  vtkTypeBool GetComputeCost() { return this->GetSettings()->GetComputeCost(); }
+  void ComputeCostOn() { this->GetSettings()->ComputeCostOn(); }
+  void ComputeCostOff() { this->GetSettings()->ComputeCostOff(); }
+  void SetPosition(double x, double y, double z) { this->GetSettings()->SetPosition(x, y, z); }
+  void SetPosition(const double v[3]) { this->GetSettings()->SetPosition(v); }
+  double* GetPosition() VTK_SIZEHINT(3) { return this->GetSettings()->GetPosition(); }
+  void GetPosition(double v[3]) { this->GetSettings()->GetPosition(v); }
+  void SetFocalPoint(double x, double y, double z) { this->GetSettings()->SetFocalPoint(x, y, z); }
+  void SetFocalPoint(const double v[3]) { this->GetSettings()->SetFocalPoint(v); }
+  double* GetFocalPoint() VTK_SIZEHINT(3) { return this->GetSettings()->GetFocalPoint(); }
+  void GetFocalPoint(double v[3]) { this->GetSettings()->GetFocalPoint(v); }
+  void SetViewUp(double x, double y, double z) { this->GetSettings()->SetViewUp(x, y, z); }
+  void SetViewUp(const double v[3]) { this->GetSettings()->SetViewUp(v); }
+  double* GetViewUp() VTK_SIZEHINT(3) { return this->GetSettings()->GetViewUp(); }
+  void GetViewUp(double v[3]) { this->GetSettings()->GetViewUp(v); }
+  void SetViewAngle(double v) { this->GetSettings()->SetViewAngle(v); }
+  double GetViewAngle() { return this->GetSettings()->GetViewAngle(); }
+  void SetParallelProjection(vtkTypeBool v) { this->GetSettings()->SetParallelProjection(v); }
+  vtkTypeBool GetParallelProjection() { return this->GetSettings()->GetParallelProjection(); }
+  void ParallelProjectionOn() { this->GetSettings()->ParallelProjectionOn(); }
+  void ParallelProjectionOff() { this->GetSettings()->ParallelProjectionOff(); }
+  void SetParallelScale(double v) { this->GetSettings()->SetParallelScale(v); }
+  double GetParallelScale() { return this->GetSettings()->GetParallelScale(); }
+  void SetAutoCamera(vtkTypeBool v) { this->GetSettings()->SetAutoCamera(v); }
+  vtkTypeBool GetAutoCamera() { return this->GetSettings()->GetAutoCamera(); }
+  void AutoCameraOn() { this->GetSettings()->AutoCameraOn(); }
+  void AutoCameraOff() { this->GetSettings()->AutoCameraOff(); }
+  void SetBackground(double x, double y, double z) { this->GetSettings()->SetBackground(x, y, z); }
+  void SetBackground(const double v[3]) { this->GetSettings()->SetBackground(v); }
+  double* GetBackground() VTK_SIZEHINT(3) { return this->GetSettings()->GetBackground(); }
+  void GetBackground(double v[3]) { this->GetSettings()->GetBackground(v); }
+  void SetAmbientLight(double x, double y, double z) {
+    this->GetSettings()->SetAmbientLight(x, y, z);
+  }
+  void SetAmbientLight(const double v[3]) { this->GetSettings()->SetAmbientLight(v); }
+  double* GetAmbientLight() VTK_SIZEHINT(3) { return this->GetSettings()->GetAmbientLight(); }
+  void GetAmbientLight(double v[3]) { this->GetSettings()->GetAmbientLight(v); }
+  void SetHeadlight(vtkTypeBool v) { this->GetSettings()->SetHeadlight(v); }
+  vtkTypeBool GetHeadlight() { return this->GetSettings()->GetHeadlight(); }
+  void HeadlightOn() { this->GetSettings()->HeadlightOn(); }
+  void HeadlightOff() { this->GetSettings()->HeadlightOff(); }
+  void SetHeadlightIntensity(double v) { this->GetSettings()->SetHeadlightIntensity(v); }
+  double GetHeadlightIntensity() { return this->GetSettings()->GetHeadlightIntensity(); }
+  void SetShadows(vtkTypeBool v) { this->GetSettings()->SetShadows(v); }
+  vtkTypeBool GetShadows() { return this->GetSettings()->GetShadows(); }
+  void ShadowsOn() { this->GetSettings()->ShadowsOn(); }
+  void ShadowsOff() { this->GetSettings()->ShadowsOff(); }
+  void SetSize(int width, int height) { this->GetSettings()->SetSize(width, height); }
+  void SetAccelToBvh() { this->GetSettings()->SetAccelToBvh(); }
+  void SetAccelToBinaryBvh() { this->GetSettings()->SetAccelToBinaryBvh(); }
+  void SetAccelToNone() { this->GetSettings()->SetAccelToNone(); }
+  void SetAccelToKdTree() { this->GetSettings()->SetAccelToKdTree(); }
+  void SetAccelToGrid() { this->GetSettings()->SetAccelToGrid(); }
+  void SetAccelToOctree() { this->GetSettings()->SetAccelToOctree(); }
+  void SetAccelToBsp() { this->GetSettings()->SetAccelToBsp(); }
+  void SetAccelToSpheres() { this->GetSettings()->SetAccelToSpheres(); }
+  void SetStorageToEveryCell() { this->GetSettings()->SetStorageToEveryCell(); }
+  void SetStorageToSmallestCell() { this->GetSettings()->SetStorageToSmallestCell(); }
+  void SetStorageToSplit() { this->GetSettings()->SetStorageToSplit(); }
+  void SetKdSplitToSah() { this->GetSettings()->SetKdSplitToSah(); }
+  void SetKdSplitToMedian() { this->GetSettings()->SetKdSplitToMedian(); }
+  void CopyCamera(vtkCamera* camera) { this->GetSettings()->CopyCamera(camera); }
+  int AddPointLight(double x, double y, double z, double r, double g, double b, double intensity) {
+    return this->GetSettings()->AddPointLight(x, y, z, r, g, b, intensity);
+  }
+  int AddDirectionalLight(double dx, double dy, double dz, double r, double g, double b,
+                          double intensity) {
+    return this->GetSettings()->AddDirectionalLight(dx, dy, dz, r, g, b, intensity);
+  }
+  int AddLight(double type, double x, double y, double z, double r, double g, double b,
+               double intensity) {
+    return this->GetSettings()->AddLight(type, x, y, z, r, g, b, intensity);
+  }
+  void RemoveAllLights() { this->GetSettings()->RemoveAllLights(); }
+  int GetNumberOfLights() { return this->GetSettings()->GetNumberOfLights(); }
+  void SetLightAttenuation(int index, double constant, double linear, double quadratic) {
+    this->GetSettings()->SetLightAttenuation(index, constant, linear, quadratic);
+  }
+  vtkRayScopeMaterial* GetMaterial() { return this->GetSettings()->GetMaterial(); }
+  void SetMaterial(vtkRayScopeMaterial* material) { this->GetSettings()->SetMaterial(material); }
   ///@}
-
-  ///@{
-  /// How a spatial subdivision stores a primitive that straddles its cuts
-  /// (rayscope::PrimStorage, docs/acceleration.md): STORAGE_EVERY_CELL, a
-  /// reference in every cell it overlaps (default; every Accel takes it);
-  /// STORAGE_SMALLEST_CELL, once, in its smallest loose cell (ACCEL_OCTREE)
-  /// or in the node whose plane it straddles (ACCEL_BSP); STORAGE_SPLIT, cut
-  /// into fragments (ACCEL_BSP only). A pair the structure cannot build is an
-  /// error, with the core's message (rayscope::accel_storage_error, as the
-  /// CLI's --storage).
-  enum StorageKinds { STORAGE_EVERY_CELL = 0, STORAGE_SMALLEST_CELL = 1, STORAGE_SPLIT = 2 };
-  vtkSetClampMacro(Storage, int, STORAGE_EVERY_CELL, STORAGE_SPLIT);
-  vtkGetMacro(Storage, int);
-  void SetStorageToEveryCell() { this->SetStorage(STORAGE_EVERY_CELL); }
-  void SetStorageToSmallestCell() { this->SetStorage(STORAGE_SMALLEST_CELL); }
-  void SetStorageToSplit() { this->SetStorage(STORAGE_SPLIT); }
-  ///@}
-
-  ///@{
-  /// STORAGE_SMALLEST_CELL's loose factor for ACCEL_KDTREE, ACCEL_GRID and
-  /// ACCEL_OCTREE: each cell enlarged by this fraction of its size on every
-  /// side (default 0.1, the lecture's 10%; 0 .. 0.5). A value out of range is
-  /// an error with the core's message (rayscope::loose_factor_error, as the
-  /// CLI's --loose-factor).
-  vtkSetMacro(LooseFactor, double);
-  vtkGetMacro(LooseFactor, double);
-  ///@}
-
-  ///@{
-  /// How ACCEL_KDTREE chooses its split planes (rayscope::KdSplitRule, as the
-  /// CLI's --kd-split): KD_SPLIT_SAH, by the surface-area heuristic
-  /// (default); KD_SPLIT_MEDIAN, at the median of the cell's primitive
-  /// centers on its widest axis.
-  enum KdSplitRules { KD_SPLIT_SAH = 0, KD_SPLIT_MEDIAN = 1 };
-  vtkSetClampMacro(KdSplit, int, KD_SPLIT_SAH, KD_SPLIT_MEDIAN);
-  vtkGetMacro(KdSplit, int);
-  void SetKdSplitToSah() { this->SetKdSplit(KD_SPLIT_SAH); }
-  void SetKdSplitToMedian() { this->SetKdSplit(KD_SPLIT_MEDIAN); }
-  ///@}
-
-  ///@{
-  /// ACCEL_GRID's cells per axis (x, y, z; 0 on an axis, the default: chosen
-  /// from the object count), as the CLI's --grid-resolution. More than
-  /// rayscope::UniformGrid::kMaxResolution per axis or kMaxCells in all is an
-  /// error with the core's message (rayscope::grid_resolution_error).
-  vtkSetVector3Macro(GridResolution, int);
-  vtkGetVector3Macro(GridResolution, int);
-  ///@}
-
-  ///@{
-  /// Produce the "Cost" arrays (default on).
-  vtkSetMacro(ComputeCost, vtkTypeBool);
-  vtkGetMacro(ComputeCost, vtkTypeBool);
-  vtkBooleanMacro(ComputeCost, vtkTypeBool);
-  ///@}
-
-  ///@{
-  /// Camera, as vtkCamera (defaults: position (0, 0, 1), focal point 0, view
-  /// up (0, 1, 0), view angle 30 degrees, perspective, parallel scale 1).
-  vtkSetVector3Macro(Position, double);
-  vtkGetVector3Macro(Position, double);
-  vtkSetVector3Macro(FocalPoint, double);
-  vtkGetVector3Macro(FocalPoint, double);
-  vtkSetVector3Macro(ViewUp, double);
-  vtkGetVector3Macro(ViewUp, double);
-  vtkSetMacro(ViewAngle, double);
-  vtkGetMacro(ViewAngle, double);
-  vtkSetMacro(ParallelProjection, vtkTypeBool);
-  vtkGetMacro(ParallelProjection, vtkTypeBool);
-  vtkBooleanMacro(ParallelProjection, vtkTypeBool);
-  vtkSetMacro(ParallelScale, double);
-  vtkGetMacro(ParallelScale, double);
-  ///@}
-
-  /// Takes position, focal point, view up, view angle and the projection from
-  /// a vtkCamera.
-  void CopyCamera(vtkCamera* camera);
 
   /// Points the camera at the bounds of all inputs, as vtkRenderer::ResetCamera
   /// does (looking down -z with +y up, or along the current view direction
   /// when the camera is valid). Updates the inputs. Returns 0 without inputs.
   int ResetCamera();
-
-  ///@{
-  /// AutoCamera: every update points the camera at the bounds of the inputs
-  /// as ResetCamera() does, without changing the settings above: the view
-  /// direction (Position toward FocalPoint), ViewUp, ViewAngle and the
-  /// projection are kept; the distance (and the parallel scale) are fitted.
-  /// Default off; ParaView's filters turn it on.
-  vtkSetMacro(AutoCamera, vtkTypeBool);
-  vtkGetMacro(AutoCamera, vtkTypeBool);
-  vtkBooleanMacro(AutoCamera, vtkTypeBool);
-  ///@}
-
-  ///@{
-  /// Background color (sRGB, default black).
-  vtkSetVector3Macro(Background, double);
-  vtkGetVector3Macro(Background, double);
-  ///@}
-
-  ///@{
-  /// Ambient light color (sRGB, default white); multiplies every material's
-  /// ambient term.
-  vtkSetVector3Macro(AmbientLight, double);
-  vtkGetVector3Macro(AmbientLight, double);
-  ///@}
-
-  ///@{
-  /// VTK-style headlight: directional, from the camera toward the focal point
-  /// (default on, intensity 1).
-  vtkSetMacro(Headlight, vtkTypeBool);
-  vtkGetMacro(Headlight, vtkTypeBool);
-  vtkBooleanMacro(Headlight, vtkTypeBool);
-  vtkSetMacro(HeadlightIntensity, double);
-  vtkGetMacro(HeadlightIntensity, double);
-  ///@}
-
-  ///@{
-  /// Lights besides the headlight. Colors are sRGB, intensity >= 0. A point
-  /// light is not attenuated (VTK's default). Directional lights give the
-  /// direction the light travels. Each returns the light's index.
-  int AddPointLight(double x, double y, double z, double r, double g, double b, double intensity);
-  int AddDirectionalLight(double dx, double dy, double dz, double r, double g, double b,
-                          double intensity);
-  /// AddPointLight() (type LIGHT_POINT; x, y, z a position) or
-  /// AddDirectionalLight() (LIGHT_DIRECTIONAL; the direction of travel) by
-  /// type: one command for a list of lights of both kinds, whose values are
-  /// all doubles (ParaView's "Lights" property); any other type is an error.
-  enum LightTypes { LIGHT_POINT = 0, LIGHT_DIRECTIONAL = 1 };
-  int AddLight(double type, double x, double y, double z, double r, double g, double b,
-               double intensity);
-  void RemoveAllLights();
-  int GetNumberOfLights();
-  /// Attenuation 1 / (constant + linear d + quadratic d^2) of point light
-  /// `index` (vtkLight::SetAttenuationValues; default (1, 0, 0), none).
-  void SetLightAttenuation(int index, double constant, double linear, double quadratic);
-  ///@}
-
-  ///@{
-  /// Shadow rays toward every light (default on).
-  vtkSetMacro(Shadows, vtkTypeBool);
-  vtkGetMacro(Shadows, vtkTypeBool);
-  vtkBooleanMacro(Shadows, vtkTypeBool);
-  ///@}
-
-  /// The material of inputs without their own (never null).
-  vtkRayScopeMaterial* GetMaterial();
-  /// Makes `material` the material of inputs without their own (null: a new
-  /// default material).
-  void SetMaterial(vtkRayScopeMaterial* material);
   /// Gives input `index` (>= 0; negative is an error) its own material (null:
   /// back to the default). An index with no input connected at RequestData is
   /// a warning there.
@@ -465,34 +384,6 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
                   vtkInformationVector* outputVector) override;
 
-  int Width;
-  int Height;
-  int Samples;
-  int MaxDepth;
-  double MinContribution;
-  int MaxSamples;
-  double TargetError;
-  vtkTypeBool TextureFilter;
-  int Threads;
-  int Seed;
-  vtkTypeBool ComputeCost;
-  int Accel;
-  int Storage;
-  double LooseFactor;
-  int KdSplit;
-  int GridResolution[3];
-  double Position[3];
-  double FocalPoint[3];
-  double ViewUp[3];
-  double ViewAngle;
-  vtkTypeBool ParallelProjection;
-  double ParallelScale;
-  double Background[3];
-  double AmbientLight[3];
-  vtkTypeBool Headlight;
-  double HeadlightIntensity;
-  vtkTypeBool Shadows;
-  vtkTypeBool AutoCamera;
   int ScalarColoring;
   vtkScalarsToColors* LookupTable;
 

@@ -14,9 +14,11 @@
 #include "vtkRayScopeMaterial.h"
 #include "vtkRayScopeMeshConverter.h"
 #include "vtkRayScopeRendererCopy.h"
+#include "vtkRayScopeSceneSettings.h"
 
 struct vtkRayScopeImageAlgorithm::Internals {
-  vtkSmartPointer<vtkRayScopeMaterial> material = vtkSmartPointer<vtkRayScopeMaterial>::New();
+  vtkSmartPointer<vtkRayScopeSceneSettings> settings =
+      vtkSmartPointer<vtkRayScopeSceneSettings>::New();
   std::map<int, vtkSmartPointer<vtkRayScopeMaterial>> input_materials;
   vtkNew<vtkRayScopeMeshConverter> converter;
   // Inputs without a converter of their own, when ScalarColoring is not
@@ -24,7 +26,6 @@ struct vtkRayScopeImageAlgorithm::Internals {
   vtkNew<vtkRayScopeMeshConverter> coloring_converter;
   vtkNew<vtkLookupTable> default_table;  // COLOR_BY_ARRAY without LookupTable
   std::map<int, vtkSmartPointer<vtkRayScopeMeshConverter>> input_converters;
-  std::vector<rayscope_vtk::SceneLight> lights;
   rayscope_vtk::CopiedActors actors;  // CopyRenderer()'s cache
   rayscope_vtk::SceneBuilder builder;
 };

@@ -25,6 +25,7 @@
 #include "rayscope/scene.h"
 #include "rayscope/stats.h"
 #include "vtkRayScopeImageAlgorithm.h"
+#include "vtkRayScopeSceneSettings.h"
 
 vtkStandardNewMacro(vtkRayScopeRangeQuery);
 vtkCxxSetObjectMacro(vtkRayScopeRangeQuery, SceneSource, vtkRayScopeImageAlgorithm);
@@ -37,6 +38,7 @@ vtkRayScopeRangeQuery::vtkRayScopeRangeQuery()
       Radius(1.0),
       NumberOfNeighbors(1),
       SphereResolution(24) {
+  this->Settings = rayscope_vtk::new_source_settings();
   this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(2);
 }
@@ -45,9 +47,18 @@ vtkRayScopeRangeQuery::~vtkRayScopeRangeQuery() {
   this->SetSceneSource(nullptr);
 }
 
+vtkRayScopeSceneSettings* vtkRayScopeRangeQuery::GetSettings() {
+  return this->Settings;
+}
+
+void vtkRayScopeRangeQuery::SetSettings(vtkRayScopeSceneSettings* settings) {
+  if (rayscope_vtk::replace_settings(this->Settings, settings)) this->Modified();
+}
+
 vtkMTimeType vtkRayScopeRangeQuery::GetMTime() {
   vtkMTimeType t = this->Superclass::GetMTime();
   if (this->SceneSource) t = std::max(t, this->SceneSource->GetMTime());
+  t = std::max(t, this->Settings->GetMTime());
   return t;
 }
 
@@ -150,8 +161,8 @@ int vtkRayScopeRangeQuery::RequestData(vtkInformation*, vtkInformationVector** i
   vtkPolyData* range_out = vtkPolyData::GetData(outputVector, 1);
   found_out->Initialize();
   range_out->Initialize();
-  vtkRayScopeImageAlgorithm* source =
-      rayscope_vtk::update_scene(this, inputVector[0], this->SceneSource, this->DefaultScene);
+  vtkRayScopeImageAlgorithm* source = rayscope_vtk::update_scene(
+      this, inputVector[0], this->SceneSource, this->Settings, this->DefaultScene);
   if (!source) return 0;
   const rayscope::Scene& scene = *source->GetCoreScene();
   const rayscope::Aggregate& accel = scene.accel();

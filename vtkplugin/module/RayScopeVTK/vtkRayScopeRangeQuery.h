@@ -11,8 +11,9 @@
  * query as `rayscope query`.
  *
  * The scene's datasets come through input port 0 (one or more vtkDataSets),
- * as for vtkRayScopeAccelSource; SetSceneSource gives the structure choice
- * (without one, a default scene over the inputs, walked by the BVH).
+ * as for vtkRayScopeAccelSource; the structure is its settings' Accel
+ * (GetSettings(), shareable; the BVH by default) or its scene source's
+ * (SetSceneSource).
  *
  * Ranges are in world coordinates:
  * - QueryTypeToBox: every object that shares a point with the closed box
@@ -50,6 +51,7 @@
 #include "vtkSmartPointer.h"  // DefaultScene
 
 class vtkRayScopeImageAlgorithm;
+class vtkRayScopeSceneSettings;
 
 class RAYSCOPEVTK_EXPORT vtkRayScopeRangeQuery : public vtkPolyDataAlgorithm {
  public:
@@ -62,6 +64,18 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeRangeQuery : public vtkPolyDataAlgorithm {
   /// inputs are replaced by this filter's, when it has any).
   virtual void SetSceneSource(vtkRayScopeImageAlgorithm*);
   vtkGetObjectMacro(SceneSource, vtkRayScopeImageAlgorithm);
+  ///@}
+
+  ///@{
+  /// The scene settings (image and sampling, structure, camera, lights,
+  /// material; vtkRayScopeSceneSettings), used when there is no scene source:
+  /// the inputs are then rendered with them. Never null: each filter starts
+  /// with its own, AutoCamera on. SetSettings() shares one settings object
+  /// with other RayScope filters, e.g. a vtkRayScopeImageAlgorithm's
+  /// GetSettings(), so that one change reaches all of them (null: new
+  /// defaults).
+  vtkRayScopeSceneSettings* GetSettings();
+  void SetSettings(vtkRayScopeSceneSettings* settings);
   ///@}
 
   ///@{
@@ -125,6 +139,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeRangeQuery : public vtkPolyDataAlgorithm {
  private:
   // The scene without a scene source: inputs only, camera fitted to them.
   vtkSmartPointer<vtkRayScopeImageAlgorithm> DefaultScene;
+  vtkSmartPointer<vtkRayScopeSceneSettings> Settings;
   vtkRayScopeRangeQuery(const vtkRayScopeRangeQuery&) = delete;
   void operator=(const vtkRayScopeRangeQuery&) = delete;
 };

@@ -27,6 +27,7 @@
 #include "rayscope/replay.h"
 #include "rayscope/scene.h"
 #include "vtkRayScopeImageAlgorithm.h"
+#include "vtkRayScopeSceneSettings.h"
 
 vtkStandardNewMacro(vtkRayScopeRayTreeSource);
 vtkCxxSetObjectMacro(vtkRayScopeRayTreeSource, SceneSource, vtkRayScopeImageAlgorithm);
@@ -37,6 +38,7 @@ struct vtkRayScopeRayTreeSource::Internals {
 
 vtkRayScopeRayTreeSource::vtkRayScopeRayTreeSource()
     : SceneSource(nullptr), Sample(-1), MissLength(0.0), Internal(new Internals) {
+  this->Settings = rayscope_vtk::new_source_settings();
   this->SetNumberOfInputPorts(1);
 }
 
@@ -67,9 +69,18 @@ int vtkRayScopeRayTreeSource::GetNumberOfPixels() {
   return int(this->Internal->pixels.size());
 }
 
+vtkRayScopeSceneSettings* vtkRayScopeRayTreeSource::GetSettings() {
+  return this->Settings;
+}
+
+void vtkRayScopeRayTreeSource::SetSettings(vtkRayScopeSceneSettings* settings) {
+  if (rayscope_vtk::replace_settings(this->Settings, settings)) this->Modified();
+}
+
 vtkMTimeType vtkRayScopeRayTreeSource::GetMTime() {
   vtkMTimeType t = this->Superclass::GetMTime();
   if (this->SceneSource) t = std::max(t, this->SceneSource->GetMTime());
+  t = std::max(t, this->Settings->GetMTime());
   return t;
 }
 
@@ -111,8 +122,8 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
     return 0;
   }
   this->UpdateProgress(0.0);
-  vtkRayScopeImageAlgorithm* source =
-      rayscope_vtk::update_scene(this, inputVector[0], this->SceneSource, this->DefaultScene);
+  vtkRayScopeImageAlgorithm* source = rayscope_vtk::update_scene(
+      this, inputVector[0], this->SceneSource, this->Settings, this->DefaultScene);
   if (!source) return 0;
   const rayscope::Scene& scene = *source->GetCoreScene();
   const rayscope::RenderSettings settings = source->GetRenderSettings();

@@ -60,6 +60,7 @@
 #include "vtkSmartPointer.h"  // DefaultScene
 
 class vtkRayScopeImageAlgorithm;
+class vtkRayScopeSceneSettings;
 
 class RAYSCOPEVTK_EXPORT vtkRayScopeRayTreeSource : public vtkPolyDataAlgorithm {
  public:
@@ -72,6 +73,18 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeRayTreeSource : public vtkPolyDataAlgorithm 
   /// inputs are replaced by this filter's, when it has any).
   virtual void SetSceneSource(vtkRayScopeImageAlgorithm*);
   vtkGetObjectMacro(SceneSource, vtkRayScopeImageAlgorithm);
+  ///@}
+
+  ///@{
+  /// The scene settings (image and sampling, structure, camera, lights,
+  /// material; vtkRayScopeSceneSettings), used when there is no scene source:
+  /// the inputs are then rendered with them. Never null: each filter starts
+  /// with its own, AutoCamera on. SetSettings() shares one settings object
+  /// with other RayScope filters, e.g. a vtkRayScopeImageAlgorithm's
+  /// GetSettings(), so that one change reaches all of them (null: new
+  /// defaults).
+  vtkRayScopeSceneSettings* GetSettings();
+  void SetSettings(vtkRayScopeSceneSettings* settings);
   ///@}
 
   ///@{
@@ -114,6 +127,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeRayTreeSource : public vtkPolyDataAlgorithm 
  private:
   // The scene without a scene source: inputs only, camera fitted to them.
   vtkSmartPointer<vtkRayScopeImageAlgorithm> DefaultScene;
+  vtkSmartPointer<vtkRayScopeSceneSettings> Settings;
   vtkRayScopeRayTreeSource(const vtkRayScopeRayTreeSource&) = delete;
   void operator=(const vtkRayScopeRayTreeSource&) = delete;
 

@@ -101,10 +101,7 @@ int vtkRayScopeImageAlgorithm::CopyRenderer(vtkRenderer* ren) {
     lights.push_back(l);
   }
   this->SetHeadlight(0);
-  if (lights != in.lights) {
-    in.lights = std::move(lights);
-    this->Modified();
-  }
+  this->GetSettings()->SetLights(lights);
 
   // Actors.
   for (rayscope_vtk::CopiedActor& e : in.actors) e.used = false;
