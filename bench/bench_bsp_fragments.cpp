@@ -20,7 +20,7 @@
 
 #include "rayscope/accel/bsp.h"
 #include "rayscope/scene_io.h"
-#include "rayscope_vtk/mesh_files.h"
+#include "rayscope_vtkio/mesh_files.h"
 
 namespace {
 
@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
   MeshOptions options;
   options.file = mesh_file;
   options.smooth = false;
-  const TriangleMesh mesh = rayscope_vtk::load_mesh(options);
+  const TriangleMesh mesh = rayscope_vtkio::load_mesh(options);
   for (size_t n : {250u, 1000u, 4000u, 16000u, 64000u}) {
     if (n > mesh.triangles.size()) break;
     std::vector<BspPrim> prims;

@@ -107,7 +107,7 @@
 #include "rayscope/render.h"
 #include "rayscope/scene_io.h"
 #include "rayscope/shapes.h"
-#include "rayscope_vtk/mesh_files.h"
+#include "rayscope_vtkio/mesh_files.h"
 
 #ifndef RAYSCOPE_SOURCE_DIR
 #define RAYSCOPE_SOURCE_DIR "."
@@ -208,7 +208,7 @@ LoadedScene load_case(const std::string& name, const fs::path& file) {
     l.scene = make_default_scene();
     return l;
   }
-  return load_scene(file, rayscope_vtk::load_mesh);
+  return load_scene(file, rayscope_vtkio::load_mesh);
 }
 
 // ---------------------------------------------------------------------------

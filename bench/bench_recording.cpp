@@ -24,7 +24,7 @@
 #include "rayscope/render.h"
 #include "rayscope/replay.h"
 #include "rayscope/shapes.h"
-#include "rayscope_vtk/mesh_files.h"
+#include "rayscope_vtkio/mesh_files.h"
 
 using namespace rayscope;
 
@@ -47,7 +47,7 @@ Scene bunny_scene(const char* path) {
   Scene s = make_default_scene();
   MeshOptions bunny_file;
   bunny_file.file = path;
-  TriangleMesh bunny = rayscope_vtk::load_mesh(bunny_file);
+  TriangleMesh bunny = rayscope_vtkio::load_mesh(bunny_file);
   for (Vec3& p : bunny.positions) p = p * 0.9f + Vec3(-0.2f, 0.89f, -2.0f);
   for (Vec3& n : bunny.normals) n = glm::normalize(n);
   bunny.material = 3;

@@ -52,7 +52,7 @@
 #include "rayscope/camera.h"
 #include "rayscope/scene.h"
 #include "rayscope/shapes.h"
-#include "rayscope_vtk/mesh_files.h"
+#include "rayscope_vtkio/mesh_files.h"
 
 namespace {
 
@@ -841,7 +841,7 @@ int main(int argc, char** argv) {
 
   TriangleMesh base;
   try {
-    base = rayscope_vtk::read_mesh_file(opt.mesh);
+    base = rayscope_vtkio::read_mesh_file(opt.mesh);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_trace: %s\n", e.what());
     return 2;

@@ -28,7 +28,7 @@
 
 #include "rayscope/scene_io.h"
 #include "rayscope/shapes.h"
-#include "rayscope_vtk/mesh_files.h"
+#include "rayscope_vtkio/mesh_files.h"
 #include "vtkPolyData.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeRayTreeSource.h"
@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
   // Click to tree, bunny scene.
   rayscope::LoadedScene bunny;
   try {
-    bunny = rayscope::load_scene(bunny_file, rayscope_vtk::load_mesh);
+    bunny = rayscope::load_scene(bunny_file, rayscope_vtkio::load_mesh);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_viewer: %s\n", e.what());
     return 1;

@@ -1,6 +1,6 @@
 # What every RayScope CMake configuration shares: the C++ standard, the
 # warning, rounding and optimisation flags of RayScope's own targets, and the packages
-# the core (raytracer/) and rayscope_vtkio (vtkplugin/meshio) link to.
+# the core (raytracer/) and rayscope_vtkio (vtkplugin/vtkio) link to.
 # Included by the top-level CMakeLists.txt and by the ParaView plugin's own
 # configuration (vtkplugin/paraview), which builds the same core against
 # ParaView's VTK.

@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
   // by huge pages (page faults were 18% of a cold bunny render's CPU time).
   rayscope::use_huge_pages_for_heap();
   // VTK's readers print multi-line reports of a bad mesh file to standard
-  // error; rayscope_vtk::load_mesh() turns every failure into one exception naming the
+  // error; rayscope_vtkio::load_mesh() turns every failure into one exception naming the
   // file and the problem, printed below as the one error line.
   vtkOutputWindow::GetInstance()->SetDisplayModeToNever();
   vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);

@@ -12,8 +12,8 @@
 
 #include "rayscope/input_file.h"
 #include "rayscope/shapes.h"
-#include "rayscope_vtk/mesh_conversion.h"
-#include "rayscope_vtk/mesh_files.h"
+#include "rayscope_vtkio/mesh_conversion.h"
+#include "rayscope_vtkio/mesh_files.h"
 
 namespace rayscope::cli {
 namespace {
@@ -205,12 +205,12 @@ LoadedScene SceneOptions::load() const {
     // precision.
     rayscope::MeshOptions options;
     options.file = scene;
-    vtkSmartPointer<vtkDataSet> data = rayscope_vtk::read_dataset_file(options.file);
-    loaded.scene.origin = rayscope_vtk::local_origin({data.Get()});
+    vtkSmartPointer<vtkDataSet> data = rayscope_vtkio::read_dataset_file(options.file);
+    loaded.scene.origin = rayscope_vtkio::local_origin({data.Get()});
     options.to_scene = glm::translate(glm::dmat4(1.0), -loaded.scene.origin);
-    loaded.scene.meshes.push_back(rayscope_vtk::load_mesh_from(options, data));
+    loaded.scene.meshes.push_back(rayscope_vtkio::load_mesh_from(options, data));
   } else {
-    loaded = load_scene(scene, rayscope_vtk::load_mesh);
+    loaded = load_scene(scene, rayscope_vtkio::load_mesh);
   }
   // The options override the scene's settings one by one; after each, the one
   // RenderSettings::validate() checks the result, so that its message (the

@@ -6,7 +6,10 @@
 // channel in OpenEXR, a heat map's colors and legend.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -180,6 +183,43 @@ TEST(ImageFiles, APngOnAFullDiskIsAnError) {
   EXPECT_NE(problem, "");
   EXPECT_EQ(write_png_rgb8(scratch("ok.png").string(), 64, 64, rgb.data(), true), "");
   fs::remove_all(scratch("ok.png").parent_path());
+}
+
+// srgb_byte() (a table; the 8-bit colors of the VTK module's images) is
+// std::lround(255 * linear_to_srgb(v)) for every float of [2^-16, 1]
+// (2^27 of them), every 64th below, and outside [0, 1].
+TEST(Srgb, BytesOfEveryFloat) {
+  auto exact = [](float v) { return (unsigned char)std::lround(255.0f * linear_to_srgb(v)); };
+  auto bits_of = [](float v) {
+    uint32_t b;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
+  };
+  const uint32_t low = bits_of(1.0f / 65536.0f), one = bits_of(1.0f);
+  uint64_t wrong = 0;
+  for (uint32_t b = 0; b <= one; b += b < low ? 64 : 1) {
+    float v;
+    std::memcpy(&v, &b, sizeof v);
+    wrong += srgb_byte(v) != exact(v);
+  }
+  EXPECT_EQ(wrong, 0u);
+  for (float v : {-0.0f, -1e-30f, -1.0f, 1.0f, 1.0000001f, 7.5f, INFINITY, -INFINITY, NAN})
+    EXPECT_EQ(srgb_byte(v), exact(v)) << v;
+}
+
+// The table of the 256 sRGB bytes' linear values decodes each byte back to
+// itself, and srgb_to_linear() inverts linear_to_srgb().
+TEST(Srgb, ByteTableAndDecodingInvertTheEncoding) {
+  const std::array<float, 256>& table = srgb_byte_table();
+  for (int i = 0; i < 256; ++i) {
+    EXPECT_EQ(table[size_t(i)], srgb_to_linear(float(double(i) / 255.0))) << i;
+    EXPECT_EQ(srgb_byte(table[size_t(i)]), i) << i;
+  }
+  for (float v : {0.001f, 0.0031308f, 0.01f, 0.2f, 0.5f, 0.99f})
+    EXPECT_NEAR(srgb_to_linear(linear_to_srgb(v)), v, 1e-6f * (1.0f + v)) << v;
+  EXPECT_EQ(srgb_to_linear(-0.5f), 0.0f);
+  EXPECT_EQ(srgb_to_linear(NAN), 0.0f);
+  EXPECT_EQ(srgb_to_linear(1.5f), 1.0f);
 }
 
 }  // namespace

@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <future>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -40,6 +43,73 @@ float linear_to_srgb(float v) {
   if (!(v > 0.0f)) return 0.0f;
   if (v >= 1.0f) return 1.0f;
   return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+float srgb_to_linear(float s) {
+  if (!(s > 0.0f)) return 0.0f;
+  if (s >= 1.0f) return 1.0f;
+  return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
+}
+
+const std::array<float, 256>& srgb_byte_table() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[size_t(i)] = srgb_to_linear(float(double(i) / 255.0));
+    return t;
+  }();
+  return table;
+}
+
+namespace {
+
+unsigned char srgb_byte_exact(float v) {
+  return (unsigned char)std::lround(255.0f * linear_to_srgb(v));
+}
+
+float float_of(uint32_t bits) {
+  float f;
+  std::memcpy(&f, &bits, sizeof f);
+  return f;
+}
+
+// srgb_byte()'s table. srgb_byte_exact() never decreases as v grows (checked
+// once on all 1,065,353,217 floats of [0, 1]), so byte b is the one of every
+// v in [threshold[b], threshold[b + 1]). Srgb.BytesOfEveryFloat
+// compares srgb_byte() with srgb_byte_exact() on every float of [2^-16, 1].
+struct SrgbTable {
+  static constexpr uint32_t kOne = 0x3f800000u;  // the bits of 1.0f
+  float threshold[257];
+  std::vector<unsigned char> start;  // the byte of the first float of each 2^16 bits
+  SrgbTable() {
+    threshold[0] = 0.0f;
+    for (int b = 1; b < 256; ++b) {  // the smallest float of (0, 1] whose byte is b or more
+      uint32_t lo = 0, hi = kOne;
+      while (lo < hi) {
+        const uint32_t mid = lo + (hi - lo) / 2;
+        if (srgb_byte_exact(float_of(mid)) >= b)
+          hi = mid;
+        else
+          lo = mid + 1;
+      }
+      threshold[b] = float_of(lo);
+    }
+    threshold[256] = std::numeric_limits<float>::infinity();
+    start.resize((kOne >> 16) + 1);
+    for (uint32_t k = 0; k < start.size(); ++k) start[k] = srgb_byte_exact(float_of(k << 16));
+  }
+};
+
+}  // namespace
+
+unsigned char srgb_byte(float v) {
+  static const SrgbTable table;
+  if (!(v > 0.0f)) return 0;  // NaN too
+  if (v >= 1.0f) return 255;
+  uint32_t bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  unsigned b = table.start[bits >> 16];
+  while (v >= table.threshold[b + 1]) ++b;
+  return (unsigned char)b;
 }
 
 namespace {

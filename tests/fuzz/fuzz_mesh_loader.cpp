@@ -1,5 +1,5 @@
 // libFuzzer target for the mesh files the rayscope command reads:
-// rayscope_vtk::load_mesh (vtkplugin/meshio), i.e. RayScope's checks of the
+// rayscope_vtkio::load_mesh (vtkplugin/vtkio), i.e. RayScope's checks of the
 // file (mesh_checks.h), VTK's reader of the format, and the conversion to
 // triangles, then Scene::commit().
 //
@@ -43,7 +43,7 @@
 #include <vtkOutputWindow.h>
 
 #include "rayscope/scene.h"
-#include "rayscope_vtk/mesh_files.h"
+#include "rayscope_vtkio/mesh_files.h"
 
 #ifdef RAYSCOPE_FUZZ_MESH_READER
 #include <vtkCommand.h>
@@ -51,7 +51,7 @@
 #include <vtkExecutive.h>
 #include <vtkNew.h>
 
-#include "rayscope_vtk/mesh_checks.h"
+#include "rayscope_vtkio/mesh_checks.h"
 #include "vtkRayScopeMeshReader.h"
 #endif
 
@@ -123,7 +123,7 @@ void check_reader(const fs::path& file, bool loaded) {
   }
   if (errors->count != 0) finding("reader succeeded with an error", errors->last);
   if (out->GetNumberOfPoints() == 0) finding("reader output", "a dataset without points");
-  if (std::string e = rayscope_vtk::check_cell_point_ids(out); !e.empty())
+  if (std::string e = rayscope_vtkio::check_cell_point_ids(out); !e.empty())
     finding("reader output", e);
   // (CheckAttributes' own message goes to the output window, silenced here.)
   if (out->CheckAttributes() != 0)
@@ -146,7 +146,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   rayscope::TriangleMesh mesh;
   bool loaded = false;
   try {
-    mesh = rayscope_vtk::load_mesh(options);
+    mesh = rayscope_vtkio::load_mesh(options);
     loaded = true;
   } catch (const std::runtime_error& e) {
     // A refusal must name the file (the one error line the user sees).

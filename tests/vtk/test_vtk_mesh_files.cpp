@@ -1,4 +1,4 @@
-// The rayscope command's mesh files (rayscope_vtk::load_mesh, vtkplugin/meshio)
+// The rayscope command's mesh files (rayscope_vtkio::load_mesh, vtkplugin/vtkio)
 // against the VTK module's converter: the same file gives the same triangles,
 // normals and colors, normals are computed smooth when the file has none, and
 // a scene file's color_by reaches the loader and colors the mesh; STL, OBJ
@@ -32,8 +32,7 @@
 #include <vtkXMLPolyDataWriter.h>
 
 #include "rayscope/scene_io.h"
-#include "rayscope_vtk/mesh_files.h"
-#include "rayscope_vtk/srgb.h"
+#include "rayscope_vtkio/mesh_files.h"
 #include "vtkRayScopeMeshConverter.h"
 
 namespace {
@@ -176,13 +175,13 @@ TEST_F(VtkMeshFiles, MeshReaderTriangleCounts) {
   std::ofstream(dir_ / "quad.obj") << kQuadObj;
   std::ofstream(dir_ / "hex.vtk") << kHexVtk;
   std::ofstream(dir_ / "mesh.xyz") << "1 2 3\n";
-  TriangleMesh tetra = rayscope_vtk::read_mesh_file(dir_ / "tetra.stl");
+  TriangleMesh tetra = rayscope_vtkio::read_mesh_file(dir_ / "tetra.stl");
   EXPECT_EQ(tetra.triangles.size(), 4u);
   EXPECT_EQ(tetra.positions.size(), 4u);  // the STL reader merges shared corners
-  TriangleMesh quad = rayscope_vtk::read_mesh_file(dir_ / "quad.obj");
+  TriangleMesh quad = rayscope_vtkio::read_mesh_file(dir_ / "quad.obj");
   EXPECT_EQ(quad.triangles.size(), 3u);
   EXPECT_EQ(quad.positions.size(), 5u);
-  TriangleMesh hex = rayscope_vtk::read_mesh_file(dir_ / "hex.vtk");
+  TriangleMesh hex = rayscope_vtkio::read_mesh_file(dir_ / "hex.vtk");
   EXPECT_EQ(hex.triangles.size(), 12u);
   EXPECT_EQ(hex.positions.size(), 8u);
   for (const TriangleMesh* m : {&tetra, &quad, &hex})
@@ -198,13 +197,13 @@ TEST_F(VtkMeshFiles, MeshReaderTriangleCounts) {
   }
   // Errors: "FILE: problem".
   try {
-    rayscope_vtk::read_mesh_file(dir_ / "missing.obj");
+    rayscope_vtkio::read_mesh_file(dir_ / "missing.obj");
     ADD_FAILURE() << "no error for a missing file";
   } catch (const std::exception& e) {
     EXPECT_EQ(std::string(e.what()), (dir_ / "missing.obj").string() + ": file not found");
   }
   try {
-    rayscope_vtk::read_mesh_file(dir_ / "mesh.xyz");
+    rayscope_vtkio::read_mesh_file(dir_ / "mesh.xyz");
     ADD_FAILURE() << "no error for an unsupported format";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("unsupported mesh format '.xyz'"), std::string::npos)
@@ -223,7 +222,7 @@ TEST_F(VtkMeshFiles, SceneFilesReadTheirMeshesThroughTheLoader) {
   const rayscope::LoadedScene ls = rayscope::parse_scene(R"({"objects": [
       {"type": "mesh", "file": "tetra.stl", "transform": {"translate": [1, 0, 0], "scale": 2}},
       {"type": "mesh", "file": "quad.obj"}, {"type": "mesh", "file": "hex.vtk"}]})",
-                                                         "scene", dir_, rayscope_vtk::load_mesh);
+                                                         "scene", dir_, rayscope_vtkio::load_mesh);
   ASSERT_EQ(ls.scene.meshes.size(), 3u);
   EXPECT_EQ(ls.scene.meshes[0].triangles.size(), 4u);
   EXPECT_EQ(ls.scene.meshes[1].triangles.size(), 3u);
@@ -236,7 +235,7 @@ TEST_F(VtkMeshFiles, SceneFilesReadTheirMeshesThroughTheLoader) {
   auto error = [&](const std::string& file) -> std::string {
     try {
       rayscope::parse_scene(R"({"objects": [{"type": "mesh", "file": ")" + file + R"("}]})",
-                            "scene", dir_, rayscope_vtk::load_mesh);
+                            "scene", dir_, rayscope_vtkio::load_mesh);
     } catch (const rayscope::SceneError& e) {
       return e.what();
     }
@@ -256,7 +255,7 @@ TEST_F(VtkMeshFiles, SceneFilesReadTheirMeshesThroughTheLoader) {
 // radial direction (flat shading would have one normal per face).
 TEST_F(VtkMeshFiles, CommandAndModuleGiveTheSameSmoothMesh) {
   const fs::path file = sphere_vtp();
-  TriangleMesh cli = rayscope_vtk::load_mesh(file_options(file));
+  TriangleMesh cli = rayscope_vtkio::load_mesh(file_options(file));
   expect_same(cli, module_mesh<vtkXMLPolyDataReader>(file));
 
   ASSERT_EQ(cli.normals.size(), cli.positions.size());
@@ -268,14 +267,14 @@ TEST_F(VtkMeshFiles, CommandAndModuleGiveTheSameSmoothMesh) {
   // "smooth": false: no normals at all.
   MeshOptions flat = file_options(file);
   flat.smooth = false;
-  EXPECT_TRUE(rayscope_vtk::load_mesh(flat).normals.empty());
+  EXPECT_TRUE(rayscope_vtkio::load_mesh(flat).normals.empty());
 }
 
 // Sharp edges are split as in the module (vtkPolyDataNormals, feature angle
 // 30 degrees): the cube's corners get one copy per face, with the face normal.
 TEST_F(VtkMeshFiles, SharpEdgesSplitAsInTheModule) {
   const fs::path file = cube_stl();
-  TriangleMesh cli = rayscope_vtk::load_mesh(file_options(file));
+  TriangleMesh cli = rayscope_vtkio::load_mesh(file_options(file));
   expect_same(cli, module_mesh<vtkSTLReader>(file));
   EXPECT_EQ(cli.triangles.size(), 12u);
   EXPECT_EQ(cli.positions.size(), 24u);
@@ -286,7 +285,7 @@ TEST_F(VtkMeshFiles, SharpEdgesSplitAsInTheModule) {
       EXPECT_NEAR(std::abs(glm::dot(cli.normals[t[k]], face)), 1.0f, 1e-5f);
   }
   // read_mesh_file: the file as stored (the STL reader merges the 8 corners).
-  TriangleMesh stored = rayscope_vtk::read_mesh_file(file);
+  TriangleMesh stored = rayscope_vtkio::read_mesh_file(file);
   EXPECT_EQ(stored.positions.size(), 8u);
   EXPECT_TRUE(stored.normals.empty());
 }
@@ -317,7 +316,7 @@ TEST_F(VtkMeshFiles, ColorByMatchesTheModuleMapper) {
   o.color_by->array = "Half";
   o.color_by->association = MeshColorBy::Association::Cell;
   o.color_by->map = rayscope::ColorMap::Grayscale;
-  TriangleMesh cli = rayscope_vtk::load_mesh(o);
+  TriangleMesh cli = rayscope_vtkio::load_mesh(o);
 
   vtkNew<vtkLookupTable> gray;
   gray->SetSaturationRange(0.0, 0.0);
@@ -396,7 +395,7 @@ TEST_F(VtkMeshFiles, ColorByErrorsNameTheFileAndKey) {
     const std::string text = R"({"objects": [{"type": "mesh", "file": ")" + file.string() +
                              R"(", "color_by": )" + c.color_by + "}]}";
     try {
-      rayscope::parse_scene(text, "scene.json", dir_, rayscope_vtk::load_mesh);
+      rayscope::parse_scene(text, "scene.json", dir_, rayscope_vtkio::load_mesh);
       ADD_FAILURE() << c.color_by << ": no error";
     } catch (const rayscope::SceneError& e) {
       const std::string msg = e.what();

@@ -1,4 +1,4 @@
-// read_plain_obj_file() (vtkplugin/meshio/plain_obj.h), the one-pass reader of
+// read_plain_obj_file() (rayscope_vtkio/plain_obj.h), the one-pass reader of
 // OBJ files made of vertices and faces only, against VTK's own vtkOBJReader:
 // the same points bit for bit, the same polygons id for id, the same cell
 // arrays, on the Stanford bunny, on files built to try its parsing, and on
@@ -24,13 +24,13 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 
-#include "rayscope_vtk/mesh_files.h"
-#include "rayscope_vtk/plain_obj.h"
+#include "rayscope_vtkio/mesh_files.h"
+#include "rayscope_vtkio/plain_obj.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-using rayscope_vtk::read_plain_obj_file;
+using rayscope_vtkio::read_plain_obj_file;
 
 vtkSmartPointer<vtkPolyData> vtk_read(const fs::path& p) {
   vtkNew<vtkOBJReader> r;
@@ -216,14 +216,14 @@ TEST_F(PlainObj, OtherFilesAreLeftToVtk) {
 
   // Through read_dataset_file(): normals kept as VTK reads them...
   const fs::path normals = write("normals2.obj", tri + "vn 0 0 1\nf 1//1 2//1 3//1\n");
-  vtkSmartPointer<vtkDataSet> d = rayscope_vtk::read_dataset_file(normals);
+  vtkSmartPointer<vtkDataSet> d = rayscope_vtkio::read_dataset_file(normals);
   ASSERT_TRUE(d);
   ASSERT_TRUE(d->GetPointData()->GetNormals());
   EXPECT_EQ(d->GetNumberOfCells(), 1);
   // ... and a bad index is the checker's error naming the file and the line.
   const fs::path bad = write("bad.obj", tri + "f 1 2 4\n");
   try {
-    rayscope_vtk::read_dataset_file(bad);
+    rayscope_vtkio::read_dataset_file(bad);
     FAIL() << "no error for an index out of range";
   } catch (const std::runtime_error& e) {
     const std::string m = e.what();
@@ -232,7 +232,7 @@ TEST_F(PlainObj, OtherFilesAreLeftToVtk) {
   }
   // A plain file goes the one-pass way and reads as VTK reads it.
   const fs::path plain = write("plain.obj", tri + "f 1 2 3\n");
-  d = rayscope_vtk::read_dataset_file(plain);
+  d = rayscope_vtkio::read_dataset_file(plain);
   expect_same(vtkPolyData::SafeDownCast(d), vtk_read(plain), "read_dataset_file");
 }
 

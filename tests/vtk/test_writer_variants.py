@@ -2,7 +2,7 @@
 same picture.
 
 RayScope checks .vtp, .vtu and legacy .vtk files before VTK's readers see
-them (vtkplugin/meshio: vtk_xml_checks.cpp, legacy_vtk_checks.cpp). The
+them (vtkplugin/vtkio: vtk_xml_checks.cpp, legacy_vtk_checks.cpp). The
 checks must refuse damaged files without refusing any file VTK writes. So
 the same datasets are written with every writer option:
 

@@ -64,7 +64,7 @@ class MeshOptionError : public std::runtime_error {
 
 /// Reads the mesh a scene object describes into a TriangleMesh (positions,
 /// triangles, optional normals and colors). The core has no mesh readers of
-/// its own; rayscope_vtk::load_mesh (vtkplugin/meshio) is the one the rayscope
+/// its own; rayscope_vtkio::load_mesh (vtkplugin/vtkio) is the one the rayscope
 /// command uses. Throws MeshOptionError for an option that does not fit the
 /// file, another std::exception ("FILE: problem") for a file it cannot read.
 using MeshLoader = std::function<TriangleMesh(const MeshOptions&)>;

@@ -10,17 +10,16 @@
 #include "vtkPointData.h"
 #include "vtkUnsignedCharArray.h"
 
-#include "RayScopeImageArrays.h"
 #include "rayscope/image.h"
 
-namespace rayscope_vtk {
+namespace rayscope_vtkmodule {
 
 namespace {
 
 // The sRGB byte of a linear value clamped to [0, 1], as the image's colors
 // are made (std::lround(255 * linear_to_srgb(v)), from a table).
 unsigned char to_byte(float linear) {
-  return srgb_byte(linear);
+  return rayscope::srgb_byte(linear);
 }
 
 // Evenly spread hues for object ids (golden-angle steps), as linear RGB.
@@ -162,4 +161,4 @@ std::vector<unsigned char> display_pixels(vtkImageData* image, int mode) {
   return rgb;
 }
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkmodule

@@ -9,7 +9,7 @@
 class vtkImageData;
 class vtkLookupTable;
 
-namespace rayscope_vtk {
+namespace rayscope_vtkmodule {
 
 /// Display modes (vtkRayScopePass::DisplayModes and
 /// vtkRayScopeViewer::ImageModes use these values).
@@ -34,4 +34,4 @@ bool display_scale(vtkImageData* image, int mode, vtkLookupTable* table, std::st
 /// in `mode`; empty when the image lacks the array the mode needs.
 std::vector<unsigned char> display_pixels(vtkImageData* image, int mode);
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkmodule

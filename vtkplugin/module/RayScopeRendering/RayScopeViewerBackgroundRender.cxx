@@ -4,7 +4,7 @@
 // timer that shows its progress while the window stays responsive.
 #include "vtkRayScopeViewerInternals.h"
 
-using namespace rayscope_vtk::viewer;
+using namespace rayscope_vtkmodule::viewer;
 
 // The frame loop's statistics policy (cost AOVs for the heat map) that also
 // writes each finished tile into the next image, on the thread that rendered
@@ -13,7 +13,7 @@ struct vtkRayScopeViewer::Internals::Policy : rayscope::StatsPolicy {
   Internals* in;
   explicit Policy(Internals* internals) : in(internals) {}
   void tile_done(int x0, int y0, int x1, int y1, const rayscope::Framebuffer& fb) {
-    rayscope_vtk::framebuffer_rect_to_image(fb, x0, y0, x1, y1, in->Next);
+    rayscope_vtkio::framebuffer_rect_to_image(fb, x0, y0, x1, y1, in->Next);
     std::lock_guard<std::mutex> lock(in->TilesMutex);
     in->FinishedTiles.push_back({x0, y0, x1, y1});
   }
@@ -58,7 +58,7 @@ void vtkRayScopeViewer::Internals::StartRender() {
     this->Changed |= kImageView;
   }
   // The statistics policy gives every pixel its cost: the image has them all.
-  rayscope_vtk::prepare_image(this->Next, w, h, true);
+  rayscope_vtkio::prepare_image(this->Next, w, h, true);
   this->FinishedTiles.clear();
   this->TilesShown = 0;
   this->TilesTotal =
@@ -131,7 +131,7 @@ void vtkRayScopeViewer::Internals::FinishRender() {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - this->RenderStart).count();
   // The next image becomes the last one; its arrays were filled tile by tile.
   // The last one's arrays are kept for the next render to fill.
-  rayscope_vtk::counters_to_image(this->Counters, this->Next);
+  rayscope_vtkio::counters_to_image(this->Counters, this->Next);
   vtkNew<vtkImageData> previous;
   previous->ShallowCopy(this->Image);
   this->Image->ShallowCopy(this->Next);
@@ -142,7 +142,7 @@ void vtkRayScopeViewer::Internals::FinishRender() {
   m << "rendered " << this->Settings.width << "x" << this->Settings.height << ", "
     << this->Settings.samples << "x" << this->Settings.samples << " samples, depth "
     << this->Settings.max_depth << " in " << std::lround(1000.0 * this->Self->LastRenderSeconds)
-    << " ms; image: " << rayscope_vtk::display_mode_name(this->Self->ImageMode);
+    << " ms; image: " << rayscope_vtkmodule::display_mode_name(this->Self->ImageMode);
   this->Say(m.str());
   this->UpdateCameraGeometry();
   if (this->Self->PickedPixel[0] >= 0) {
@@ -162,8 +162,8 @@ void vtkRayScopeViewer::Internals::ShowImage() {
   if (!this->HasImage || !shown || shown->GetNumberOfTuples() != this->Image->GetNumberOfPoints())
     return;
   std::vector<unsigned char> rgb;
-  if (this->Self->ImageMode != rayscope_vtk::kDisplayColor)
-    rgb = rayscope_vtk::display_pixels(this->Image, this->Self->ImageMode);
+  if (this->Self->ImageMode != rayscope_vtkmodule::kDisplayColor)
+    rgb = rayscope_vtkmodule::display_pixels(this->Image, this->Self->ImageMode);
   if (rgb.empty()) {  // the colors, as they are
     vtkDataArray* color = this->Image->GetPointData()->GetScalars();
     std::copy_n(static_cast<unsigned char*>(color->GetVoidPointer(0)), shown->GetNumberOfValues(),
@@ -175,7 +175,7 @@ void vtkRayScopeViewer::Internals::ShowImage() {
   // The color scale of the cost and depth modes.
   std::string title;
   const bool scale =
-      rayscope_vtk::display_scale(this->Image, this->Self->ImageMode, this->ScaleTable, title);
+      rayscope_vtkmodule::display_scale(this->Image, this->Self->ImageMode, this->ScaleTable, title);
   this->ScaleBar->SetVisibility(scale);
   if (scale) this->ScaleBar->SetTitle(title.c_str());
   this->Changed |= kImageView;

@@ -6,7 +6,7 @@
 #include "rayscope/accel/accel_view.h"
 #include "vtkRayScopeViewerInternals.h"
 
-using namespace rayscope_vtk::viewer;
+using namespace rayscope_vtkmodule::viewer;
 using RS = rayscope::RenderSettings;
 
 // A key pressed: the viewer, its private state, the key, and the actions of
@@ -218,12 +218,12 @@ int vtkRayScopeViewer::Internals::KeyPress::Labels() {
 
 // The next image mode (one the image has data for).
 int vtkRayScopeViewer::Internals::KeyPress::NextImageMode() {
-  const int mode = (self->ImageMode + 1) % rayscope_vtk::kDisplayModes;
-  if (in.HasImage && rayscope_vtk::display_pixels(in.Image, mode).empty())
+  const int mode = (self->ImageMode + 1) % rayscope_vtkmodule::kDisplayModes;
+  if (in.HasImage && rayscope_vtkmodule::display_pixels(in.Image, mode).empty())
     return say(std::string("m: the image has no data for ") +
-               rayscope_vtk::display_mode_name(mode));
+               rayscope_vtkmodule::display_mode_name(mode));
   self->SetImageMode(mode);
-  return say(std::string("image: ") + rayscope_vtk::display_mode_name(mode));
+  return say(std::string("image: ") + rayscope_vtkmodule::display_mode_name(mode));
 }
 
 // One more / fewer samples per pixel per axis, and a render.

@@ -5,7 +5,7 @@
 // by level or as the selected ray's walk played node by node.
 #include "vtkRayScopeViewerInternals.h"
 
-using namespace rayscope_vtk::viewer;
+using namespace rayscope_vtkmodule::viewer;
 
 namespace {
 

@@ -3,7 +3,7 @@
 // `rayscope inspect` prints it, and the legend of the 3D view.
 #include "vtkRayScopeViewerInternals.h"
 
-using namespace rayscope_vtk::viewer;
+using namespace rayscope_vtkmodule::viewer;
 
 namespace {
 

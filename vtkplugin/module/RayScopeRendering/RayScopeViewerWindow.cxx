@@ -5,7 +5,7 @@
 #include "vtkRayScopeViewerInternals.h"
 #include "vtkRayScopeViewerStyle.h"
 
-using namespace rayscope_vtk::viewer;
+using namespace rayscope_vtkmodule::viewer;
 
 namespace {
 

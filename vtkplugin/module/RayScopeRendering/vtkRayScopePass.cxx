@@ -80,7 +80,7 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
   std::vector<unsigned char> heat;
   void* pixels = nullptr;
   if (this->DisplayMode == COST) {
-    heat = rayscope_vtk::display_pixels(image, rayscope_vtk::kDisplayCost);
+    heat = rayscope_vtkmodule::display_pixels(image, rayscope_vtkmodule::kDisplayCost);
     if (!heat.empty()) pixels = heat.data();
   } else if (auto* color = vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetScalars()))
     pixels = color->GetVoidPointer(0);

@@ -3,7 +3,7 @@
 // parts of the viewer live in files of their own (vtkRayScopeViewerInternals.h).
 #include "vtkRayScopeViewerInternals.h"
 
-using namespace rayscope_vtk::viewer;
+using namespace rayscope_vtkmodule::viewer;
 
 vtkStandardNewMacro(vtkRayScopeViewer);
 
@@ -200,8 +200,8 @@ int vtkRayScopeViewer::PickAtDisplay(int x, int y) {
 
 void vtkRayScopeViewer::SetImageMode(int mode) {
   mode = std::clamp(mode, int(COLOR), int(OBJECT_IDS));
-  static_assert(int(COLOR) == rayscope_vtk::kDisplayColor &&
-                int(OBJECT_IDS) == rayscope_vtk::kDisplayObjectId);
+  static_assert(int(COLOR) == rayscope_vtkmodule::kDisplayColor &&
+                int(OBJECT_IDS) == rayscope_vtkmodule::kDisplayObjectId);
   if (mode == this->ImageMode) return;
   this->ImageMode = mode;
   this->Internal->ShowImage();
@@ -268,6 +268,6 @@ void vtkRayScopeViewer::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "ShowBVH: " << this->ShowBVH << "\n";
   os << indent << "BVHLevel: " << this->BVHLevel << "\n";
   os << indent << "ShowLabels: " << this->ShowLabels << "\n";
-  os << indent << "ImageMode: " << rayscope_vtk::display_mode_name(this->ImageMode) << "\n";
+  os << indent << "ImageMode: " << rayscope_vtkmodule::display_mode_name(this->ImageMode) << "\n";
   os << indent << "OutputPrefix: " << (this->OutputPrefix ? this->OutputPrefix : "") << "\n";
 }

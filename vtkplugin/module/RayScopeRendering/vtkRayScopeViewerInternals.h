@@ -76,7 +76,7 @@
 #include "vtkXMLPolyDataWriter.h"
 
 #include "RayScopeDisplay.h"
-#include "RayScopeImageArrays.h"
+#include "rayscope_vtkio/image_arrays.h"
 #include "rayscope/frame.h"
 #include "rayscope/image.h"
 #include "rayscope/raytree_format.h"
@@ -86,7 +86,7 @@
 #include "vtkRayScopeRayTreeSource.h"
 #include "vtkRayScopeViewer.h"
 
-namespace rayscope_vtk::viewer {
+namespace rayscope_vtkmodule::viewer {
 
 // Layout of the window (fractions of its size): the header line on top, the
 // image and the 3D view side by side, the text panel below.
@@ -124,7 +124,7 @@ inline constexpr const char* kWalkNames[6] = {"",        "box hit, not entered y
 inline constexpr unsigned kHeaderView = 1, kImageView = 2, kSceneView = 4, kPanelView = 8,
                           kAllViews = 15;
 
-}  // namespace rayscope_vtk::viewer
+}  // namespace rayscope_vtkmodule::viewer
 
 class vtkRayScopeViewerStyle;
 

@@ -1,9 +1,8 @@
 // The output arrays of the module's algorithms (private header): the image
 // algorithm, the ray-tree source and the structure source make every point, cell and
-// field array they output with these functions.
+// field array they output with these functions (make_array() and
+// add_field_tuple() are rayscope_vtkio's, which the image arrays use too).
 #pragma once
-
-#include <initializer_list>
 
 #include "vtkFieldData.h"
 #include "vtkPoints.h"
@@ -11,30 +10,12 @@
 #include "vtkType.h"
 
 #include "rayscope/scene.h"
+#include "rayscope_vtkio/data_arrays.h"
 
-namespace rayscope_vtk {
+namespace rayscope_vtkmodule {
 
-/// A new array of type A named `name` with `components` components and
-/// `tuples` tuples (values not initialised).
-template <class A>
-vtkSmartPointer<A> make_array(const char* name, int components, vtkIdType tuples) {
-  auto a = vtkSmartPointer<A>::New();
-  a->SetName(name);
-  a->SetNumberOfComponents(components);
-  a->SetNumberOfTuples(tuples);
-  return a;
-}
-
-/// Adds to `fd` an array of type A named `name` with one tuple whose
-/// components are `values` (the counters and totals of an output).
-template <class A>
-void add_field_tuple(vtkFieldData* fd, const char* name,
-                     std::initializer_list<typename A::ValueType> values) {
-  auto a = make_array<A>(name, int(values.size()), 1);
-  int k = 0;
-  for (typename A::ValueType v : values) a->SetTypedComponent(0, k++, v);
-  fd->AddArray(a);
-}
+using rayscope_vtkio::add_field_tuple;
+using rayscope_vtkio::make_array;
 
 /// Points in world coordinates for `n` positions of `scene` (local to
 /// Scene::origin; set them with set_world_point): float, or double when the
@@ -61,4 +42,4 @@ inline constexpr int kBoxEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2},
 inline constexpr int kBoxFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
                                         {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkmodule

@@ -10,7 +10,7 @@
 #include "rayscope/render.h"
 #include "rayscope/scene.h"
 
-namespace rayscope_vtk {
+namespace rayscope_vtkmodule {
 
 rayscope::Framebuffer render_relaying_progress(rayscope::Scene& scene,
                                                const rayscope::RenderSettings& settings,
@@ -57,4 +57,4 @@ rayscope::Framebuffer render_relaying_progress(rayscope::Scene& scene,
   return fb;
 }
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkmodule

@@ -12,7 +12,7 @@ class Scene;
 struct RayCounters;
 }  // namespace rayscope
 
-namespace rayscope_vtk {
+namespace rayscope_vtkmodule {
 
 /// rayscope::render(scene, settings, counters) on a worker thread, while the
 /// calling thread passes its progress to `report` (a fraction in [0, 1], in
@@ -25,4 +25,4 @@ rayscope::Framebuffer render_relaying_progress(rayscope::Scene& scene,
                                                rayscope::RayCounters* counters,
                                                const std::function<void(double)>& report);
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkmodule

@@ -8,14 +8,14 @@
 #include "vtkDataSet.h"
 #include "vtkMath.h"
 
+#include "rayscope/image.h"
 #include "rayscope/render.h"
-#include "rayscope_vtk/mesh_conversion.h"
-#include "rayscope_vtk/srgb.h"
+#include "rayscope_vtkio/mesh_conversion.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeMaterial.h"
 #include "vtkRayScopeMeshConverter.h"
 
-namespace rayscope_vtk {
+namespace rayscope_vtkmodule {
 
 namespace {
 
@@ -42,7 +42,8 @@ bool same_list(const std::vector<T>& a, const std::vector<T>& b, Eq eq) {
 }
 
 rayscope::Color linear_color(const double c[3]) {
-  return rayscope::Color(srgb_to_linear(c[0]), srgb_to_linear(c[1]), srgb_to_linear(c[2]));
+  return rayscope::Color(rayscope::srgb_to_linear(c[0]), rayscope::srgb_to_linear(c[1]),
+                         rayscope::srgb_to_linear(c[2]));
 }
 
 rayscope::Vec3 vec3(const double v[3]) {
@@ -240,7 +241,7 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
   // geometry (a camera move converts nothing).
   rayscope::DVec3 origin = this->Scene.origin;
   if (regeometry) {
-    origin = local_origin(inputs);
+    origin = rayscope_vtkio::local_origin(inputs);
     const double o[3] = {origin.x, origin.y, origin.z};
     meshes.resize(size_t(n));
     for (int i = 0; i < n; ++i) {
@@ -309,7 +310,7 @@ int SceneBuilder::PrepareCamera(vtkRayScopeImageAlgorithm* alg,
   std::copy_n(alg->GetViewUp(), 3, c.view_up);
   c.parallel_scale = alg->GetParallelScale();
   double b[6];
-  if (alg->GetAutoCamera() && finite_bounds(inputs, b))
+  if (alg->GetAutoCamera() && rayscope_vtkio::finite_bounds(inputs, b))
     c = fit_camera(b, c.position, c.focal_point, c.view_up, alg->GetViewAngle());
   s.camera.eye = local(s, c.position);
   s.camera.look_at = local(s, c.focal_point);
@@ -327,4 +328,4 @@ int SceneBuilder::PrepareCamera(vtkRayScopeImageAlgorithm* alg,
   return 1;
 }
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkmodule

@@ -13,7 +13,7 @@
 class vtkDataSet;
 class vtkRayScopeImageAlgorithm;
 
-namespace rayscope_vtk {
+namespace rayscope_vtkmodule {
 
 /// A light besides the headlight, in VTK terms (sRGB color).
 using SceneLight = vtkRayScopeSceneSettings::Light;
@@ -86,4 +86,4 @@ class SceneBuilder {
   size_t Conversions = 0, Commits = 0;
 };
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkmodule

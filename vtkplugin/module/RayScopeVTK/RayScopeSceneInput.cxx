@@ -11,7 +11,7 @@
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeSceneSettings.h"
 
-namespace rayscope_vtk {
+namespace rayscope_vtkmodule {
 
 void fill_scene_input_port(vtkInformation* info) {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
@@ -68,4 +68,4 @@ vtkRayScopeImageAlgorithm* update_scene(vtkAlgorithm* self, vtkInformationVector
   return scene;
 }
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkmodule

@@ -11,7 +11,7 @@ class vtkInformationVector;
 class vtkRayScopeImageAlgorithm;
 class vtkRayScopeSceneSettings;
 
-namespace rayscope_vtk {
+namespace rayscope_vtkmodule {
 
 /// Input port 0 of the ray-tree and structure sources: vtkDataSet, repeatable, and
 /// optional (without a connection the scene source's own inputs are used).
@@ -37,4 +37,4 @@ vtkRayScopeImageAlgorithm* update_scene(vtkAlgorithm* self, vtkInformationVector
                                         vtkRayScopeSceneSettings* settings,
                                         vtkSmartPointer<vtkRayScopeImageAlgorithm>& fallback);
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkmodule

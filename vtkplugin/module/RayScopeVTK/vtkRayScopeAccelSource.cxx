@@ -45,7 +45,7 @@ vtkRayScopeAccelSource::vtkRayScopeAccelSource()
       VisitRay(-1),
       TraversalSteps(-1),
       NumberOfTraversalEntries(0) {
-  this->Settings = rayscope_vtk::new_source_settings();
+  this->Settings = rayscope_vtkmodule::new_source_settings();
   this->SetNumberOfInputPorts(1);
 }
 
@@ -58,7 +58,7 @@ vtkRayScopeSceneSettings* vtkRayScopeAccelSource::GetSettings() {
 }
 
 void vtkRayScopeAccelSource::SetSettings(vtkRayScopeSceneSettings* settings) {
-  if (rayscope_vtk::replace_settings(this->Settings, settings)) this->Modified();
+  if (rayscope_vtkmodule::replace_settings(this->Settings, settings)) this->Modified();
 }
 
 vtkMTimeType vtkRayScopeAccelSource::GetMTime() {
@@ -114,16 +114,16 @@ std::vector<uint32_t> frame_visits(const rayscope::Scene& scene,
   return total;
 }
 
-using rayscope_vtk::add_field_tuple;
-using rayscope_vtk::make_array;
-using rayscope_vtk::make_world_points;
-using rayscope_vtk::set_world_point;
+using rayscope_vtkmodule::add_field_tuple;
+using rayscope_vtkmodule::make_array;
+using rayscope_vtkmodule::make_world_points;
+using rayscope_vtkmodule::set_world_point;
 
 }  // namespace
 
 int vtkRayScopeAccelSource::FillInputPortInformation(int port, vtkInformation* info) {
   if (port != 0) return 0;
-  rayscope_vtk::fill_scene_input_port(info);
+  rayscope_vtkmodule::fill_scene_input_port(info);
   return 1;
 }
 
@@ -136,7 +136,7 @@ int vtkRayScopeAccelSource::RequestData(vtkInformation*, vtkInformationVector** 
     return 0;
   }
   this->UpdateProgress(0.0);
-  vtkRayScopeImageAlgorithm* source = rayscope_vtk::update_scene(
+  vtkRayScopeImageAlgorithm* source = rayscope_vtkmodule::update_scene(
       this, inputVector[0], this->SceneSource, this->Settings, this->DefaultScene);
   if (!source) return 0;
   const rayscope::Scene& scene = *source->GetCoreScene();
@@ -312,10 +312,10 @@ int vtkRayScopeAccelSource::RequestData(vtkInformation*, vtkInformationVector** 
       for (int k = 0; k < (faces ? 6 : 12); ++k) {
         if (faces) {
           vtkIdType q[4];
-          for (int v = 0; v < 4; ++v) q[v] = p0 + rayscope_vtk::kBoxFaces[k][v];
+          for (int v = 0; v < 4; ++v) q[v] = p0 + rayscope_vtkmodule::kBoxFaces[k][v];
           cells->InsertNextCell(4, q);
         } else {
-          vtkIdType e[2] = {p0 + rayscope_vtk::kBoxEdges[k][0], p0 + rayscope_vtk::kBoxEdges[k][1]};
+          vtkIdType e[2] = {p0 + rayscope_vtkmodule::kBoxEdges[k][0], p0 + rayscope_vtkmodule::kBoxEdges[k][1]};
           cells->InsertNextCell(2, e);
         }
       }

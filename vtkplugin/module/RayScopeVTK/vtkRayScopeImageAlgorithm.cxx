@@ -21,12 +21,12 @@
 #include "vtkScalarsToColors.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 
-#include "RayScopeImageArrays.h"
+#include "rayscope_vtkio/image_arrays.h"
 #include "RayScopeProgressRelay.h"
 #include "rayscope/render_settings.h"
 #include "rayscope/scene.h"
 #include "rayscope/stats.h"
-#include "rayscope_vtk/mesh_conversion.h"
+#include "rayscope_vtkio/mesh_conversion.h"
 #include "vtkRayScopeImageAlgorithmInternals.h"
 
 vtkStandardNewMacro(vtkRayScopeImageAlgorithm);
@@ -56,11 +56,11 @@ int vtkRayScopeImageAlgorithm::ResetCamera() {
     inputs.push_back(vtkDataSet::SafeDownCast(this->GetInputDataObject(0, i)));
   }
   double b[6];
-  if (!rayscope_vtk::finite_bounds(inputs, b)) {
+  if (!rayscope_vtkio::finite_bounds(inputs, b)) {
     vtkErrorMacro(<< "ResetCamera: the inputs have no finite points");
     return 0;
   }
-  const rayscope_vtk::FittedCamera c = rayscope_vtk::fit_camera(
+  const rayscope_vtkmodule::FittedCamera c = rayscope_vtkmodule::fit_camera(
       b, this->GetPosition(), this->GetFocalPoint(), this->GetViewUp(), this->GetViewAngle());
   this->SetFocalPoint(c.focal_point);
   this->SetPosition(c.position);
@@ -179,7 +179,7 @@ void vtkRayScopeImageAlgorithm::SetCoreScene(const rayscope::Scene& scene) {
   this->SetParallelProjection(c.parallel);
   this->SetParallelScale(c.parallel_scale);
   this->SetAccel(rayscope::accel_kind_name(scene.accel().kind()).vtk_id);
-  this->SetStorage(rayscope_vtk::storage_value_of(scene.accel().storage()));
+  this->SetStorage(rayscope_vtkmodule::storage_value_of(scene.accel().storage()));
   this->SetLooseFactor(double(scene.accel().config().loose_factor));
   const glm::uvec3 res = scene.accel().config().grid.resolution;
   this->SetGridResolution(int(res.x), int(res.y), int(res.z));
@@ -192,7 +192,7 @@ void vtkRayScopeImageAlgorithm::SetCoreScene(const rayscope::Scene& scene) {
 void vtkRayScopeImageAlgorithm::FramebufferToImage(const rayscope::Framebuffer& fb,
                                                    const rayscope::RayCounters& counters,
                                                    vtkImageData* image) {
-  rayscope_vtk::framebuffer_to_image(fb, counters, image);
+  rayscope_vtkio::framebuffer_to_image(fb, counters, image);
 }
 
 rayscope::Scene* vtkRayScopeImageAlgorithm::GetCoreScene() {
@@ -340,14 +340,14 @@ int vtkRayScopeImageAlgorithm::RequestData(vtkInformation*, vtkInformationVector
   rayscope::RayCounters counters;
   rayscope::Framebuffer fb;
   try {
-    fb = rayscope_vtk::render_relaying_progress(*this->GetCoreScene(), this->GetRenderSettings(),
+    fb = rayscope_vtkmodule::render_relaying_progress(*this->GetCoreScene(), this->GetRenderSettings(),
                                                 &counters,
                                                 [this](double p) { this->UpdateProgress(p); });
   } catch (const std::exception& e) {
     vtkErrorMacro(<< "render failed: " << e.what());
     return 0;
   }
-  rayscope_vtk::framebuffer_to_image(fb, counters, output);
+  rayscope_vtkio::framebuffer_to_image(fb, counters, output);
   this->UpdateProgress(1.0);
   return 1;
 }

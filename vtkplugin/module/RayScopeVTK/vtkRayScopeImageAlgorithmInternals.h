@@ -26,6 +26,6 @@ struct vtkRayScopeImageAlgorithm::Internals {
   vtkNew<vtkRayScopeMeshConverter> coloring_converter;
   vtkNew<vtkLookupTable> default_table;  // COLOR_BY_ARRAY without LookupTable
   std::map<int, vtkSmartPointer<vtkRayScopeMeshConverter>> input_converters;
-  rayscope_vtk::CopiedActors actors;  // CopyRenderer()'s cache
-  rayscope_vtk::SceneBuilder builder;
+  rayscope_vtkmodule::CopiedActors actors;  // CopyRenderer()'s cache
+  rayscope_vtkmodule::SceneBuilder builder;
 };

@@ -8,8 +8,8 @@
 #include "vtkObjectFactory.h"
 #include "vtkProperty.h"
 
+#include "rayscope/image.h"
 #include "rayscope/material.h"
-#include "rayscope_vtk/srgb.h"
 
 vtkStandardNewMacro(vtkRayScopeMaterial);
 
@@ -117,7 +117,7 @@ std::string vtkRayScopeMaterial::Validate() const {
 }
 
 rayscope::Material vtkRayScopeMaterial::ToCore() const {
-  using rayscope_vtk::srgb_to_linear;
+  using rayscope::srgb_to_linear;
   rayscope::Material m;
   m.color = rayscope::Color(srgb_to_linear(this->Color[0]), srgb_to_linear(this->Color[1]),
                             srgb_to_linear(this->Color[2]));

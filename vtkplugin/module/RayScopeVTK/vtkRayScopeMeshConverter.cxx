@@ -10,19 +10,19 @@
 #include "vtkPolyData.h"
 
 #include "rayscope/scene.h"
-#include "rayscope_vtk/mesh_conversion.h"
+#include "rayscope_vtkio/mesh_conversion.h"
 
 vtkStandardNewMacro(vtkRayScopeMeshConverter);
 
 namespace {
 // The defaults are those of the conversion the rayscope command uses too.
-const rayscope_vtk::SurfaceOptions kDefaults;
+const rayscope_vtkio::SurfaceOptions kDefaults;
 }  // namespace
 
-static_assert(int(rayscope_vtk::ColorSource::None) == vtkRayScopeMeshConverter::NO_COLORS &&
-              int(rayscope_vtk::ColorSource::Point) == vtkRayScopeMeshConverter::POINT_COLORS &&
-              int(rayscope_vtk::ColorSource::Cell) == vtkRayScopeMeshConverter::CELL_COLORS &&
-              int(rayscope_vtk::ColorSource::Field) == vtkRayScopeMeshConverter::FIELD_COLORS);
+static_assert(int(rayscope_vtkio::ColorSource::None) == vtkRayScopeMeshConverter::NO_COLORS &&
+              int(rayscope_vtkio::ColorSource::Point) == vtkRayScopeMeshConverter::POINT_COLORS &&
+              int(rayscope_vtkio::ColorSource::Cell) == vtkRayScopeMeshConverter::CELL_COLORS &&
+              int(rayscope_vtkio::ColorSource::Field) == vtkRayScopeMeshConverter::FIELD_COLORS);
 
 vtkRayScopeMeshConverter::vtkRayScopeMeshConverter()
     : ComputeNormals(kDefaults.compute_normals),
@@ -73,14 +73,14 @@ int vtkRayScopeMeshConverter::Convert(vtkDataSet* input, vtkPolyData* output) {
 
 bool vtkRayScopeMeshConverter::ConvertOrExplain(vtkDataSet* input, vtkPolyData* output,
                                                 std::string& why) {
-  rayscope_vtk::SurfaceOptions options;
+  rayscope_vtkio::SurfaceOptions options;
   options.compute_normals = this->ComputeNormals != 0;
   options.splitting = this->Splitting != 0;
   options.feature_angle = this->FeatureAngle;
   options.nonlinear_subdivision_level = this->NonlinearSubdivisionLevel;
   try {
     this->LastColorSource =
-        int(rayscope_vtk::convert_dataset(input, options, this->Mapper, output));
+        int(rayscope_vtkio::convert_dataset(input, options, this->Mapper, output));
   } catch (const std::exception& e) {  // input the conversion refuses, e.g. bad point ids
     output->Initialize();
     this->LastColorSource = NO_COLORS;
@@ -91,7 +91,7 @@ bool vtkRayScopeMeshConverter::ConvertOrExplain(vtkDataSet* input, vtkPolyData* 
 }
 
 void vtkRayScopeMeshConverter::MeshFromPolyData(vtkPolyData* pd, rayscope::TriangleMesh& m) {
-  rayscope_vtk::mesh_from_converted(pd, m);
+  rayscope_vtkio::mesh_from_converted(pd, m);
 }
 
 bool vtkRayScopeMeshConverter::ConvertToMesh(vtkDataSet* input, rayscope::TriangleMesh& mesh,
@@ -106,7 +106,7 @@ bool vtkRayScopeMeshConverter::ConvertToMesh(vtkDataSet* input, rayscope::Triang
     return false;
   }
   const glm::dvec3 o = origin ? glm::dvec3(origin[0], origin[1], origin[2]) : glm::dvec3(0.0);
-  rayscope_vtk::mesh_from_converted(pd, mesh, glm::translate(glm::dmat4(1.0), -o));
+  rayscope_vtkio::mesh_from_converted(pd, mesh, glm::translate(glm::dmat4(1.0), -o));
   return true;
 }
 

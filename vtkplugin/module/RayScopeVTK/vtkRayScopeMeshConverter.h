@@ -42,7 +42,7 @@
  * Convert() returns the result as vtkPolyData (triangles only) for inspection;
  * ConvertToMesh() (C++ only) gives the core TriangleMesh directly.
  *
- * The conversion itself is rayscope_vtk::convert_dataset() (library
+ * The conversion itself is rayscope_vtkio::convert_dataset() (library
  * rayscope_vtkio), which the rayscope command runs on mesh files with these
  * same default settings: a file gives the same triangles, normals and colors
  * in both.

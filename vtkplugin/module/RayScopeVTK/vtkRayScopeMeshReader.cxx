@@ -18,8 +18,8 @@
 #include "vtkStructuredGrid.h"
 
 #include "rayscope/input_file.h"
-#include "rayscope_vtk/mesh_checks.h"
-#include "rayscope_vtk/mesh_files.h"
+#include "rayscope_vtkio/mesh_checks.h"
+#include "rayscope_vtkio/mesh_files.h"
 
 vtkStandardNewMacro(vtkRayScopeMeshReader);
 
@@ -35,7 +35,7 @@ vtkRayScopeMeshReader::~vtkRayScopeMeshReader() {
 int vtkRayScopeMeshReader::CanReadFile(const char* name) {
   if (!name || !*name) return 0;
   const std::filesystem::path path(name);
-  return rayscope_vtk::has_dataset_file_extension(path) &&
+  return rayscope_vtkio::has_dataset_file_extension(path) &&
                  rayscope::input_file_problem(path).empty()
              ? 1
              : 0;
@@ -55,7 +55,7 @@ void vtkRayScopeMeshReader::ReadFile() {
     return;
   }
   try {
-    this->Data = rayscope_vtk::read_dataset_file(this->FileName);
+    this->Data = rayscope_vtkio::read_dataset_file(this->FileName);
   } catch (const std::exception& e) {  // "FILE: problem" (std::bad_alloc too, for a huge file)
     this->Data = nullptr;
     this->Error = e.what();
@@ -72,7 +72,7 @@ void vtkRayScopeMeshReader::ReadFile() {
     return;
   }
   // Arrays VTK's filters would read past the end of go, with a warning.
-  for (const std::string& removed : rayscope_vtk::remove_short_attribute_arrays(this->Data))
+  for (const std::string& removed : rayscope_vtkio::remove_short_attribute_arrays(this->Data))
     this->Warning +=
         (this->Warning.empty() ? std::string(this->FileName) + ": removed " : "; ") + removed;
 }

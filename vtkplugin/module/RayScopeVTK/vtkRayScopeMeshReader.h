@@ -8,7 +8,7 @@
  * the process inside vtkPLYReader, a PLY declaring 1e8 vertices in a few
  * bytes never finishes (VTK 9.1; ParaView 5.11's aborts), a truncated or
  * over-declared binary STL gives part of its triangles without a word, and a legacy file naming
- * point 7 of 3 reaches the filters downstream. This reader is rayscope_vtk::read_dataset_file()
+ * point 7 of 3 reaches the filters downstream. This reader is rayscope_vtkio::read_dataset_file()
  * (library rayscope_vtkio, the function the rayscope command reads mesh files
  * with): the file is checked first (mesh_checks.h: sizes and counts against
  * the bytes the file has, the header layouts VTK's readers need), then read

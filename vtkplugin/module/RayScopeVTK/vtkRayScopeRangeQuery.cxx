@@ -38,7 +38,7 @@ vtkRayScopeRangeQuery::vtkRayScopeRangeQuery()
       Radius(1.0),
       NumberOfNeighbors(1),
       SphereResolution(24) {
-  this->Settings = rayscope_vtk::new_source_settings();
+  this->Settings = rayscope_vtkmodule::new_source_settings();
   this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(2);
 }
@@ -52,7 +52,7 @@ vtkRayScopeSceneSettings* vtkRayScopeRangeQuery::GetSettings() {
 }
 
 void vtkRayScopeRangeQuery::SetSettings(vtkRayScopeSceneSettings* settings) {
-  if (rayscope_vtk::replace_settings(this->Settings, settings)) this->Modified();
+  if (rayscope_vtkmodule::replace_settings(this->Settings, settings)) this->Modified();
 }
 
 vtkMTimeType vtkRayScopeRangeQuery::GetMTime() {
@@ -64,7 +64,7 @@ vtkMTimeType vtkRayScopeRangeQuery::GetMTime() {
 
 int vtkRayScopeRangeQuery::FillInputPortInformation(int port, vtkInformation* info) {
   if (port != 0) return 0;
-  rayscope_vtk::fill_scene_input_port(info);
+  rayscope_vtkmodule::fill_scene_input_port(info);
   return 1;
 }
 
@@ -122,7 +122,7 @@ struct PolyBuilder {
       for (vtkIdType c = 0; c < n; ++c) array->SetValue(c, values[size_t(c)]);
       out->GetCellData()->AddArray(array);
     };
-    using rayscope_vtk::make_array;
+    using rayscope_vtkmodule::make_array;
     add(rank, make_array<vtkIntArray>("Rank", 1, n));
     add(kind, make_array<vtkIntArray>("ObjectKind", 1, n));
     add(prim, make_array<vtkIntArray>("PrimitiveId", 1, n));
@@ -149,7 +149,7 @@ void box_faces(PolyBuilder& out, const DVec3& lo, const DVec3& hi) {
   auto corner = [&](int c) {
     return DVec3((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
   };
-  for (const auto& f : rayscope_vtk::kBoxFaces)
+  for (const auto& f : rayscope_vtkmodule::kBoxFaces)
     out.polygon({corner(f[0]), corner(f[1]), corner(f[2]), corner(f[3])});
 }
 
@@ -161,7 +161,7 @@ int vtkRayScopeRangeQuery::RequestData(vtkInformation*, vtkInformationVector** i
   vtkPolyData* range_out = vtkPolyData::GetData(outputVector, 1);
   found_out->Initialize();
   range_out->Initialize();
-  vtkRayScopeImageAlgorithm* source = rayscope_vtk::update_scene(
+  vtkRayScopeImageAlgorithm* source = rayscope_vtkmodule::update_scene(
       this, inputVector[0], this->SceneSource, this->Settings, this->DefaultScene);
   if (!source) return 0;
   const rayscope::Scene& scene = *source->GetCoreScene();
@@ -242,7 +242,7 @@ int vtkRayScopeRangeQuery::RequestData(vtkInformation*, vtkInformationVector** i
   structure->SetName("Structure");
   structure->InsertNextValue(rayscope::to_string(accel.kind()));
   fd->AddArray(structure);
-  using rayscope_vtk::add_field_tuple;
+  using rayscope_vtkmodule::add_field_tuple;
   add_field_tuple<vtkIntArray>(fd, "StructureWalked", {accel.walks_structure() ? 1 : 0});
   add_field_tuple<vtkIntArray>(fd, "ObjectsFound", {int(found.size())});
   add_field_tuple<vtkIntArray>(fd, "NodesVisited", {int(cost.nodes)});

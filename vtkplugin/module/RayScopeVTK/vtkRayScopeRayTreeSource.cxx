@@ -38,7 +38,7 @@ struct vtkRayScopeRayTreeSource::Internals {
 
 vtkRayScopeRayTreeSource::vtkRayScopeRayTreeSource()
     : SceneSource(nullptr), Sample(-1), MissLength(0.0), Internal(new Internals) {
-  this->Settings = rayscope_vtk::new_source_settings();
+  this->Settings = rayscope_vtkmodule::new_source_settings();
   this->SetNumberOfInputPorts(1);
 }
 
@@ -74,7 +74,7 @@ vtkRayScopeSceneSettings* vtkRayScopeRayTreeSource::GetSettings() {
 }
 
 void vtkRayScopeRayTreeSource::SetSettings(vtkRayScopeSceneSettings* settings) {
-  if (rayscope_vtk::replace_settings(this->Settings, settings)) this->Modified();
+  if (rayscope_vtkmodule::replace_settings(this->Settings, settings)) this->Modified();
 }
 
 vtkMTimeType vtkRayScopeRayTreeSource::GetMTime() {
@@ -101,15 +101,15 @@ struct Row {
   int end_object;  // object at the end point, -1 for none
 };
 
-using rayscope_vtk::make_array;
-using rayscope_vtk::make_world_points;
-using rayscope_vtk::set_world_point;
+using rayscope_vtkmodule::make_array;
+using rayscope_vtkmodule::make_world_points;
+using rayscope_vtkmodule::set_world_point;
 
 }  // namespace
 
 int vtkRayScopeRayTreeSource::FillInputPortInformation(int port, vtkInformation* info) {
   if (port != 0) return 0;
-  rayscope_vtk::fill_scene_input_port(info);
+  rayscope_vtkmodule::fill_scene_input_port(info);
   return 1;
 }
 
@@ -122,7 +122,7 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
     return 0;
   }
   this->UpdateProgress(0.0);
-  vtkRayScopeImageAlgorithm* source = rayscope_vtk::update_scene(
+  vtkRayScopeImageAlgorithm* source = rayscope_vtkmodule::update_scene(
       this, inputVector[0], this->SceneSource, this->Settings, this->DefaultScene);
   if (!source) return 0;
   const rayscope::Scene& scene = *source->GetCoreScene();

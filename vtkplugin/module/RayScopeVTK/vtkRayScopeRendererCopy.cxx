@@ -62,9 +62,9 @@ int vtkRayScopeImageAlgorithm::CopyRenderer(vtkRenderer* ren) {
 
   // Lights, placed where the OpenGL render would place them.
   ren->UpdateLightsGeometryToFollowCamera();
-  std::vector<rayscope_vtk::SceneLight> lights;
+  std::vector<rayscope_vtkmodule::SceneLight> lights;
   auto headlight = [&](double intensity, const double* color) {
-    rayscope_vtk::SceneLight l;
+    rayscope_vtkmodule::SceneLight l;
     l.point = false;
     for (int k = 0; k < 3; ++k) {
       l.v[k] = camera->GetFocalPoint()[k] - camera->GetPosition()[k];
@@ -89,7 +89,7 @@ int vtkRayScopeImageAlgorithm::CopyRenderer(vtkRenderer* ren) {
     double p[3], f[3];
     light->GetTransformedPosition(p);
     light->GetTransformedFocalPoint(f);
-    rayscope_vtk::SceneLight l;
+    rayscope_vtkmodule::SceneLight l;
     l.point = light->GetPositional() != 0;
     for (int k = 0; k < 3; ++k) {
       l.v[k] = l.point ? p[k] : f[k] - p[k];
@@ -104,7 +104,7 @@ int vtkRayScopeImageAlgorithm::CopyRenderer(vtkRenderer* ren) {
   this->GetSettings()->SetLights(lights);
 
   // Actors.
-  for (rayscope_vtk::CopiedActor& e : in.actors) e.used = false;
+  for (rayscope_vtkmodule::CopiedActor& e : in.actors) e.used = false;
   std::vector<vtkAlgorithmOutput*> connections;
   std::vector<size_t> entries;  // indices into in.actors (which may grow meanwhile)
   vtkActorCollection* actors = ren->GetActors();
@@ -115,17 +115,18 @@ int vtkRayScopeImageAlgorithm::CopyRenderer(vtkRenderer* ren) {
     if (!actor->GetVisibility() || !mapper || mapper->GetNumberOfInputConnections(0) < 1) continue;
     vtkAlgorithmOutput* source = mapper->GetInputConnection(0, 0);
     if (!source) continue;
-    auto it = std::find_if(in.actors.begin(), in.actors.end(),
-                           [&](const rayscope_vtk::CopiedActor& e) { return e.actor == actor; });
+    auto it =
+        std::find_if(in.actors.begin(), in.actors.end(),
+                     [&](const rayscope_vtkmodule::CopiedActor& e) { return e.actor == actor; });
     if (it == in.actors.end()) {
-      rayscope_vtk::CopiedActor e;
+      rayscope_vtkmodule::CopiedActor e;
       e.actor = actor;
       e.converter = vtkSmartPointer<vtkRayScopeMeshConverter>::New();
       e.material = vtkSmartPointer<vtkRayScopeMaterial>::New();
       in.actors.push_back(e);
       it = in.actors.end() - 1;
     }
-    rayscope_vtk::CopiedActor& e = *it;
+    rayscope_vtkmodule::CopiedActor& e = *it;
     e.used = true;
     vtkMatrix4x4* matrix = actor->GetMatrix();
     vtkAlgorithmOutput* connection = source;
@@ -169,7 +170,7 @@ int vtkRayScopeImageAlgorithm::CopyRenderer(vtkRenderer* ren) {
   for (auto it = in.input_materials.begin(); it != in.input_materials.end();)
     it = it->first >= int(entries.size()) ? in.input_materials.erase(it) : std::next(it);
   in.actors.erase(std::remove_if(in.actors.begin(), in.actors.end(),
-                                 [](const rayscope_vtk::CopiedActor& e) { return !e.used; }),
+                                 [](const rayscope_vtkmodule::CopiedActor& e) { return !e.used; }),
                   in.actors.end());
   return int(connections.size());
 }

@@ -12,7 +12,7 @@ class vtkRayScopeMaterial;
 class vtkRayScopeMeshConverter;
 class vtkTransformFilter;
 
-namespace rayscope_vtk {
+namespace rayscope_vtkmodule {
 
 /// One actor of the copied renderer: an unchanged actor keeps the same input,
 /// converter and material, so its geometry is not converted again and the
@@ -28,4 +28,4 @@ struct CopiedActor {
 /// The actors of the last CopyRenderer() call.
 using CopiedActors = std::vector<CopiedActor>;
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkmodule

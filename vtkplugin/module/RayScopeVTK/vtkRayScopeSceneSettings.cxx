@@ -233,7 +233,7 @@ std::string vtkRayScopeSceneSettings::Validate() {
   rayscope::AccelKind kind;
   if (!rayscope::accel_kind_of_vtk_id(this->Accel, kind))
     return "Accel " + std::to_string(this->Accel) + " names no structure of this build";
-  if (std::string e = rayscope::accel_storage_error(kind, rayscope_vtk::storage_of(this->Storage));
+  if (std::string e = rayscope::accel_storage_error(kind, rayscope_vtkmodule::storage_of(this->Storage));
       !e.empty())
     return e;
   if (std::string e = rayscope::loose_factor_error(float(this->LooseFactor)); !e.empty())
@@ -241,7 +241,7 @@ std::string vtkRayScopeSceneSettings::Validate() {
   for (int r : this->GridResolution)
     if (r < 0) return "GridResolution: cells per axis must be >= 0 (0: automatic)";
   if (std::string e =
-          rayscope::grid_resolution_error(rayscope_vtk::grid_resolution_of(this->GridResolution));
+          rayscope::grid_resolution_error(rayscope_vtkmodule::grid_resolution_of(this->GridResolution));
       !e.empty())
     return "GridResolution: " + e;
   if (std::string m = this->Internal->material->Validate(); !m.empty())
@@ -285,7 +285,7 @@ void vtkRayScopeSceneSettings::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "Accel: "
      << (rayscope::accel_kind_of_vtk_id(this->Accel, kind) ? rayscope::to_string(kind) : "?")
      << "\n";
-  os << indent << "Storage: " << rayscope::to_string(rayscope_vtk::storage_of(this->Storage))
+  os << indent << "Storage: " << rayscope::to_string(rayscope_vtkmodule::storage_of(this->Storage))
      << "\n";
   os << indent << "LooseFactor: " << this->LooseFactor << "\n";
   os << indent << "GridResolution: " << this->GridResolution[0] << " " << this->GridResolution[1]

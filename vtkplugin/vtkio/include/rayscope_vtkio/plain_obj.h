@@ -28,10 +28,10 @@
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 
-namespace rayscope_vtk {
+namespace rayscope_vtkio {
 
 /// The file as vtkOBJReader would read it, or null if it is not a plain
 /// vertices-and-faces OBJ file (see above) or cannot be opened.
 vtkSmartPointer<vtkPolyData> read_plain_obj_file(const std::filesystem::path& path);
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkio

@@ -1,10 +1,8 @@
-#include "RayScopeImageArrays.h"
+#include "rayscope_vtkio/image_arrays.h"
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
-#include <vector>
 
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
@@ -14,50 +12,13 @@
 #include "vtkTypeInt64Array.h"
 #include "vtkUnsignedCharArray.h"
 
-#include "RayScopeArrays.h"
 #include "rayscope/image.h"
 #include "rayscope/stats.h"
+#include "rayscope_vtkio/data_arrays.h"
 
-namespace rayscope_vtk {
+namespace rayscope_vtkio {
 
 namespace {
-
-unsigned char srgb_byte_exact(float v) {
-  return (unsigned char)std::lround(255.0f * rayscope::linear_to_srgb(v));
-}
-
-float float_of(uint32_t bits) {
-  float f;
-  std::memcpy(&f, &bits, sizeof f);
-  return f;
-}
-
-// srgb_byte()'s table. srgb_byte_exact() never decreases as v grows (checked
-// once on all 1,065,353,217 floats of [0, 1]), so byte b is the one of every
-// v in [threshold[b], threshold[b + 1]). vtk.VtkImage.SrgbBytesOfEveryFloat
-// compares srgb_byte() with srgb_byte_exact() on every float of [2^-16, 1].
-struct SrgbTable {
-  static constexpr uint32_t kOne = 0x3f800000u;  // the bits of 1.0f
-  float threshold[257];
-  std::vector<unsigned char> start;  // the byte of the first float of each 2^16 bits
-  SrgbTable() {
-    threshold[0] = 0.0f;
-    for (int b = 1; b < 256; ++b) {  // the smallest float of (0, 1] whose byte is b or more
-      uint32_t lo = 0, hi = kOne;
-      while (lo < hi) {
-        const uint32_t mid = lo + (hi - lo) / 2;
-        if (srgb_byte_exact(float_of(mid)) >= b)
-          hi = mid;
-        else
-          lo = mid + 1;
-      }
-      threshold[b] = float_of(lo);
-    }
-    threshold[256] = std::numeric_limits<float>::infinity();
-    start.resize((kOne >> 16) + 1);
-    for (uint32_t k = 0; k < start.size(); ++k) start[k] = srgb_byte_exact(float_of(k << 16));
-  }
-};
 
 constexpr const char* kCostArrays[4] = {"Cost", "CostRays", "CostBoxes", "CostPrimitives"};
 
@@ -77,17 +38,6 @@ typename A::ValueType* values(vtkPointData* pd, const char* name) {
 }
 
 }  // namespace
-
-unsigned char srgb_byte(float v) {
-  static const SrgbTable table;
-  if (!(v > 0.0f)) return 0;  // NaN too
-  if (v >= 1.0f) return 255;
-  uint32_t bits;
-  std::memcpy(&bits, &v, sizeof bits);
-  unsigned b = table.start[bits >> 16];
-  while (v >= table.threshold[b + 1]) ++b;
-  return (unsigned char)b;
-}
 
 void prepare_image(vtkImageData* image, int w, int h, bool cost, bool samples) {
   const vtkIdType np = vtkIdType(w) * vtkIdType(h);
@@ -145,7 +95,7 @@ void framebuffer_rect_to_image(const rayscope::Framebuffer& fb, int x0, int y0, 
       const size_t v = j * size_t(w) + size_t(x);
       for (int k = 0; k < 3; ++k) {
         const float lin = fb.color[c][k];
-        color[3 * v + size_t(k)] = srgb_byte(lin);
+        color[3 * v + size_t(k)] = rayscope::srgb_byte(lin);
         linear[3 * v + size_t(k)] = lin;
         normal[3 * v + size_t(k)] = fb.normal[c][k];
       }
@@ -185,4 +135,4 @@ void framebuffer_to_image(const rayscope::Framebuffer& fb, const rayscope::RayCo
   counters_to_image(counters, image);
 }
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkio

@@ -1,4 +1,4 @@
-#include "rayscope_vtk/mesh_conversion.h"
+#include "rayscope_vtkio/mesh_conversion.h"
 
 #include <algorithm>
 #include <cmath>
@@ -28,11 +28,11 @@
 #include <vtkTriangleFilter.h>
 #include <vtkUnsignedCharArray.h>
 
+#include "rayscope/image.h"
 #include "rayscope/scene.h"
-#include "rayscope_vtk/mesh_checks.h"
-#include "rayscope_vtk/srgb.h"
+#include "rayscope_vtkio/mesh_checks.h"
 
-namespace rayscope_vtk {
+namespace rayscope_vtkio {
 namespace {
 
 bool finite_point(vtkPolyData* pd, vtkIdType id) {
@@ -330,7 +330,7 @@ ColorSource convert_dataset(vtkDataSet* input, const SurfaceOptions& options, vt
   }
   vtkUnsignedCharArray* colors_in = cell_colors ? cell_colors.Get() : point_colors.Get();
   if (colors_in) {
-    const auto& table = srgb_byte_table();
+    const auto& table = rayscope::srgb_byte_table();
     vtkNew<vtkUnsignedCharArray> colors;
     colors->SetName("Colors");
     colors->SetNumberOfComponents(4);
@@ -424,4 +424,4 @@ void mesh_from_converted(vtkPolyData* pd, rayscope::TriangleMesh& m, const glm::
   vectors(pd->GetPointData()->GetArray("LinearColors"), m.colors);
 }
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkio

@@ -1,4 +1,4 @@
-#include "rayscope_vtk/mesh_checks.h"
+#include "rayscope_vtkio/mesh_checks.h"
 
 #include "check_util.h"
 
@@ -34,7 +34,7 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtksys/SystemTools.hxx>
 
-namespace rayscope_vtk {
+namespace rayscope_vtkio {
 namespace {
 
 namespace fs = std::filesystem;
@@ -595,4 +595,4 @@ std::vector<std::string> remove_short_attribute_arrays(vtkDataSet* data) {
   return removed;
 }
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkio

@@ -1,4 +1,4 @@
-#include "rayscope_vtk/mesh_files.h"
+#include "rayscope_vtkio/mesh_files.h"
 
 #include <algorithm>
 #include <cctype>
@@ -26,11 +26,11 @@
 
 #include "rayscope/input_file.h"
 #include "rayscope/printable_text.h"
-#include "rayscope_vtk/mesh_checks.h"
-#include "rayscope_vtk/mesh_conversion.h"
-#include "rayscope_vtk/plain_obj.h"
+#include "rayscope_vtkio/mesh_checks.h"
+#include "rayscope_vtkio/mesh_conversion.h"
+#include "rayscope_vtkio/plain_obj.h"
 
-namespace rayscope_vtk {
+namespace rayscope_vtkio {
 namespace {
 
 using rayscope::MeshColorBy;
@@ -301,4 +301,4 @@ rayscope::TriangleMesh read_mesh_file(const std::filesystem::path& path) {
   return convert(data, path, surface, direct_color_mapper(data));
 }
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkio

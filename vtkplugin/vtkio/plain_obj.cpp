@@ -1,4 +1,4 @@
-#include "rayscope_vtk/plain_obj.h"
+#include "rayscope_vtkio/plain_obj.h"
 
 #include <charconv>
 #include <cstdint>
@@ -14,7 +14,7 @@
 #include <vtkPoints.h>
 #include <vtkTypeInt64Array.h>
 
-namespace rayscope_vtk {
+namespace rayscope_vtkio {
 namespace {
 
 bool blank(char c) {
@@ -134,4 +134,4 @@ vtkSmartPointer<vtkPolyData> read_plain_obj_file(const std::filesystem::path& pa
   return out;
 }
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkio

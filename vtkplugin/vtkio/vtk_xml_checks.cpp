@@ -37,9 +37,9 @@
 #include <vtkZLibDataCompressor.h>
 
 #include "check_util.h"
-#include "rayscope_vtk/mesh_checks.h"
+#include "rayscope_vtkio/mesh_checks.h"
 
-namespace rayscope_vtk {
+namespace rayscope_vtkio {
 namespace {
 
 using namespace checks;
@@ -500,4 +500,4 @@ void check_vtk_xml_file(const fs::path& path, const char* dataset_type) {
   }
 }
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkio

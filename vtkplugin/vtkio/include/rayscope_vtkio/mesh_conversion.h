@@ -16,7 +16,7 @@ namespace rayscope {
 struct TriangleMesh;
 }
 
-namespace rayscope_vtk {
+namespace rayscope_vtkio {
 
 /// How the surface is made (vtkRayScopeMeshConverter documents each setting).
 struct SurfaceOptions {
@@ -68,4 +68,4 @@ glm::dvec3 local_origin(const std::vector<vtkDataSet*>& data);
 void mesh_from_converted(vtkPolyData* converted, rayscope::TriangleMesh& mesh,
                          const glm::dmat4& to_scene = glm::dmat4(1.0));
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkio

@@ -15,7 +15,7 @@
 
 class vtkDataSet;
 
-namespace rayscope_vtk {
+namespace rayscope_vtkio {
 
 /// The file extensions read_dataset_file() reads (lower case, with the dot).
 inline constexpr std::array<std::string_view, 6> kDatasetFileExtensions = {".vtp", ".vtu", ".vtk",
@@ -60,4 +60,4 @@ rayscope::TriangleMesh load_mesh_from(const rayscope::MeshOptions& options, vtkD
 /// colors. Throws as load_mesh().
 rayscope::TriangleMesh read_mesh_file(const std::filesystem::path& path);
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkio

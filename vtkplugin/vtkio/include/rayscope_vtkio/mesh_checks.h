@@ -12,7 +12,7 @@
 
 class vtkDataSet;
 
-namespace rayscope_vtk {
+namespace rayscope_vtkio {
 
 /// Size of a binary STL file's header: 80 bytes of text, then the uint32
 /// triangle count.
@@ -104,4 +104,4 @@ std::string check_cell_point_ids(vtkDataSet* data);
 /// mesh_conversion.cpp.)
 std::vector<std::string> remove_short_attribute_arrays(vtkDataSet* data);
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkio

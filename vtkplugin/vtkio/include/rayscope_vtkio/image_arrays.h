@@ -1,8 +1,8 @@
-// The ray-traced framebuffer as the arrays of a vtkImageData (private header
-// of vtkRayScopeImageAlgorithm, whose class documentation lists the arrays;
-// RayScope::Rendering uses it too: vtkRayScopeViewer fills its images with it
-// tile by tile while its renders run, so that both make the same arrays, and
-// the display modes color their pixels with srgb_byte()).
+// The ray-traced framebuffer as the arrays of a vtkImageData: the output of
+// vtkRayScopeImageAlgorithm (RayScope::VTK, whose class documentation lists
+// the arrays) and the images of vtkRayScopeViewer (RayScope::Rendering), which
+// fills them tile by tile while its renders run, so that both make the same
+// arrays. The 8-bit "Color" array is rayscope::srgb_byte() of the linear color.
 #pragma once
 
 class vtkImageData;
@@ -12,7 +12,7 @@ struct Framebuffer;
 struct RayCounters;
 }  // namespace rayscope
 
-namespace rayscope_vtk {
+namespace rayscope_vtkio {
 
 /// Replaces `image` with the framebuffer: extent [0, w-1] x [0, h-1] x [0, 0],
 /// spacing 1, origin 0, row 0 at the bottom (the framebuffer's row h-1-j);
@@ -44,11 +44,4 @@ void framebuffer_rect_to_image(const rayscope::Framebuffer& fb, int x0, int y0, 
 /// totals when the image has the "Cost" array).
 void counters_to_image(const rayscope::RayCounters& counters, vtkImageData* image);
 
-/// The 8-bit sRGB value of a linear color component, exactly
-/// std::lround(255 * rayscope::linear_to_srgb(v)) (0 for NaN), from a table
-/// made once from that function: the byte grows with v, so each byte has a
-/// smallest linear value, and v's float bits (top 16) find the byte to start
-/// from. About ten times faster than the power function it replaces.
-unsigned char srgb_byte(float linear);
-
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkio

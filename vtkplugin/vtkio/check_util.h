@@ -13,7 +13,7 @@
 
 #include "rayscope/printable_text.h"
 
-namespace rayscope_vtk::checks {
+namespace rayscope_vtkio::checks {
 
 namespace fs = std::filesystem;
 
@@ -75,4 +75,4 @@ inline long long binary_integer(const unsigned char* b, int size, bool is_signed
   return static_cast<long long>(u);
 }
 
-}  // namespace rayscope_vtk::checks
+}  // namespace rayscope_vtkio::checks

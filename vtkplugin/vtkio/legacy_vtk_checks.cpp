@@ -21,9 +21,9 @@
 #include <vector>
 
 #include "check_util.h"
-#include "rayscope_vtk/mesh_checks.h"
+#include "rayscope_vtkio/mesh_checks.h"
 
-namespace rayscope_vtk {
+namespace rayscope_vtkio {
 namespace {
 
 using namespace checks;
@@ -395,4 +395,4 @@ void check_legacy_vtk_file(const fs::path& path) {
   }
 }
 
-}  // namespace rayscope_vtk
+}  // namespace rayscope_vtkio
