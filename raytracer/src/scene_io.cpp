@@ -228,18 +228,17 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
     s.camera.eye = s.to_local(eye);
     s.camera.look_at = s.to_local(look_at);
     if (c.contains("up")) s.camera.up = r.vec3(c["up"], "camera.up");
-    if (c.contains("fov")) s.camera.vfov_degrees = r.number(c["fov"], "camera.fov", 1e-3f, 179.0f);
+    if (c.contains("fov")) s.camera.vfov_degrees = r.number(c["fov"], "camera.fov");
     if (c.contains("parallel")) s.camera.parallel = r.boolean(c["parallel"], "camera.parallel");
     if (c.contains("parallel_scale"))
-      s.camera.parallel_scale =
-          r.number(c["parallel_scale"], "camera.parallel_scale", 1e-30f, 1e30f);
-    // The checks rendering will run, reported here with the file's name.
-    Camera probe = s.camera;
-    try {
-      probe.prepare(1, 1);
-    } catch (const std::invalid_argument& e) {
-      r.fail("camera", e.what());
-    }
+      s.camera.parallel_scale = r.number(c["parallel_scale"], "camera.parallel_scale");
+    // The core's check of the camera rendering will use, reported here with
+    // the file's name.
+    const Camera& k = s.camera;
+    if (std::string e = camera_error(DVec3(k.eye), DVec3(k.look_at), DVec3(k.up), k.vfov_degrees,
+                                     k.parallel, k.parallel_scale);
+        !e.empty())
+      r.fail("camera", e);
   }
 
   if (root.contains("render")) {
@@ -344,31 +343,33 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
       Light l;
       std::string type = j.contains("type") ? r.string(j["type"], w + ".type") : "point";
       l.name = j.contains("name") ? r.string(j["name"], w + ".name") : "light" + std::to_string(i);
+      DVec3 position(0.0);
       if (type == "point") {
         l.type = Light::Type::Point;
         if (!j.contains("position")) r.fail(w, "a point light needs a position");
-        l.position = s.to_local(r.dvec3(j["position"], w + ".position"));
+        position = r.dvec3(j["position"], w + ".position");
         if (j.contains("direction")) r.fail(w, "a point light has no direction");
       } else if (type == "directional") {
         l.type = Light::Type::Directional;
         if (!j.contains("direction")) r.fail(w, "a directional light needs a direction");
         l.direction = r.vec3(j["direction"], w + ".direction");
-        if (l.direction == Vec3(0.0f)) r.fail(w + ".direction", "must be non-zero");
-        l.direction = normalize_any_length(l.direction);  // only its direction counts
         if (j.contains("position")) r.fail(w, "a directional light has no position");
       } else {
         r.fail(w + ".type",
                "expected \"point\" or \"directional\", got \"" + printable_text(type) + "\"");
       }
-      if (j.contains("color")) l.color = r.color(j["color"], w + ".color");
-      if (j.contains("intensity"))
-        l.intensity = r.number(j["intensity"], w + ".intensity", 0.0f, 1e30f);
-      if (j.contains("attenuation")) {
-        l.attenuation = r.vec3(j["attenuation"], w + ".attenuation");
-        if (l.attenuation.x < 0 || l.attenuation.y < 0 || l.attenuation.z < 0 ||
-            l.attenuation == Vec3(0.0f))
-          r.fail(w + ".attenuation", "coefficients must be >= 0 and not all zero");
-      }
+      if (j.contains("color")) l.color = r.vec3(j["color"], w + ".color");
+      if (j.contains("intensity")) l.intensity = r.number(j["intensity"], w + ".intensity");
+      if (j.contains("attenuation")) l.attenuation = r.vec3(j["attenuation"], w + ".attenuation");
+      const bool point = l.type == Light::Type::Point;
+      if (std::string e = light_error(l.type, point ? position : DVec3(l.direction), DVec3(l.color),
+                                      l.intensity, DVec3(l.attenuation));
+          !e.empty())
+        r.fail(w, e);
+      if (point)
+        l.position = s.to_local(position);
+      else
+        l.direction = normalize_any_length(l.direction);  // only its direction counts
       if (j.contains("shadows")) l.casts_shadows = r.boolean(j["shadows"], w + ".shadows");
       s.lights.push_back(l);
     }

@@ -1,6 +1,7 @@
 // frame_bounds(), the camera `rayscope render MESH_FILE` views a mesh with: the
 // whole box is in the picture, its bounding sphere just fits the narrower field
 // of view, and the view direction, up vector and projection are kept.
+// (fit_bounds(), which it calls, is also the VTK module's ResetCamera: tests/vtk.)
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -66,12 +67,28 @@ TEST(MeshView, FrameBoundsOfEmptyOrPointBoxes) {
   EXPECT_EQ(c.look_at, Vec3(0.0f));
   const float d = 1.0f / std::sin(0.5f * glm::radians(Camera{}.vfov_degrees));
   EXPECT_NEAR(glm::length(c.eye - Vec3(0.0f, 0.0f, d)), 0.0f, 1e-5f);
-  // A point: the unit sphere around it; coinciding eye and look_at look along -z.
+  // A point: the sphere of radius 0.5 around it, as vtkRenderer::ResetCamera
+  // frames a point; coinciding eye and look_at look along -z.
   Camera same;
   same.eye = same.look_at = Vec3(4.0f);
   c = frame_bounds(Bounds3(Vec3(7.0f, 8.0f, 9.0f)), 1.0f, same);
   EXPECT_EQ(c.look_at, Vec3(7.0f, 8.0f, 9.0f));
-  EXPECT_NEAR(glm::length(c.eye - Vec3(7.0f, 8.0f, 9.0f + d)), 0.0f, 1e-5f);
+  EXPECT_NEAR(glm::length(c.eye - Vec3(7.0f, 8.0f, 9.0f + 0.5f * d)), 0.0f, 1e-5f);
+}
+
+TEST(MeshView, FrameBoundsRepairsAnUpAlongTheView) {
+  // An up vector parallel to the view direction is replaced (+y, or -z for a
+  // view along y), so that the fitted camera can be prepared.
+  Camera view;
+  view.eye = Vec3(0.0f, 0.0f, 5.0f);
+  view.up = Vec3(0.0f, 0.0f, 2.0f);
+  Camera c = frame_bounds(Bounds3(Vec3(-1.0f), Vec3(1.0f)), 1.0f, view);
+  EXPECT_EQ(c.up, Vec3(0.0f, 1.0f, 0.0f));
+  view.eye = Vec3(0.0f, 5.0f, 0.0f);
+  view.up = Vec3(0.0f, 1.0f, 0.0f);
+  c = frame_bounds(Bounds3(Vec3(-1.0f), Vec3(1.0f)), 1.0f, view);
+  EXPECT_EQ(c.up, Vec3(0.0f, 0.0f, -1.0f));
+  EXPECT_NO_THROW(c.prepare(10, 10));
 }
 
 }  // namespace

@@ -3,10 +3,39 @@
 // plane at distance 1. A parallel projection is available for VTK cameras.
 #pragma once
 
+#include <string>
+
 #include "rayscope/math.h"
 #include "rayscope/ray.h"
 
 namespace rayscope {
+
+/// The field of view of a central projection, in degrees, lies strictly
+/// between these.
+inline constexpr double kMinFovDegrees = 0.0;
+inline constexpr double kMaxFovDegrees = 180.0;
+
+/// How camera_error() names the camera's values: the core's names by default;
+/// the VTK module passes its property names (Position, FocalPoint, ...).
+struct CameraNames {
+  const char* eye = "eye";
+  const char* look_at = "look_at";
+  const char* up = "up";
+  const char* fov = "field of view";
+  const char* parallel_scale = "parallel_scale";
+};
+
+/// What is wrong with a camera, in words, or "" for a camera Camera::prepare()
+/// accepts: finite vectors, eye and look_at apart (and close enough that the
+/// rays' directions stay finite in float), an up vector not parallel to the
+/// view direction, a field of view in (kMinFovDegrees, kMaxFovDegrees) for a
+/// central projection and a finite parallel_scale > 0 for a parallel one.
+/// The values are double so that cameras far from the origin (VTK's, or a
+/// scene file's before it is made scene-local) are checked without rounding;
+/// the view direction and up vector are checked as float, as the rays use them.
+std::string camera_error(const DVec3& eye, const DVec3& look_at, const DVec3& up,
+                         double vfov_degrees, bool parallel, double parallel_scale,
+                         const CameraNames& names = {});
 
 struct Camera {
   Vec3 eye{0.0f, 0.0f, 5.0f};
@@ -17,7 +46,8 @@ struct Camera {
   float parallel_scale = 1.0f;  ///< Half the image height in world units when parallel.
 
   /// Precomputes the image-plane basis for an image of width x height pixels.
-  /// Throws std::invalid_argument for a degenerate camera.
+  /// Throws std::invalid_argument for an image size < 1 or a camera that
+  /// camera_error() refuses, with its message.
   void prepare(int width, int height);
 
   /// The primary ray through the image-plane point (px, py), in pixel units with
@@ -52,14 +82,35 @@ struct Camera {
   float inv_width_ = 1.0f, inv_height_ = 1.0f;
 };
 
-/// A camera that shows all of `bounds`, as VTK's vtkRenderer::ResetCamera does:
-/// it looks at the center of the box from along `view`'s direction (eye - look_at,
-/// +z if they coincide), keeps `view`'s up vector, field of view and projection,
-/// and stands just far enough away (central projection) or zooms out just enough
-/// (parallel projection) for the box's bounding sphere to fit the smaller of the
-/// vertical and horizontal field of view of an image of width / height = aspect.
-/// An empty box frames the unit sphere at the origin; a single point, the unit
-/// sphere around it.
+/// A view fitted to a box, in double so that data far from the origin keeps
+/// its precision (fit_bounds()).
+struct CameraFit {
+  DVec3 eye, look_at, up;
+  double parallel_scale;
+};
+
+/// fit_bounds() replaces the up vector when |cross(view direction, up)| is at
+/// most this (the view direction a unit vector, up as given): the camera would
+/// have no usable right vector.
+inline constexpr double kMinFitUpCross = 1e-6;
+
+/// The view that shows all of the box [lo, hi], as VTK's vtkRenderer::ResetCamera
+/// places it: it looks at the center of the box from along the view direction
+/// eye - look_at (+z if they coincide), at the distance r / sin(a / 2) where r
+/// is the radius of the box's bounding sphere and a the vertical field of view
+/// (narrowed to the horizontal one for an image of width / height = aspect < 1;
+/// pass aspect 1 to fit the vertical field of view alone), and parallel_scale
+/// is r (r / aspect when aspect < 1), which fits the sphere to a parallel
+/// projection. The up vector is kept unless it is (nearly) parallel to the view
+/// direction (kMinFitUpCross); it is then +y, or -z when the view is along y.
+/// A box of one point is framed with r = 0.5, as ResetCamera does; an empty box
+/// (lo > hi on some axis), the unit sphere at the origin. The one fit of the
+/// core (frame_bounds) and of the VTK module (ResetCamera, AutoCamera).
+CameraFit fit_bounds(const DVec3& lo, const DVec3& hi, const DVec3& eye, const DVec3& look_at,
+                     const DVec3& up, double vfov_degrees, double aspect);
+
+/// fit_bounds() for a float box and camera: `view` with the fitted eye,
+/// look_at, up and parallel_scale.
 Camera frame_bounds(const Bounds3& bounds, float aspect, const Camera& view = Camera{});
 
 }  // namespace rayscope

@@ -29,4 +29,17 @@ struct Light {
   }
 };
 
+/// The largest light intensity a light may have.
+inline constexpr double kMaxLightIntensity = 1e30;
+
+/// What is wrong with a light's values, in words ("intensity must be ..."), or
+/// "" for a usable light: a point light's position finite; a directional
+/// light's direction finite and non-zero; color components finite and >= 0;
+/// intensity in [0, kMaxLightIntensity]; attenuation coefficients finite,
+/// >= 0 and not all zero. `v` is the position of a point light, the direction
+/// of a directional one. The values are double as VTK's lights and a scene
+/// file's positions are; those a Light holds in float are checked as float.
+std::string light_error(Light::Type type, const DVec3& v, const DVec3& color, double intensity,
+                        const DVec3& attenuation);
+
 }  // namespace rayscope

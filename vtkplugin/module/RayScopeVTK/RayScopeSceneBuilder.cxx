@@ -50,6 +50,10 @@ rayscope::Vec3 vec3(const double v[3]) {
   return rayscope::Vec3(float(v[0]), float(v[1]), float(v[2]));
 }
 
+rayscope::DVec3 dvec3(const double v[3]) {
+  return rayscope::DVec3(v[0], v[1], v[2]);
+}
+
 // A VTK world position in the scene's local coordinates (Scene::origin).
 rayscope::Vec3 local(const rayscope::Scene& s, const double v[3]) {
   return s.to_local(rayscope::DVec3(v[0], v[1], v[2]));
@@ -91,36 +95,6 @@ std::vector<rayscope::Light> core_lights(vtkRayScopeImageAlgorithm* alg,
 }
 
 }  // namespace
-
-FittedCamera fit_camera(const double bounds[6], const double position[3],
-                        const double focal_point[3], const double view_up[3], double view_angle) {
-  FittedCamera c{};
-  double w[3];
-  for (int k = 0; k < 3; ++k) {
-    c.focal_point[k] = 0.5 * (bounds[2 * k] + bounds[2 * k + 1]);
-    w[k] = bounds[2 * k + 1] - bounds[2 * k];
-  }
-  double radius = 0.5 * std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-  if (radius == 0.0) radius = 0.5;
-  double vn[3] = {position[0] - focal_point[0], position[1] - focal_point[1],
-                  position[2] - focal_point[2]};
-  if (!(vtkMath::Normalize(vn) > 0.0)) {
-    vn[0] = vn[1] = 0.0;
-    vn[2] = 1.0;
-  }
-  const double distance = radius / std::sin(0.5 * vtkMath::RadiansFromDegrees(view_angle));
-  std::copy_n(view_up, 3, c.view_up);
-  double cross[3];
-  vtkMath::Cross(vn, c.view_up, cross);
-  if (!(vtkMath::Norm(cross) > 1e-6)) {
-    c.view_up[0] = 0.0;
-    c.view_up[1] = std::abs(vn[1]) > 0.999 ? 0.0 : 1.0;
-    c.view_up[2] = std::abs(vn[1]) > 0.999 ? -1.0 : 0.0;
-  }
-  for (int k = 0; k < 3; ++k) c.position[k] = c.focal_point[k] + distance * vn[k];
-  c.parallel_scale = radius;
-  return c;
-}
 
 int SceneBuilder::CheckTriangles(vtkRayScopeImageAlgorithm* alg,
                                  const std::vector<vtkDataSet*>& inputs,
@@ -304,17 +278,16 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
 int SceneBuilder::PrepareCamera(vtkRayScopeImageAlgorithm* alg,
                                 const std::vector<vtkDataSet*>& inputs) {
   rayscope::Scene& s = this->Scene;
-  FittedCamera c{};
-  std::copy_n(alg->GetPosition(), 3, c.position);
-  std::copy_n(alg->GetFocalPoint(), 3, c.focal_point);
-  std::copy_n(alg->GetViewUp(), 3, c.view_up);
-  c.parallel_scale = alg->GetParallelScale();
+  const rayscope::DVec3 position = dvec3(alg->GetPosition()), focal = dvec3(alg->GetFocalPoint());
+  rayscope::CameraFit c{position, focal, dvec3(alg->GetViewUp()), alg->GetParallelScale()};
   double b[6];
+  // Aspect 1: the bounds fill the vertical view angle whatever the image's shape.
   if (alg->GetAutoCamera() && rayscope_vtkio::finite_bounds(inputs, b))
-    c = fit_camera(b, c.position, c.focal_point, c.view_up, alg->GetViewAngle());
-  s.camera.eye = local(s, c.position);
-  s.camera.look_at = local(s, c.focal_point);
-  s.camera.up = vec3(c.view_up);
+    c = rayscope::fit_bounds(rayscope::DVec3(b[0], b[2], b[4]), rayscope::DVec3(b[1], b[3], b[5]),
+                             position, focal, c.up, alg->GetViewAngle(), 1.0);
+  s.camera.eye = s.to_local(c.eye);
+  s.camera.look_at = s.to_local(c.look_at);
+  s.camera.up = rayscope::Vec3(c.up);
   s.camera.vfov_degrees = float(alg->GetViewAngle());
   s.camera.parallel = alg->GetParallelProjection() != 0;
   s.camera.parallel_scale = float(c.parallel_scale);

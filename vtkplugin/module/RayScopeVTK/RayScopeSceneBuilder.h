@@ -18,17 +18,6 @@ namespace rayscope_vtkmodule {
 /// A light besides the headlight, in VTK terms (sRGB color).
 using SceneLight = vtkRayScopeSceneSettings::Light;
 
-/// A camera that sees `bounds` whole, as vtkRenderer::ResetCamera() places
-/// it: the bounds' sphere fills the vertical view angle; the view direction
-/// (position toward focal point, -z if they coincide) is kept, and so is the
-/// view up unless it is parallel to that direction.
-struct FittedCamera {
-  double position[3], focal_point[3], view_up[3];
-  double parallel_scale;
-};
-FittedCamera fit_camera(const double bounds[6], const double position[3],
-                        const double focal_point[3], const double view_up[3], double view_angle);
-
 /// The core storage choice of a Storage value (STORAGE_*), and back.
 rayscope::PrimStorage storage_of(int storage);
 int storage_value_of(rayscope::PrimStorage storage);

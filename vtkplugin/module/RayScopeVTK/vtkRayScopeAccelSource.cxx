@@ -315,7 +315,8 @@ int vtkRayScopeAccelSource::RequestData(vtkInformation*, vtkInformationVector** 
           for (int v = 0; v < 4; ++v) q[v] = p0 + rayscope_vtkmodule::kBoxFaces[k][v];
           cells->InsertNextCell(4, q);
         } else {
-          vtkIdType e[2] = {p0 + rayscope_vtkmodule::kBoxEdges[k][0], p0 + rayscope_vtkmodule::kBoxEdges[k][1]};
+          vtkIdType e[2] = {p0 + rayscope_vtkmodule::kBoxEdges[k][0],
+                            p0 + rayscope_vtkmodule::kBoxEdges[k][1]};
           cells->InsertNextCell(2, e);
         }
       }

@@ -21,11 +21,12 @@
 #include "vtkScalarsToColors.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 
-#include "rayscope_vtkio/image_arrays.h"
 #include "RayScopeProgressRelay.h"
+#include "rayscope/camera.h"
 #include "rayscope/render_settings.h"
 #include "rayscope/scene.h"
 #include "rayscope/stats.h"
+#include "rayscope_vtkio/image_arrays.h"
 #include "rayscope_vtkio/mesh_conversion.h"
 #include "vtkRayScopeImageAlgorithmInternals.h"
 
@@ -60,11 +61,15 @@ int vtkRayScopeImageAlgorithm::ResetCamera() {
     vtkErrorMacro(<< "ResetCamera: the inputs have no finite points");
     return 0;
   }
-  const rayscope_vtkmodule::FittedCamera c = rayscope_vtkmodule::fit_camera(
-      b, this->GetPosition(), this->GetFocalPoint(), this->GetViewUp(), this->GetViewAngle());
-  this->SetFocalPoint(c.focal_point);
-  this->SetPosition(c.position);
-  this->SetViewUp(c.view_up);
+  // Aspect 1: the bounds fill the vertical view angle whatever the image's shape.
+  auto dvec3 = [](const double* v) { return rayscope::DVec3(v[0], v[1], v[2]); };
+  const rayscope::CameraFit c =
+      rayscope::fit_bounds(rayscope::DVec3(b[0], b[2], b[4]), rayscope::DVec3(b[1], b[3], b[5]),
+                           dvec3(this->GetPosition()), dvec3(this->GetFocalPoint()),
+                           dvec3(this->GetViewUp()), this->GetViewAngle(), 1.0);
+  this->SetFocalPoint(c.look_at.x, c.look_at.y, c.look_at.z);
+  this->SetPosition(c.eye.x, c.eye.y, c.eye.z);
+  this->SetViewUp(c.up.x, c.up.y, c.up.z);
   this->SetParallelScale(c.parallel_scale);
   return 1;
 }
@@ -340,9 +345,9 @@ int vtkRayScopeImageAlgorithm::RequestData(vtkInformation*, vtkInformationVector
   rayscope::RayCounters counters;
   rayscope::Framebuffer fb;
   try {
-    fb = rayscope_vtkmodule::render_relaying_progress(*this->GetCoreScene(), this->GetRenderSettings(),
-                                                &counters,
-                                                [this](double p) { this->UpdateProgress(p); });
+    fb = rayscope_vtkmodule::render_relaying_progress(
+        *this->GetCoreScene(), this->GetRenderSettings(), &counters,
+        [this](double p) { this->UpdateProgress(p); });
   } catch (const std::exception& e) {
     vtkErrorMacro(<< "render failed: " << e.what());
     return 0;

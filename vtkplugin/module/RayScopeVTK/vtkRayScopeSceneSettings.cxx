@@ -13,6 +13,8 @@
 #include "RayScopeSceneBuilder.h"
 #include "rayscope/accel/accel_config.h"
 #include "rayscope/accel/accel_kind.h"
+#include "rayscope/camera.h"
+#include "rayscope/light.h"
 #include "rayscope/render_settings.h"
 #include "vtkRayScopeMaterial.h"
 
@@ -43,14 +45,6 @@ struct vtkRayScopeSceneSettings::Internals {
   vtkSmartPointer<vtkRayScopeMaterial> material = vtkSmartPointer<vtkRayScopeMaterial>::New();
   std::vector<Light> lights;
 };
-
-namespace {
-
-bool finite3(const double v[3]) {
-  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-}
-
-}  // namespace
 
 bool vtkRayScopeSceneSettings::Light::operator==(const Light& o) const {
   return point == o.point && std::equal(v, v + 3, o.v) && std::equal(color, color + 3, o.color) &&
@@ -195,20 +189,19 @@ std::string vtkRayScopeSceneSettings::Validate() {
   } catch (const std::invalid_argument& e) {
     return std::string("invalid render settings: ") + e.what();
   }
-  if (!finite3(this->Position) || !finite3(this->FocalPoint) || !finite3(this->ViewUp))
-    return "camera Position, FocalPoint and ViewUp must be finite";
-  double d[3] = {this->FocalPoint[0] - this->Position[0], this->FocalPoint[1] - this->Position[1],
-                 this->FocalPoint[2] - this->Position[2]};
-  if (!(vtkMath::Norm(d) > 0.0)) return "camera Position and FocalPoint coincide";
-  double up[3] = {this->ViewUp[0], this->ViewUp[1], this->ViewUp[2]}, c[3];
-  vtkMath::Cross(d, up, c);
-  if (!(vtkMath::Norm(c) > 1e-12 * vtkMath::Norm(d) * vtkMath::Norm(up)))
-    return "camera ViewUp is zero or parallel to the view direction";
-  if (!this->ParallelProjection && !(this->ViewAngle > 0.0 && this->ViewAngle < 180.0))
-    return "ViewAngle must be in (0, 180) degrees";
-  if (this->ParallelProjection &&
-      !(std::isfinite(this->ParallelScale) && this->ParallelScale > 0.0))
-    return "ParallelScale must be finite and > 0";
+  auto dvec3 = [](const double* v) { return rayscope::DVec3(v[0], v[1], v[2]); };
+  rayscope::CameraNames names;
+  names.eye = "Position";
+  names.look_at = "FocalPoint";
+  names.up = "ViewUp";
+  names.fov = "ViewAngle";
+  names.parallel_scale = "ParallelScale";
+  if (std::string e = rayscope::camera_error(
+          dvec3(this->Position), dvec3(this->FocalPoint), dvec3(this->ViewUp), this->ViewAngle,
+          this->ParallelProjection != 0, this->ParallelScale, names);
+      !e.empty())
+    return "camera " + e;
+  // VTK colors are sRGB in [0, 1]; the core checks the rest of a light.
   auto unit3 = [](const double* v) {
     for (int k = 0; k < 3; ++k)
       if (!(std::isfinite(v[k]) && v[k] >= 0.0 && v[k] <= 1.0)) return false;
@@ -216,32 +209,35 @@ std::string vtkRayScopeSceneSettings::Validate() {
   };
   if (!unit3(this->Background)) return "Background components must be in [0, 1]";
   if (!unit3(this->AmbientLight)) return "AmbientLight components must be in [0, 1]";
-  if (!(std::isfinite(this->HeadlightIntensity) && this->HeadlightIntensity >= 0.0))
-    return "HeadlightIntensity must be finite and >= 0";
+  const rayscope::DVec3 white(1.0), no_attenuation(1.0, 0.0, 0.0);
+  if (std::string e = rayscope::light_error(rayscope::Light::Type::Directional,
+                                            dvec3(this->FocalPoint) - dvec3(this->Position), white,
+                                            this->HeadlightIntensity, no_attenuation);
+      !e.empty())
+    return "headlight: " + e;
   for (size_t i = 0; i < this->Internal->lights.size(); ++i) {
     const Light& l = this->Internal->lights[i];
     const std::string name = "light " + std::to_string(i);
-    if (!finite3(l.v)) return name + ": position/direction must be finite";
-    if (!l.point && !(vtkMath::Norm(l.v) > 0.0)) return name + ": direction must be non-zero";
     if (!unit3(l.color)) return name + ": color components must be in [0, 1]";
-    if (!(std::isfinite(l.intensity) && l.intensity >= 0.0))
-      return name + ": intensity must be finite and >= 0";
-    for (double a : l.attenuation)
-      if (!(std::isfinite(a) && a >= 0.0))
-        return name + ": attenuation values must be finite and >= 0";
+    if (std::string e = rayscope::light_error(
+            l.point ? rayscope::Light::Type::Point : rayscope::Light::Type::Directional, dvec3(l.v),
+            dvec3(l.color), l.intensity, dvec3(l.attenuation));
+        !e.empty())
+      return name + ": " + e;
   }
   rayscope::AccelKind kind;
   if (!rayscope::accel_kind_of_vtk_id(this->Accel, kind))
     return "Accel " + std::to_string(this->Accel) + " names no structure of this build";
-  if (std::string e = rayscope::accel_storage_error(kind, rayscope_vtkmodule::storage_of(this->Storage));
+  if (std::string e =
+          rayscope::accel_storage_error(kind, rayscope_vtkmodule::storage_of(this->Storage));
       !e.empty())
     return e;
   if (std::string e = rayscope::loose_factor_error(float(this->LooseFactor)); !e.empty())
     return "LooseFactor: " + e;
   for (int r : this->GridResolution)
     if (r < 0) return "GridResolution: cells per axis must be >= 0 (0: automatic)";
-  if (std::string e =
-          rayscope::grid_resolution_error(rayscope_vtkmodule::grid_resolution_of(this->GridResolution));
+  if (std::string e = rayscope::grid_resolution_error(
+          rayscope_vtkmodule::grid_resolution_of(this->GridResolution));
       !e.empty())
     return "GridResolution: " + e;
   if (std::string m = this->Internal->material->Validate(); !m.empty())
