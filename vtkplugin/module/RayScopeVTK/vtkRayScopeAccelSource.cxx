@@ -24,7 +24,6 @@
 #include "vtkUnsignedCharArray.h"
 
 #include "RayScopeArrays.h"
-#include "RayScopeSceneInput.h"
 #include "rayscope/accel/accel_view.h"
 #include "rayscope/frame.h"
 #include "rayscope/replay.h"
@@ -33,40 +32,18 @@
 #include "vtkRayScopeSceneSettings.h"
 
 vtkStandardNewMacro(vtkRayScopeAccelSource);
-vtkCxxSetObjectMacro(vtkRayScopeAccelSource, SceneSource, vtkRayScopeImageAlgorithm);
 
 vtkRayScopeAccelSource::vtkRayScopeAccelSource()
-    : SceneSource(nullptr),
-      LevelRange{0, VTK_INT_MAX},
+    : LevelRange{0, VTK_INT_MAX},
       OnlyLeaves(0),
       GenerateFaces(0),
       VisitMode(VISIT_NONE),
       Pixel{0, 0},
       VisitRay(-1),
       TraversalSteps(-1),
-      NumberOfTraversalEntries(0) {
-  this->Settings = rayscope_vtkmodule::new_source_settings();
-  this->SetNumberOfInputPorts(1);
-}
+      NumberOfTraversalEntries(0) {}
 
-vtkRayScopeAccelSource::~vtkRayScopeAccelSource() {
-  this->SetSceneSource(nullptr);
-}
-
-vtkRayScopeSceneSettings* vtkRayScopeAccelSource::GetSettings() {
-  return this->Settings;
-}
-
-void vtkRayScopeAccelSource::SetSettings(vtkRayScopeSceneSettings* settings) {
-  if (rayscope_vtkmodule::replace_settings(this->Settings, settings)) this->Modified();
-}
-
-vtkMTimeType vtkRayScopeAccelSource::GetMTime() {
-  vtkMTimeType t = this->Superclass::GetMTime();
-  if (this->SceneSource) t = std::max(t, this->SceneSource->GetMTime());
-  t = std::max(t, this->Settings->GetMTime());
-  return t;
-}
+vtkRayScopeAccelSource::~vtkRayScopeAccelSource() = default;
 
 namespace {
 
@@ -121,12 +98,6 @@ using rayscope_vtkmodule::set_world_point;
 
 }  // namespace
 
-int vtkRayScopeAccelSource::FillInputPortInformation(int port, vtkInformation* info) {
-  if (port != 0) return 0;
-  rayscope_vtkmodule::fill_scene_input_port(info);
-  return 1;
-}
-
 int vtkRayScopeAccelSource::RequestData(vtkInformation*, vtkInformationVector** inputVector,
                                         vtkInformationVector* outputVector) {
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
@@ -136,8 +107,7 @@ int vtkRayScopeAccelSource::RequestData(vtkInformation*, vtkInformationVector** 
     return 0;
   }
   this->UpdateProgress(0.0);
-  vtkRayScopeImageAlgorithm* source = rayscope_vtkmodule::update_scene(
-      this, inputVector[0], this->SceneSource, this->Settings, this->DefaultScene);
+  vtkRayScopeImageAlgorithm* source = this->UpdateScene(inputVector[0]);
   if (!source) return 0;
   const rayscope::Scene& scene = *source->GetCoreScene();
   const rayscope::RenderSettings settings = source->GetRenderSettings();
@@ -422,7 +392,6 @@ int vtkRayScopeAccelSource::RequestData(vtkInformation*, vtkInformationVector** 
 
 void vtkRayScopeAccelSource::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "SceneSource: " << this->SceneSource << "\n";
   os << indent << "LevelRange: " << this->LevelRange[0] << " " << this->LevelRange[1] << "\n";
   os << indent << "OnlyLeaves: " << this->OnlyLeaves << "\n";
   os << indent << "GenerateFaces: " << this->GenerateFaces << "\n";

@@ -71,36 +71,15 @@
 #define vtkRayScopeAccelSource_h
 
 #include "RayScopeVTKModule.h"  // export macro
-#include "vtkPolyDataAlgorithm.h"
-#include "vtkSmartPointer.h"  // DefaultScene
+#include "vtkRayScopeSceneFilter.h"
 
 class vtkRayScopeImageAlgorithm;
-class vtkRayScopeSceneSettings;
 
-class RAYSCOPEVTK_EXPORT vtkRayScopeAccelSource : public vtkPolyDataAlgorithm {
+class RAYSCOPEVTK_EXPORT vtkRayScopeAccelSource : public vtkRayScopeSceneFilter {
  public:
   static vtkRayScopeAccelSource* New();
-  vtkTypeMacro(vtkRayScopeAccelSource, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkRayScopeAccelSource, vtkRayScopeSceneFilter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /// The image algorithm whose scene is shown (its inputs are replaced by
-  /// this filter's, when it has any).
-  virtual void SetSceneSource(vtkRayScopeImageAlgorithm*);
-  vtkGetObjectMacro(SceneSource, vtkRayScopeImageAlgorithm);
-  ///@}
-
-  ///@{
-  /// The scene settings (image and sampling, structure, camera, lights,
-  /// material; vtkRayScopeSceneSettings), used when there is no scene source:
-  /// the inputs are then rendered with them. Never null: each filter starts
-  /// with its own, AutoCamera on. SetSettings() shares one settings object
-  /// with other RayScope filters, e.g. a vtkRayScopeImageAlgorithm's
-  /// GetSettings(), so that one change reaches all of them (null: new
-  /// defaults).
-  vtkRayScopeSceneSettings* GetSettings();
-  void SetSettings(vtkRayScopeSceneSettings* settings);
-  ///@}
 
   ///@{
   /// Levels shown, inclusive (default 0 .. VTK_INT_MAX: all).
@@ -165,18 +144,13 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeAccelSource : public vtkPolyDataAlgorithm {
     HIT_LEAF = 5  ///< entered leaf holding the primitive the ray hit
   };
 
-  /// Includes the scene source's modification time.
-  vtkMTimeType GetMTime() override;
-
  protected:
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   vtkRayScopeAccelSource();
   ~vtkRayScopeAccelSource() override;
 
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
                   vtkInformationVector* outputVector) override;
 
-  vtkRayScopeImageAlgorithm* SceneSource;
   int LevelRange[2];
   vtkTypeBool OnlyLeaves;
   vtkTypeBool GenerateFaces;
@@ -187,9 +161,6 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeAccelSource : public vtkPolyDataAlgorithm {
   int NumberOfTraversalEntries;
 
  private:
-  // The scene without a scene source: inputs only, camera fitted to them.
-  vtkSmartPointer<vtkRayScopeImageAlgorithm> DefaultScene;
-  vtkSmartPointer<vtkRayScopeSceneSettings> Settings;
   vtkRayScopeAccelSource(const vtkRayScopeAccelSource&) = delete;
   void operator=(const vtkRayScopeAccelSource&) = delete;
 };

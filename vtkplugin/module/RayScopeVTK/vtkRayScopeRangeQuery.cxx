@@ -21,52 +21,24 @@
 #include "vtkUnsignedCharArray.h"
 
 #include "RayScopeArrays.h"
-#include "RayScopeSceneInput.h"
 #include "rayscope/scene.h"
 #include "rayscope/stats.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeSceneSettings.h"
 
 vtkStandardNewMacro(vtkRayScopeRangeQuery);
-vtkCxxSetObjectMacro(vtkRayScopeRangeQuery, SceneSource, vtkRayScopeImageAlgorithm);
 
 vtkRayScopeRangeQuery::vtkRayScopeRangeQuery()
-    : SceneSource(nullptr),
-      QueryType(QUERY_BOX),
+    : QueryType(QUERY_BOX),
       Box{-0.5, 0.5, -0.5, 0.5, -0.5, 0.5},
       Center{0.0, 0.0, 0.0},
       Radius(1.0),
       NumberOfNeighbors(1),
       SphereResolution(24) {
-  this->Settings = rayscope_vtkmodule::new_source_settings();
-  this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(2);
 }
 
-vtkRayScopeRangeQuery::~vtkRayScopeRangeQuery() {
-  this->SetSceneSource(nullptr);
-}
-
-vtkRayScopeSceneSettings* vtkRayScopeRangeQuery::GetSettings() {
-  return this->Settings;
-}
-
-void vtkRayScopeRangeQuery::SetSettings(vtkRayScopeSceneSettings* settings) {
-  if (rayscope_vtkmodule::replace_settings(this->Settings, settings)) this->Modified();
-}
-
-vtkMTimeType vtkRayScopeRangeQuery::GetMTime() {
-  vtkMTimeType t = this->Superclass::GetMTime();
-  if (this->SceneSource) t = std::max(t, this->SceneSource->GetMTime());
-  t = std::max(t, this->Settings->GetMTime());
-  return t;
-}
-
-int vtkRayScopeRangeQuery::FillInputPortInformation(int port, vtkInformation* info) {
-  if (port != 0) return 0;
-  rayscope_vtkmodule::fill_scene_input_port(info);
-  return 1;
-}
+vtkRayScopeRangeQuery::~vtkRayScopeRangeQuery() = default;
 
 namespace {
 
@@ -161,8 +133,7 @@ int vtkRayScopeRangeQuery::RequestData(vtkInformation*, vtkInformationVector** i
   vtkPolyData* range_out = vtkPolyData::GetData(outputVector, 1);
   found_out->Initialize();
   range_out->Initialize();
-  vtkRayScopeImageAlgorithm* source = rayscope_vtkmodule::update_scene(
-      this, inputVector[0], this->SceneSource, this->Settings, this->DefaultScene);
+  vtkRayScopeImageAlgorithm* source = this->UpdateScene(inputVector[0]);
   if (!source) return 0;
   const rayscope::Scene& scene = *source->GetCoreScene();
   const rayscope::Aggregate& accel = scene.accel();
@@ -262,7 +233,6 @@ int vtkRayScopeRangeQuery::RequestData(vtkInformation*, vtkInformationVector** i
 
 void vtkRayScopeRangeQuery::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "SceneSource: " << this->SceneSource << "\n";
   os << indent << "QueryType: " << this->QueryType << "\n";
   os << indent << "Box: " << this->Box[0] << " " << this->Box[1] << " " << this->Box[2] << " "
      << this->Box[3] << " " << this->Box[4] << " " << this->Box[5] << "\n";

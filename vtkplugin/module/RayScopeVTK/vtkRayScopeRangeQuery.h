@@ -47,36 +47,15 @@
 #define vtkRayScopeRangeQuery_h
 
 #include "RayScopeVTKModule.h"  // export macro
-#include "vtkPolyDataAlgorithm.h"
-#include "vtkSmartPointer.h"  // DefaultScene
+#include "vtkRayScopeSceneFilter.h"
 
 class vtkRayScopeImageAlgorithm;
-class vtkRayScopeSceneSettings;
 
-class RAYSCOPEVTK_EXPORT vtkRayScopeRangeQuery : public vtkPolyDataAlgorithm {
+class RAYSCOPEVTK_EXPORT vtkRayScopeRangeQuery : public vtkRayScopeSceneFilter {
  public:
   static vtkRayScopeRangeQuery* New();
-  vtkTypeMacro(vtkRayScopeRangeQuery, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkRayScopeRangeQuery, vtkRayScopeSceneFilter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /// The image algorithm whose scene (and structure choice) is queried (its
-  /// inputs are replaced by this filter's, when it has any).
-  virtual void SetSceneSource(vtkRayScopeImageAlgorithm*);
-  vtkGetObjectMacro(SceneSource, vtkRayScopeImageAlgorithm);
-  ///@}
-
-  ///@{
-  /// The scene settings (image and sampling, structure, camera, lights,
-  /// material; vtkRayScopeSceneSettings), used when there is no scene source:
-  /// the inputs are then rendered with them. Never null: each filter starts
-  /// with its own, AutoCamera on. SetSettings() shares one settings object
-  /// with other RayScope filters, e.g. a vtkRayScopeImageAlgorithm's
-  /// GetSettings(), so that one change reaches all of them (null: new
-  /// defaults).
-  vtkRayScopeSceneSettings* GetSettings();
-  void SetSettings(vtkRayScopeSceneSettings* settings);
-  ///@}
 
   ///@{
   /// Which range (default QUERY_BOX).
@@ -117,18 +96,13 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeRangeQuery : public vtkPolyDataAlgorithm {
   vtkGetMacro(SphereResolution, int);
   ///@}
 
-  /// Includes the scene source's modification time.
-  vtkMTimeType GetMTime() override;
-
  protected:
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   vtkRayScopeRangeQuery();
   ~vtkRayScopeRangeQuery() override;
 
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
                   vtkInformationVector* outputVector) override;
 
-  vtkRayScopeImageAlgorithm* SceneSource;
   int QueryType;
   double Box[6];
   double Center[3];
@@ -137,9 +111,6 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeRangeQuery : public vtkPolyDataAlgorithm {
   int SphereResolution;
 
  private:
-  // The scene without a scene source: inputs only, camera fitted to them.
-  vtkSmartPointer<vtkRayScopeImageAlgorithm> DefaultScene;
-  vtkSmartPointer<vtkRayScopeSceneSettings> Settings;
   vtkRayScopeRangeQuery(const vtkRayScopeRangeQuery&) = delete;
   void operator=(const vtkRayScopeRangeQuery&) = delete;
 };

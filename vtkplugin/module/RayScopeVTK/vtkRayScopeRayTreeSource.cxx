@@ -22,7 +22,6 @@
 #include "vtkUnsignedCharArray.h"
 
 #include "RayScopeArrays.h"
-#include "RayScopeSceneInput.h"
 #include "rayscope/render.h"
 #include "rayscope/replay.h"
 #include "rayscope/scene.h"
@@ -30,20 +29,15 @@
 #include "vtkRayScopeSceneSettings.h"
 
 vtkStandardNewMacro(vtkRayScopeRayTreeSource);
-vtkCxxSetObjectMacro(vtkRayScopeRayTreeSource, SceneSource, vtkRayScopeImageAlgorithm);
 
 struct vtkRayScopeRayTreeSource::Internals {
   std::vector<std::pair<int, int>> pixels;
 };
 
 vtkRayScopeRayTreeSource::vtkRayScopeRayTreeSource()
-    : SceneSource(nullptr), Sample(-1), MissLength(0.0), Internal(new Internals) {
-  this->Settings = rayscope_vtkmodule::new_source_settings();
-  this->SetNumberOfInputPorts(1);
-}
+    : Sample(-1), MissLength(0.0), Internal(new Internals) {}
 
 vtkRayScopeRayTreeSource::~vtkRayScopeRayTreeSource() {
-  this->SetSceneSource(nullptr);
   delete this->Internal;
 }
 
@@ -69,21 +63,6 @@ int vtkRayScopeRayTreeSource::GetNumberOfPixels() {
   return int(this->Internal->pixels.size());
 }
 
-vtkRayScopeSceneSettings* vtkRayScopeRayTreeSource::GetSettings() {
-  return this->Settings;
-}
-
-void vtkRayScopeRayTreeSource::SetSettings(vtkRayScopeSceneSettings* settings) {
-  if (rayscope_vtkmodule::replace_settings(this->Settings, settings)) this->Modified();
-}
-
-vtkMTimeType vtkRayScopeRayTreeSource::GetMTime() {
-  vtkMTimeType t = this->Superclass::GetMTime();
-  if (this->SceneSource) t = std::max(t, this->SceneSource->GetMTime());
-  t = std::max(t, this->Settings->GetMTime());
-  return t;
-}
-
 namespace {
 
 enum EndKind { kMiss = 0, kHit = 1, kLight = 2, kOccluder = 3, kSkipped = 4 };
@@ -107,12 +86,6 @@ using rayscope_vtkmodule::set_world_point;
 
 }  // namespace
 
-int vtkRayScopeRayTreeSource::FillInputPortInformation(int port, vtkInformation* info) {
-  if (port != 0) return 0;
-  rayscope_vtkmodule::fill_scene_input_port(info);
-  return 1;
-}
-
 int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector** inputVector,
                                           vtkInformationVector* outputVector) {
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
@@ -122,8 +95,7 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
     return 0;
   }
   this->UpdateProgress(0.0);
-  vtkRayScopeImageAlgorithm* source = rayscope_vtkmodule::update_scene(
-      this, inputVector[0], this->SceneSource, this->Settings, this->DefaultScene);
+  vtkRayScopeImageAlgorithm* source = this->UpdateScene(inputVector[0]);
   if (!source) return 0;
   const rayscope::Scene& scene = *source->GetCoreScene();
   const rayscope::RenderSettings settings = source->GetRenderSettings();
@@ -315,7 +287,6 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
 
 void vtkRayScopeRayTreeSource::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "SceneSource: " << this->SceneSource << "\n";
   os << indent << "Pixels:";
   for (auto [i, j] : this->Internal->pixels) os << " (" << i << ", " << j << ")";
   os << "\n";

@@ -56,36 +56,15 @@
 #define vtkRayScopeRayTreeSource_h
 
 #include "RayScopeVTKModule.h"  // export macro
-#include "vtkPolyDataAlgorithm.h"
-#include "vtkSmartPointer.h"  // DefaultScene
+#include "vtkRayScopeSceneFilter.h"
 
 class vtkRayScopeImageAlgorithm;
-class vtkRayScopeSceneSettings;
 
-class RAYSCOPEVTK_EXPORT vtkRayScopeRayTreeSource : public vtkPolyDataAlgorithm {
+class RAYSCOPEVTK_EXPORT vtkRayScopeRayTreeSource : public vtkRayScopeSceneFilter {
  public:
   static vtkRayScopeRayTreeSource* New();
-  vtkTypeMacro(vtkRayScopeRayTreeSource, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkRayScopeRayTreeSource, vtkRayScopeSceneFilter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /// The image algorithm whose scene and render settings are replayed (its
-  /// inputs are replaced by this filter's, when it has any).
-  virtual void SetSceneSource(vtkRayScopeImageAlgorithm*);
-  vtkGetObjectMacro(SceneSource, vtkRayScopeImageAlgorithm);
-  ///@}
-
-  ///@{
-  /// The scene settings (image and sampling, structure, camera, lights,
-  /// material; vtkRayScopeSceneSettings), used when there is no scene source:
-  /// the inputs are then rendered with them. Never null: each filter starts
-  /// with its own, AutoCamera on. SetSettings() shares one settings object
-  /// with other RayScope filters, e.g. a vtkRayScopeImageAlgorithm's
-  /// GetSettings(), so that one change reaches all of them (null: new
-  /// defaults).
-  vtkRayScopeSceneSettings* GetSettings();
-  void SetSettings(vtkRayScopeSceneSettings* settings);
-  ///@}
 
   ///@{
   /// Pixels to record, in VTK image coordinates ((0, 0) bottom-left). SetPixel
@@ -109,25 +88,17 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeRayTreeSource : public vtkPolyDataAlgorithm 
   vtkGetMacro(MissLength, double);
   ///@}
 
-  /// Includes the scene source's modification time.
-  vtkMTimeType GetMTime() override;
-
  protected:
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   vtkRayScopeRayTreeSource();
   ~vtkRayScopeRayTreeSource() override;
 
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
                   vtkInformationVector* outputVector) override;
 
-  vtkRayScopeImageAlgorithm* SceneSource;
   int Sample;
   double MissLength;
 
  private:
-  // The scene without a scene source: inputs only, camera fitted to them.
-  vtkSmartPointer<vtkRayScopeImageAlgorithm> DefaultScene;
-  vtkSmartPointer<vtkRayScopeSceneSettings> Settings;
   vtkRayScopeRayTreeSource(const vtkRayScopeRayTreeSource&) = delete;
   void operator=(const vtkRayScopeRayTreeSource&) = delete;
 
