@@ -27,10 +27,8 @@ namespace {
 using namespace rayscope;
 
 void row(const char* what, const std::vector<BspPrim>& prims) {
-  BspBuildConfig cfg;
-  cfg.storage = PrimStorage::Split;
   BspTree t;
-  t.build(prims, cfg);
+  t.build(prims, {}, PrimStorage::Split);
   const BspQuality q = t.quality();
   const double n = double(prims.size());
   std::printf("%-6s %8zu %10zu %8.2f %10.3f %9zu %6u %9.3f\n", what, prims.size(), q.fragments,

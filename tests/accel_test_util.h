@@ -519,6 +519,28 @@ inline std::vector<AccelCase> accel_cases() {
   return out;
 }
 
+/// Whether commit() refuses `kind` with `storage` through the one check
+/// (accel_storage_error(), in build_accel()): std::invalid_argument whose
+/// message is that check's line. The builders themselves take only what it
+/// accepts.
+inline ::testing::AssertionResult storage_refused(rayscope::AccelKind kind,
+                                                  rayscope::PrimStorage storage) {
+  const std::string line = rayscope::accel_storage_error(kind, storage);
+  if (line.empty()) return ::testing::AssertionFailure() << "the check accepts it";
+  rayscope::Scene scene;
+  scene.meshes.push_back(rayscope::make_icosphere(rayscope::Vec3(0.0f), 1.0f, 1));
+  rayscope::AccelConfig ac;
+  ac.kind = kind;
+  ac.storage = storage;
+  try {
+    scene.commit(ac);
+  } catch (const std::invalid_argument& e) {
+    if (e.what() == line) return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure() << "message \"" << e.what() << "\", not \"" << line << '"';
+  }
+  return ::testing::AssertionFailure() << "no exception";
+}
+
 /// Whether the structure is a spatial subdivision (it takes smallest-cell
 /// storage: cells that a primitive can straddle), again by the product's rule.
 inline bool subdivides_space(rayscope::AccelKind kind) {

@@ -25,16 +25,7 @@ using rstest::Rng;
 using rstest::to_d;
 using rstest::to_f;
 
-BspBuildConfig config_of(PrimStorage storage) {
-  BspBuildConfig c;
-  c.storage = storage;
-  return c;
-}
-
-class BspStorage : public ::testing::TestWithParam<PrimStorage> {
- protected:
-  BspBuildConfig config() const { return config_of(GetParam()); }
-};
+class BspStorage : public ::testing::TestWithParam<PrimStorage> {};
 INSTANTIATE_TEST_SUITE_P(All, BspStorage, ::testing::ValuesIn(kPrimStorages), [](const auto& info) {
   std::string s = to_string(info.param);
   s.erase(std::remove(s.begin(), s.end(), '-'), s.end());
@@ -217,7 +208,7 @@ TEST_P(BspStorage, BuildInvariantsOnRandomTrianglesAndSpheres) {
   for (int n : {1, 5, 60, 400}) {
     const std::vector<BspPrim> prims = random_prims(rng, n, n / 10);
     BspTree t;
-    t.build(prims, config());
+    t.build(prims, {}, GetParam());
     SCOPED_TRACE("n = " + std::to_string(n));
     check_invariants(t, prims);
     const BspQuality q = t.quality();
@@ -264,12 +255,12 @@ TEST_P(BspStorage, DegenerateInput) {
   }
   for (size_t k = 0; k < cases.size(); ++k) {
     BspTree t;
-    t.build(cases[k], config());
+    t.build(cases[k], {}, GetParam());
     SCOPED_TRACE("case " + std::to_string(k));
     check_invariants(t, cases[k]);
   }
   BspTree t;
-  t.build({}, config());
+  t.build({}, {}, GetParam());
   EXPECT_TRUE(t.empty());
   float tmax = kInfinity;
   NullTraversalObserver obs;
@@ -279,20 +270,20 @@ TEST_P(BspStorage, DegenerateInput) {
   std::vector<BspPrim> bad = random_prims(rng, 10, 0);
   bad[3].b.y = std::numeric_limits<float>::quiet_NaN();
   try {
-    t.build(bad, config());
+    t.build(bad, {}, GetParam());
     FAIL() << "no exception";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("primitive 3"), std::string::npos) << e.what();
   }
   bad = random_prims(rng, 10, 2);
   bad.back().radius = -1.0f;
-  EXPECT_THROW(t.build(bad, config()), std::invalid_argument);
-  BspBuildConfig c = config();
+  EXPECT_THROW(t.build(bad, {}, GetParam()), std::invalid_argument);
+  BspBuildConfig c;
   c.candidates = 0;
-  EXPECT_THROW(t.build(random_prims(rng, 10, 0), c), std::invalid_argument);
-  c = config();
+  EXPECT_THROW(t.build(random_prims(rng, 10, 0), c, GetParam()), std::invalid_argument);
+  c = {};
   c.split_weight = -1.0f;
-  EXPECT_THROW(t.build(random_prims(rng, 10, 0), c), std::invalid_argument);
+  EXPECT_THROW(t.build(random_prims(rng, 10, 0), c, GetParam()), std::invalid_argument);
 }
 
 void commit_bsp(Scene& scene, PrimStorage storage) {

@@ -33,16 +33,6 @@ GridBuildConfig explicit_res(uint32_t x, uint32_t y, uint32_t z) {
   return c;
 }
 
-// The loose grid (SmallestCell) with loose factor f, resolution `res` (0:
-// automatic).
-GridBuildConfig loose(float f, glm::uvec3 res = glm::uvec3(0u)) {
-  GridBuildConfig c;
-  c.resolution = res;
-  c.storage = PrimStorage::SmallestCell;
-  c.loose_factor = f;
-  return c;
-}
-
 // Whether the closed boxes a and b overlap.
 bool overlap(const Bounds3& a, const Bounds3& b) {
   return a.lo.x <= b.hi.x && a.hi.x >= b.lo.x && a.lo.y <= b.hi.y && a.hi.y >= b.lo.y &&
@@ -586,7 +576,7 @@ TEST(Grid, SmallestCellStoresEachPrimitiveOnceInItsCenterCell) {
       for (float f : {0.0f, kDefaultLooseFactor, kMaxLooseFactor}) {
         SCOPED_TRACE(::testing::Message() << "loose factor " << f);
         UniformGrid g;
-        g.build(p.bounds, loose(f, res));
+        g.build(p.bounds, explicit_res(res.x, res.y, res.z), PrimStorage::SmallestCell, f);
         ASSERT_TRUE(g.loose());
         std::vector<int> seen(p.bounds.size(), 0);
         const glm::uvec3 r = g.resolution();
@@ -625,13 +615,9 @@ TEST(Grid, SmallestCellStoresEachPrimitiveOnceInItsCenterCell) {
 }
 
 TEST(Grid, SplitStorageIsRefused) {
-  // (A bad loose factor: test_accel_conformance, through the one check.)
-  Prims p;
-  p.add(Bounds3(Vec3(-1), Vec3(1)));
-  GridBuildConfig split;
-  split.storage = PrimStorage::Split;
-  UniformGrid g;
-  EXPECT_THROW(g.build(p.bounds, split), std::invalid_argument);
+  // By the factory's one check (a bad loose factor: test_accel_conformance,
+  // through the same check); the builder takes every-cell and smallest-cell.
+  EXPECT_TRUE(rstest::storage_refused(AccelKind::Grid, PrimStorage::Split));
 }
 
 TEST(Grid, MemoryOfTheAggregate) {

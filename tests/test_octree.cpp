@@ -25,15 +25,6 @@ using rstest::Rng;
 using rstest::to_d;
 using rstest::to_f;
 
-OctreeBuildConfig config_of(PrimStorage storage, float loose_factor = 0.1f) {
-  OctreeBuildConfig c;
-  c.storage = storage;
-  c.loose_factor = loose_factor;
-  return c;
-}
-const OctreeBuildConfig kEvery = config_of(PrimStorage::EveryCell);
-const OctreeBuildConfig kLoose = config_of(PrimStorage::SmallestCell);
-
 bool overlaps(const Bounds3& a, const Bounds3& b) {
   for (int k = 0; k < 3; ++k)
     if (a.lo[k] > b.hi[k] || a.hi[k] < b.lo[k]) return false;
@@ -142,10 +133,7 @@ void check_invariants(const Octree& oc, const Prims& p) {
   }
 }
 
-class OctreeStorage : public ::testing::TestWithParam<PrimStorage> {
- protected:
-  OctreeBuildConfig config() const { return config_of(GetParam()); }
-};
+class OctreeStorage : public ::testing::TestWithParam<PrimStorage> {};
 INSTANTIATE_TEST_SUITE_P(Storage, OctreeStorage,
                          ::testing::Values(PrimStorage::EveryCell, PrimStorage::SmallestCell),
                          [](const auto& info) {
@@ -161,7 +149,7 @@ TEST_P(OctreeStorage, BuildInvariantsOnRandomBoxes) {
     for (int n : {1, 2, 7, 100, 3000}) {
       const Prims p = rstest::random_boxes(rng, n, layout);
       Octree oc;
-      oc.build(p.bounds, config());
+      oc.build(p.bounds, {}, GetParam());
       SCOPED_TRACE(::testing::Message() << "layout " << int(layout) << " n " << n);
       check_invariants(oc, p);
       if (layout == rstest::BoxLayout::Uniform && n == 3000) {
@@ -189,7 +177,7 @@ TEST(Octree, LooseFactorZeroAndLarge) {
   int k = 0;
   for (float f : {0.0f, 0.1f, kMaxLooseFactor}) {
     Octree oc;
-    oc.build(p.bounds, config_of(PrimStorage::SmallestCell, f));
+    oc.build(p.bounds, {}, PrimStorage::SmallestCell, f);
     SCOPED_TRACE(::testing::Message() << "loose factor " << f);
     check_invariants(oc, p);
     inner[k++] = oc.quality().inner_refs;
@@ -201,20 +189,16 @@ TEST(Octree, LooseFactorZeroAndLarge) {
 }
 
 TEST(Octree, SplitStorageIsRefused) {
-  Octree oc;
-  Prims one;
-  one.add(Bounds3(Vec3(-1), Vec3(1)));
-  try {
-    oc.build(one.bounds, config_of(PrimStorage::Split));
-    FAIL() << "no exception";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("split"), std::string::npos) << e.what();
-  }
+  // By the factory's one check, which names the storage; the builder takes
+  // every-cell and smallest-cell.
+  EXPECT_TRUE(rstest::storage_refused(AccelKind::Octree, PrimStorage::Split));
+  const std::string e = accel_storage_error(AccelKind::Octree, PrimStorage::Split);
+  EXPECT_NE(e.find("split"), std::string::npos) << e;
 }
 
 TEST_P(OctreeStorage, DegenerateInput) {
   Octree oc;
-  oc.build({}, config());  // none
+  oc.build({}, {}, GetParam());  // none
   EXPECT_TRUE(oc.empty());
   float tmax = kInfinity;
   NullTraversalObserver obs;
@@ -222,33 +206,33 @@ TEST_P(OctreeStorage, DegenerateInput) {
       Ray{Vec3(0), Vec3(1, 0, 0), kInfinity}, tmax, [](uint32_t, float&) { return true; }, obs));
   Prims one;  // one
   one.add(Bounds3(Vec3(-1), Vec3(1)));
-  oc.build(one.bounds, config());
+  oc.build(one.bounds, {}, GetParam());
   check_invariants(oc, one);
   EXPECT_EQ(oc.nodes.size(), 1u);
   Prims point;  // everything at one point, zero-size boxes: a point-like root
   for (int i = 0; i < 500; ++i) point.add(Bounds3(Vec3(1, 2, 3)));
-  oc.build(point.bounds, config());
+  oc.build(point.bounds, {}, GetParam());
   check_invariants(oc, point);
   EXPECT_EQ(oc.nodes.size(), 1u);
   Prims two;  // two points, many boxes at each: cut down to the depth limit
   for (int i = 0; i < 100; ++i) two.add(Bounds3(Vec3(0.3f, 0.2f, 0.1f)));
   for (int i = 0; i < 100; ++i) two.add(Bounds3(Vec3(1.7f, 0.9f, 0.6f)));
-  oc.build(two.bounds, config());
+  oc.build(two.bounds, {}, GetParam());
   check_invariants(oc, two);
   EXPECT_EQ(oc.quality().depth, uint32_t(oc.max_depth())) << "max depth reached";
-  OctreeBuildConfig shallow = config();
+  OctreeBuildConfig shallow;
   shallow.max_depth = 1;
-  oc.build(two.bounds, shallow);
+  oc.build(two.bounds, shallow, GetParam());
   check_invariants(oc, two);
   EXPECT_EQ(oc.quality().depth, 1u);
   shallow.max_depth = 1000;  // capped
-  oc.build(two.bounds, shallow);
+  oc.build(two.bounds, shallow, GetParam());
   EXPECT_EQ(oc.max_depth(), Octree::kMaxDepth);
   check_invariants(oc, two);
   Prims flat;  // zero-size boxes on a line, and a stack of flat boxes in one plane
   for (int i = 0; i < 300; ++i) flat.add(Bounds3(Vec3(float(i), 0, 0)));
   for (int i = 0; i < 300; ++i) flat.add(Bounds3(Vec3(0, 0, 5), Vec3(1, float(i % 7), 5)));
-  oc.build(flat.bounds, config());
+  oc.build(flat.bounds, {}, GetParam());
   check_invariants(oc, flat);
 }
 
@@ -298,10 +282,10 @@ TEST(Octree, StorageNamesAndMemory) {
   EXPECT_STREQ(to_string(PrimStorage::SmallestCell), "smallest-cell");
   Scene scene;
   scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
-  for (const OctreeBuildConfig& cfg : {kEvery, kLoose}) {
+  for (PrimStorage storage : {PrimStorage::EveryCell, PrimStorage::SmallestCell}) {
     AccelConfig ac;
     ac.kind = AccelKind::Octree;
-    ac.storage = cfg.storage;
+    ac.storage = storage;
     scene.commit(ac);
     const Aggregate& a = scene.accel();
     EXPECT_TRUE(a.structure_as<BvhWalk>().walk().empty());
@@ -325,7 +309,7 @@ TEST(Octree, StorageFiguresOnAScannedSizeMesh) {
   size_t last_inner = boxes.size();
   for (float f : {0.1f, 0.25f, 0.5f}) {
     Octree oc;
-    oc.build(boxes, config_of(PrimStorage::SmallestCell, f));
+    oc.build(boxes, {}, PrimStorage::SmallestCell, f);
     const OctreeQuality q = oc.quality();
     std::printf(
         "lumpy mesh, smallest-cell, loose factor %.2f: %u nodes, depth %u, %.1f%% in inner nodes\n",
@@ -335,7 +319,7 @@ TEST(Octree, StorageFiguresOnAScannedSizeMesh) {
   }
   double last_refs = 0.0;
   for (int depth : {6, 8, 10, 12}) {
-    OctreeBuildConfig cfg = kEvery;
+    OctreeBuildConfig cfg;
     cfg.max_depth = depth;
     Octree oc;
     oc.build(boxes, cfg);

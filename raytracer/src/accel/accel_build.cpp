@@ -15,15 +15,14 @@ std::vector<Bounds3> leaf_order_bounds(const Bvh& hierarchy, std::span<const Bou
   return out;
 }
 
-// A cell structure (kD-tree, grid, octree) over the records' bounds, with
-// the config's one storage choice and loose factor in place of its builder's.
+// A cell structure (kD-tree, grid, octree) over the records' bounds, with its
+// builder's own settings and the config's one storage choice and loose factor
+// (checked by build_accel() before).
 template <class Tree, class BuildConfig>
-Tree build_cells(BuildConfig own, const AccelConfig& config, const Bvh& hierarchy,
+Tree build_cells(const BuildConfig& own, const AccelConfig& config, const Bvh& hierarchy,
                  std::span<const Bounds3> bounds) {
-  own.storage = config.storage;
-  own.loose_factor = config.loose_factor;
   Tree tree;
-  tree.build(leaf_order_bounds(hierarchy, bounds), own);
+  tree.build(leaf_order_bounds(hierarchy, bounds), own, config.storage, config.loose_factor);
   return tree;
 }
 
@@ -65,10 +64,8 @@ AccelStructureVariant build_accel(const AccelConfig& config, std::shared_ptr<con
         prims[i] = r.id < num_triangles ? BspPrim::triangle(r.a, r.b, r.c)
                                         : BspPrim::make_sphere(r.a, r.b.x);
       }
-      BspBuildConfig c = config.bsp;
-      c.storage = config.storage;
       BspTree tree;
-      tree.build(prims, c);
+      tree.build(prims, config.bsp, config.storage);
       return tree;
     }
     case AccelKind::Spheres: {

@@ -274,7 +274,7 @@ struct Builder {
   }
 
   void build(uint32_t node, std::vector<Item> items, const Cell& cell, int depth) {
-    const bool split = cfg.storage == PrimStorage::Split;
+    const bool split = tree.storage() == PrimStorage::Split;
     const size_t n = items.size();
     Plane p;
     if (n <= cfg.max_leaf_size || depth >= max_depth || tree.refs.size() + n > max_refs ||
@@ -289,7 +289,7 @@ struct Builder {
         back.push_back(std::move(it));
       } else if (f && !b) {
         front.push_back(std::move(it));
-      } else if (cfg.storage == PrimStorage::SmallestCell ||
+      } else if (tree.storage() == PrimStorage::SmallestCell ||
                  (split && !it.poly.empty() && lo >= -tol && hi <= tol)) {
         // The node's list: every straddler (SmallestCell), or a triangle
         // lying in the plane (Split: the classic BSP's coincident polygons).
@@ -341,7 +341,8 @@ struct Builder {
 
 }  // namespace
 
-void BspTree::build(std::span<const BspPrim> prims, const BspBuildConfig& cfg) {
+void BspTree::build(std::span<const BspPrim> prims, const BspBuildConfig& cfg,
+                    PrimStorage storage) {
   const auto start = std::chrono::steady_clock::now();
   if (cfg.candidates == 0) throw std::invalid_argument("BSP candidates must be >= 1, got 0");
   if (!(cfg.split_weight >= 0.0f) || !std::isfinite(cfg.split_weight))
@@ -366,6 +367,7 @@ void BspTree::build(std::span<const BspPrim> prims, const BspBuildConfig& cfg) {
     }
   }
   config = cfg;
+  storage_ = storage;
   nodes.clear();
   refs.clear();
   cell_boxes.clear();
@@ -423,7 +425,7 @@ BspQuality BspTree::quality() const {
   q.nodes = uint32_t(nodes.size());
   q.references = refs.size();
   q.refs_per_prim = num_prims_ ? double(refs.size()) / num_prims_ : 0.0;
-  q.fragments = config.storage == PrimStorage::Split ? refs.size() : 0;
+  q.fragments = storage_ == PrimStorage::Split ? refs.size() : 0;
   q.split_prims = split_prims_;
   q.memory_bytes = memory_bytes();
   const CellRefCounts c = count_cell_refs(nodes, depths());
@@ -470,14 +472,14 @@ std::string BspTree::stats_line() const {
                 "bsp, %s: %u nodes, %u leaves, depth %u (limit %d), %.2f references per "
                 "primitive (%zu held by inner nodes), %zu fragments (%zu triangles cut), %.1f per "
                 "leaf (max %u), %.2f MiB, built in %.3f s",
-                to_string(config.storage), q.nodes, q.leaves, q.depth, config.max_depth,
-                q.refs_per_prim, q.inner_refs, q.fragments, q.split_prims, q.mean_leaf_refs,
-                q.max_leaf_refs, double(q.memory_bytes) / (1024.0 * 1024.0), q.build_seconds);
+                to_string(storage_), q.nodes, q.leaves, q.depth, config.max_depth, q.refs_per_prim,
+                q.inner_refs, q.fragments, q.split_prims, q.mean_leaf_refs, q.max_leaf_refs,
+                double(q.memory_bytes) / (1024.0 * 1024.0), q.build_seconds);
   return line;
 }
 
 std::string BspTree::walk_legend() const {
-  switch (config.storage) {
+  switch (storage_) {
     case PrimStorage::SmallestCell:
       return "the BSP tree (--accel bsp --storage smallest-cell); nodes are named by their BSP "
              "ids, a node's two child boxes are the half-spaces of its split plane the ray "

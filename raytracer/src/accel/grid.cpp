@@ -11,6 +11,7 @@
 
 #include <cstdio>
 
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -102,17 +103,15 @@ std::string grid_resolution_error(const glm::uvec3& resolution) {
   return {};
 }
 
-void UniformGrid::build(std::span<const Bounds3> bounds, const GridBuildConfig& cfg) {
+void UniformGrid::build(std::span<const Bounds3> bounds, const GridBuildConfig& cfg,
+                        PrimStorage storage, float loose_factor) {
   const auto start = std::chrono::steady_clock::now();
-  if (cfg.storage == PrimStorage::Split)
-    throw std::invalid_argument(
-        "the uniform grid does not split primitives (storage split is the BSP tree's): use "
-        "every-cell or smallest-cell");
-  if (const std::string e = loose_factor_error(cfg.loose_factor); !e.empty())
-    throw std::invalid_argument("uniform grid: " + e);
+  // build_accel() refuses both with a message (accel_config_error()).
+  assert(storage != PrimStorage::Split);
+  assert(loose_factor_error(loose_factor).empty());
   config = cfg;
-  loose_ = cfg.storage == PrimStorage::SmallestCell;
-  loose_factor_ = loose_ ? cfg.loose_factor : 0.0f;
+  loose_ = storage == PrimStorage::SmallestCell;
+  loose_factor_ = loose_ ? loose_factor : 0.0f;
   offsets.clear();
   refs.clear();
   big_refs.clear();
@@ -296,8 +295,8 @@ std::string UniformGrid::stats_line() const {
                 "grid, %s: %u x %u x %u cells (%zu, %zu empty), %.2f references per primitive "
                 "(%zu in the grid's own list), %.1f per non-empty cell (at most %u), %.2f MiB, "
                 "built in %.3f s",
-                storage_text(config.storage, config.loose_factor).c_str(), g.resolution.x,
-                g.resolution.y, g.resolution.z, g.cells, g.empty_cells, g.refs_per_prim, g.big_refs,
+                storage_text(storage(), loose_factor_).c_str(), g.resolution.x, g.resolution.y,
+                g.resolution.z, g.cells, g.empty_cells, g.refs_per_prim, g.big_refs,
                 g.mean_cell_refs, g.max_cell_refs, double(g.memory_bytes) / (1024.0 * 1024.0),
                 g.build_seconds);
   return line;

@@ -7,7 +7,7 @@
 // ray reaching any point of a primitive's bounds reaches a leaf that holds it.
 //
 // SmallestCell (the loose kD-tree): the same top-down recursion, the plane
-// chosen with the loose children's cost (KdTreeBuildConfig::storage), each
+// chosen with the loose children's cost (KdTreeBuildConfig), each
 // primitive sent to the child whose loose box holds it (its center's side
 // first) or kept in the node. A node is a leaf when it holds few enough, the
 // cost says so, or nothing fits a child.
@@ -115,7 +115,7 @@ struct Builder {
     return best;
   }
 
-  /// The SAH's best plane for SmallestCell (see KdTreeBuildConfig::storage).
+  /// The SAH's best plane for SmallestCell (see KdTreeBuildConfig).
   /// On the split axis a primitive of extent [l, h] in a cell [L, H] fits the
   /// loose box of the child below the plane s, [L - f (s - L), s + f (s - L)],
   /// for every s >= max((h + f L) / (1 + f), (L (1 + f) - l) / f), and the
@@ -301,20 +301,18 @@ bool parse_kd_split_rule(std::string_view name, KdSplitRule& rule) {
   return false;
 }
 
-void KdTree::build(std::span<const Bounds3> bounds, const KdTreeBuildConfig& cfg) {
+void KdTree::build(std::span<const Bounds3> bounds, const KdTreeBuildConfig& cfg,
+                   PrimStorage storage, float loose_factor) {
   const auto start = std::chrono::steady_clock::now();
-  if (cfg.storage == PrimStorage::Split)
-    throw std::invalid_argument(
-        "the kD-tree does not split primitives (storage split is the BSP tree's): use every-cell "
-        "or smallest-cell");
-  if (const std::string e = loose_factor_error(cfg.loose_factor); !e.empty())
-    throw std::invalid_argument("kD-tree: " + e);
+  // build_accel() refuses both with a message (accel_config_error()).
+  assert(storage != PrimStorage::Split);
+  assert(loose_factor_error(loose_factor).empty());
   config = cfg;
   nodes.clear();
   refs.clear();
   offsets.clear();
-  loose_ = cfg.storage == PrimStorage::SmallestCell;
-  loose_factor_ = loose_ ? cfg.loose_factor : 0.0f;
+  loose_ = storage == PrimStorage::SmallestCell;
+  loose_factor_ = loose_ ? loose_factor : 0.0f;
   bounds_ = Bounds3();
   num_prims_ = uint32_t(bounds.size());
   const size_t n = bounds.size();
@@ -432,10 +430,10 @@ std::string KdTree::stats_line() const {
                 "kdtree, %s split, %s: %u nodes, %u leaves (%u empty), depth %u (limit %d), %.2f "
                 "references per primitive (%zu held by inner nodes), %.1f per non-empty leaf, SAH "
                 "cost %.2f, %.2f MiB, built in %.3f s",
-                to_string(config.rule), storage_text(config.storage, config.loose_factor).c_str(),
-                q.nodes, q.leaves, q.empty_leaves, q.depth, max_depth(), q.refs_per_prim,
-                q.inner_refs, q.mean_leaf_refs, q.sah_cost,
-                double(q.memory_bytes) / (1024.0 * 1024.0), q.build_seconds);
+                to_string(config.rule), storage_text(storage(), loose_factor_).c_str(), q.nodes,
+                q.leaves, q.empty_leaves, q.depth, max_depth(), q.refs_per_prim, q.inner_refs,
+                q.mean_leaf_refs, q.sah_cost, double(q.memory_bytes) / (1024.0 * 1024.0),
+                q.build_seconds);
   return line;
 }
 

@@ -11,6 +11,7 @@
 #include <cstdio>
 
 #include <algorithm>
+#include <cassert>
 #include <chrono>
 #include <stdexcept>
 #include <string>
@@ -30,7 +31,7 @@ bool can_cut(const Bounds3& cell) {
 struct Builder {
   std::span<const Bounds3> bounds;
   const OctreeBuildConfig& cfg;
-  const Octree& tree;  ///< For node_box() (the loose factor in use).
+  const Octree& tree;  ///< For loose() and node_box() (the storage and loose factor in use).
   int max_depth;
   size_t max_refs;
   std::vector<OctNode>& nodes;
@@ -69,7 +70,7 @@ struct Builder {
       return hold(node, prims);
     const Vec3 mid = 0.5f * cell.lo + 0.5f * cell.hi;
     std::vector<uint32_t> lists[8];
-    if (cfg.storage == PrimStorage::EveryCell) {
+    if (!tree.loose()) {
       // Every octant the (closed) bounds overlap. The bounds overlap this
       // cell, so per axis: the lower half if they reach down to the
       // midpoint, the upper one if they reach up to it.
@@ -116,20 +117,18 @@ struct Builder {
 
 }  // namespace
 
-void Octree::build(std::span<const Bounds3> bounds, const OctreeBuildConfig& cfg) {
+void Octree::build(std::span<const Bounds3> bounds, const OctreeBuildConfig& cfg,
+                   PrimStorage storage, float loose_factor) {
   const auto start = std::chrono::steady_clock::now();
-  if (cfg.storage == PrimStorage::Split)
-    throw std::invalid_argument(
-        "the octree does not split primitives (storage split is the BSP tree's): use every-cell "
-        "or smallest-cell");
-  if (const std::string e = loose_factor_error(cfg.loose_factor); !e.empty())
-    throw std::invalid_argument("octree: " + e);
+  // build_accel() refuses both with a message (accel_config_error()).
+  assert(storage != PrimStorage::Split);
+  assert(loose_factor_error(loose_factor).empty());
   config = cfg;
   nodes.clear();
   refs.clear();
   bounds_ = Bounds3();
-  loose_ = cfg.storage == PrimStorage::SmallestCell;
-  loose_factor_ = loose_ ? cfg.loose_factor : 0.0f;
+  loose_ = storage == PrimStorage::SmallestCell;
+  loose_factor_ = loose_ ? loose_factor : 0.0f;
   max_depth_ = std::clamp(cfg.max_depth, 0, kMaxDepth);
   const size_t n = bounds.size();
   if (n > size_t(~0u) - 1) throw std::length_error("Octree::build: too many primitives");
@@ -224,10 +223,9 @@ std::string Octree::stats_line() const {
                 "octree, %s: %u nodes, %u leaves (%u empty octants not stored), depth %u (limit "
                 "%d), %.2f references per primitive (%zu held by inner nodes), %.1f per leaf (max "
                 "%u), %.2f MiB, built in %.3f s",
-                storage_text(config.storage, config.loose_factor).c_str(), q.nodes, q.leaves,
-                q.empty_leaves, q.depth, max_depth(), q.refs_per_prim, q.inner_refs,
-                q.mean_leaf_refs, q.max_leaf_refs, double(q.memory_bytes) / (1024.0 * 1024.0),
-                q.build_seconds);
+                storage_text(storage(), loose_factor_).c_str(), q.nodes, q.leaves, q.empty_leaves,
+                q.depth, max_depth(), q.refs_per_prim, q.inner_refs, q.mean_leaf_refs,
+                q.max_leaf_refs, double(q.memory_bytes) / (1024.0 * 1024.0), q.build_seconds);
   return line;
 }
 

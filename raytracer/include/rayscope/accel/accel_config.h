@@ -28,7 +28,7 @@ struct AccelConfig {
   /// one setting for every structure, checked by accel_storage_error() (the
   /// BVH kinds and the sphere tree take only the default, every-cell; the BSP
   /// tree also takes split). The factory (accel_build.h) hands it to the
-  /// builder, replacing the builder config's own `storage`.
+  /// builder as an argument of its build().
   PrimStorage storage = PrimStorage::EveryCell;
   /// SmallestCell's loose factor, the one setting for the kD-tree, grid and
   /// octree (handed to their builders like `storage`): each cell enlarged by

@@ -122,8 +122,6 @@ static_assert(sizeof(BspNode) == 32);
 
 /// Settings of the BSP builder, with the defaults used by RayScope.
 struct BspBuildConfig {
-  /// How a straddler is stored: EveryCell (default), SmallestCell or Split.
-  PrimStorage storage = PrimStorage::EveryCell;
   /// Triangle planes tried per node (evenly spaced through its list): more
   /// finds fewer cuts, at build time linear in it. >= 1.
   uint32_t candidates = 16;
@@ -178,20 +176,22 @@ class BspTree {
   /// case.
   static constexpr size_t kMaxReferencesPerPrim = 32;
 
-  /// Builds the tree over prims.size() primitives. Zero-area triangles and
-  /// zero-radius spheres are fine (they never give a plane). An empty input
-  /// gives an empty tree that every ray misses. Throws std::invalid_argument
-  /// for a non-finite coordinate or radius, a negative radius, candidates = 0
-  /// or a negative or non-finite split_weight; std::length_error for more
-  /// than 2^32 - 2 primitives or references.
-  void build(std::span<const BspPrim> prims, const BspBuildConfig& config = {});
+  /// Builds the tree over prims.size() primitives, storing a straddler the
+  /// `storage` way: EveryCell, SmallestCell or Split (AccelConfig::storage).
+  /// Zero-area triangles and zero-radius spheres are fine (they never give a
+  /// plane). An empty input gives an empty tree that every ray misses. Throws
+  /// std::invalid_argument for a non-finite coordinate or radius, a negative
+  /// radius, candidates = 0 or a negative or non-finite split_weight;
+  /// std::length_error for more than 2^32 - 2 primitives or references.
+  void build(std::span<const BspPrim> prims, const BspBuildConfig& config = {},
+             PrimStorage storage = PrimStorage::EveryCell);
 
   bool empty() const { return nodes.empty(); }
   /// The root cell: the box around all primitives.
   Bounds3 bounds() const { return bounds_; }
   /// The classification tolerance in use (distance units).
   double tolerance() const { return tolerance_; }
-  PrimStorage storage() const { return config.storage; }
+  PrimStorage storage() const { return storage_; }
   BspQuality quality() const;
   /// The AccelStructure interface (accel_structure.h): figures, teaching
   /// view (refs: the indices build() was given), the --stats line and the
@@ -254,6 +254,7 @@ class BspTree {
   BspBuildConfig config;
 
  private:
+  PrimStorage storage_ = PrimStorage::EveryCell;
   Bounds3 bounds_;
   double tolerance_ = 0.0;
   uint32_t num_prims_ = 0;
@@ -281,7 +282,7 @@ bool BspTree::traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs
   if (!root_hit) return false;
 
   // SmallestCell and Split test each stored object once per visit: no mailbox.
-  const bool mailboxed = config.storage == PrimStorage::EveryCell;
+  const bool mailboxed = storage_ == PrimStorage::EveryCell;
   MailboxQuery mailbox(mailboxed ? num_prims_ : 0u);
   struct Entry {
     uint32_t node;
@@ -364,7 +365,7 @@ void BspTree::walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
   const bool root_hit = range.overlaps(cell_boxes[0]);
   if constexpr (Observer::kActive) obs.on_box_test(0, root_hit);
   if (!root_hit) return;
-  MailboxQuery mailbox(config.storage == PrimStorage::SmallestCell ? 0u : num_prims_);
+  MailboxQuery mailbox(storage_ == PrimStorage::SmallestCell ? 0u : num_prims_);
   uint32_t stack[kMaxDepth + 1];
   int sp = 0;
   stack[sp++] = 0u;
@@ -379,8 +380,7 @@ void BspTree::walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
     const BspNode& n = nodes[id];
     const Bounds3 rb = range.bounds();  // it may have shrunk
     for (uint32_t i = n.first; i < n.first + n.count; ++i)
-      if (config.storage == PrimStorage::SmallestCell || mailbox.first_visit(refs[i]))
-        prim(refs[i]);
+      if (storage_ == PrimStorage::SmallestCell || mailbox.first_visit(refs[i])) prim(refs[i]);
     if (n.is_leaf()) continue;
     const uint32_t back = id + 1, front = n.front;
     // A child is reached if the range's bounds reach its side of the plane

@@ -55,13 +55,6 @@ struct GridBuildConfig {
   /// Cells per axis (x, y, z) given explicitly; 0 on an axis: chosen by the
   /// automatic rule (from the density and the axes given).
   glm::uvec3 resolution{0u};
-  /// EveryCell (default) or SmallestCell (the loose grid); Split throws.
-  /// (AccelConfig::storage replaces it when the aggregate builds the grid.)
-  PrimStorage storage = PrimStorage::EveryCell;
-  /// SmallestCell only: each cell enlarged by this fraction of its size on
-  /// every side; 0 .. kMaxLooseFactor (loose_factor_error()).
-  /// (AccelConfig::loose_factor replaces it.)
-  float loose_factor = kDefaultLooseFactor;
 };
 
 /// Quality figures of a built grid (see UniformGrid::quality()).
@@ -101,11 +94,20 @@ class UniformGrid {
   static constexpr size_t kMaxAutoReferencesPerPrim = 32;
 
   /// Builds the grid over bounds.size() primitives (finite bounds, lo <= hi;
-  /// zero-size boxes are fine). An empty input gives an empty grid that every
-  /// ray misses. Throws std::invalid_argument for non-finite or inverted
-  /// bounds, PrimStorage::Split or a bad loose factor, std::length_error for an explicit resolution
-  /// beyond kMaxResolution, kMaxCells or kMaxReferences.
-  void build(std::span<const Bounds3> bounds, const GridBuildConfig& config = {});
+  /// zero-size boxes are fine), stored the `storage` way: EveryCell or
+  /// SmallestCell (the loose grid), whose cells are enlarged by `loose_factor`
+  /// times their size on every side. An empty input gives an empty grid that
+  /// every ray misses. Throws std::invalid_argument for non-finite or inverted
+  /// bounds, std::length_error for an explicit resolution beyond
+  /// kMaxResolution, kMaxCells or kMaxReferences.
+  ///
+  /// Precondition (asserted): storage is not Split and loose_factor_error()
+  /// accepts loose_factor (at most kMaxLooseFactor, which the loose walk
+  /// relies on). build_accel() (accel_build.h) checks both for AccelConfig
+  /// and refuses a bad one with a message.
+  void build(std::span<const Bounds3> bounds, const GridBuildConfig& config = {},
+             PrimStorage storage = PrimStorage::EveryCell,
+             float loose_factor = kDefaultLooseFactor);
 
   bool empty() const { return offsets.empty(); }
   /// The grid's box: the bounds of all primitives.
@@ -127,6 +129,10 @@ class UniformGrid {
   }
   /// Whether the cells are loose (PrimStorage::SmallestCell).
   bool loose() const { return loose_; }
+  /// How the grid stores straddlers: EveryCell or SmallestCell.
+  PrimStorage storage() const {
+    return loose_ ? PrimStorage::SmallestCell : PrimStorage::EveryCell;
+  }
   /// The box the walks test for cell (x, y, z): cell_box(), enlarged by the
   /// loose factor for SmallestCell (loose_box()).
   Bounds3 node_box(uint32_t x, uint32_t y, uint32_t z) const {

@@ -17,7 +17,7 @@
 //   visits the children whose loose boxes the ray hits nearest entry first
 //   (the octree's loose walk, cell_walk.h: the boxes overlap, the plane no
 //   longer orders them).
-// - PrimStorage::Split is the BSP tree's: build() refuses it.
+// - PrimStorage::Split is the BSP tree's: build_accel() refuses it here.
 //
 // Like the BVH builder (bvh.h), the builder knows nothing about geometry: it
 // takes one bounding box per primitive and a KdTreeBuildConfig. Primitives are
@@ -100,25 +100,19 @@ struct KdTreeBuildConfig {
   /// split would not pay (a median split stops there); bigger ones are split
   /// anyway, up to KdTree::kMaxBadRefines times on one path.
   uint32_t max_leaf_size = 4;
-  /// How a primitive that straddles a plane is stored: EveryCell (default) or
-  /// SmallestCell; Split throws. (AccelConfig::storage replaces it when the
-  /// aggregate builds the tree.)
-  ///
-  /// SmallestCell's split choice: the SAH (or median) plane is chosen with
-  /// the loose children. For a candidate plane the cost is
-  ///   traversal + intersection * (straddlers + P_below * below + P_above * above)
-  /// where below / above count the primitives whose bounds fit that child's
-  /// loose box (along the split axis; one fitting both is counted on both
-  /// sides, a slight overestimate), straddlers the rest, which stay in the
-  /// inner node and cost a test on every visit (probability 1), and P is a
-  /// child's loose box's surface area over the node's loose box's. No
-  /// empty-side bonus: a plane with every primitive on one side cuts off
-  /// hardly any space once the children are loose.
-  PrimStorage storage = PrimStorage::EveryCell;
-  /// SmallestCell only: the enlargement of each child cell on every side, as
-  /// a fraction of the cell's extent on that axis; 0 .. kMaxLooseFactor
-  /// (loose_factor_error()). (AccelConfig::loose_factor replaces it.)
-  float loose_factor = kDefaultLooseFactor;
+  // How a primitive that straddles a plane is stored, and the loose factor,
+  // are build()'s arguments (AccelConfig::storage and ::loose_factor).
+  //
+  // SmallestCell's split choice: the SAH (or median) plane is chosen with
+  // the loose children. For a candidate plane the cost is
+  //   traversal + intersection * (straddlers + P_below * below + P_above * above)
+  // where below / above count the primitives whose bounds fit that child's
+  // loose box (along the split axis; one fitting both is counted on both
+  // sides, a slight overestimate), straddlers the rest, which stay in the
+  // inner node and cost a test on every visit (probability 1), and P is a
+  // child's loose box's surface area over the node's loose box's. No
+  // empty-side bonus: a plane with every primitive on one side cuts off
+  // hardly any space once the children are loose.
 };
 
 /// Quality figures of a built tree (see KdTree::quality()).
@@ -151,10 +145,19 @@ class KdTree {
   static constexpr size_t kMaxReferencesPerPrim = 32;
 
   /// Builds the tree over bounds.size() primitives (finite bounds; zero-size
-  /// boxes are fine). An empty input gives an empty tree that every ray misses.
-  /// Throws std::invalid_argument for PrimStorage::Split or a bad loose
-  /// factor, std::length_error if the tree would not fit KdNode's indices.
-  void build(std::span<const Bounds3> bounds, const KdTreeBuildConfig& config = {});
+  /// boxes are fine), storing a primitive that straddles a plane the
+  /// `storage` way: EveryCell or SmallestCell, whose cells are enlarged by
+  /// `loose_factor` times their extent on every side (the fraction of the
+  /// cell's extent on that axis). An empty input gives an empty tree that
+  /// every ray misses. Throws std::length_error if the tree would not fit
+  /// KdNode's indices.
+  ///
+  /// Precondition (asserted): storage is not Split and loose_factor_error()
+  /// accepts loose_factor. build_accel() (accel_build.h) checks both for
+  /// AccelConfig and refuses a bad one with a message.
+  void build(std::span<const Bounds3> bounds, const KdTreeBuildConfig& config = {},
+             PrimStorage storage = PrimStorage::EveryCell,
+             float loose_factor = kDefaultLooseFactor);
 
   bool empty() const { return nodes.empty(); }
   /// The root cell: the bounds of all primitives.
@@ -174,6 +177,10 @@ class KdTree {
   }
   /// Whether the cells are loose (PrimStorage::SmallestCell).
   bool loose() const { return loose_; }
+  /// How the tree stores straddlers: EveryCell or SmallestCell.
+  PrimStorage storage() const {
+    return loose_ ? PrimStorage::SmallestCell : PrimStorage::EveryCell;
+  }
   /// The box the walks test for a node of cell `cell`: the cell itself, or its
   /// loose box (SmallestCell).
   Bounds3 node_box(const Bounds3& cell) const {

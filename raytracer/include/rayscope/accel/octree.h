@@ -15,7 +15,8 @@
 //   too. Loose boxes of neighbors overlap: the walk visits the children a ray
 //   hits nearest entry first and skips those whose entry lies beyond the
 //   closest hit so far.
-// - PrimStorage::Split is the BSP tree's (not the octree's): build() refuses it.
+// - PrimStorage::Split is the BSP tree's (not the octree's): build_accel()
+//   refuses it here.
 //
 // Like the BVH and kD-tree builders, the builder knows nothing about geometry:
 // it takes one bounding box per primitive and an OctreeBuildConfig, and names
@@ -65,9 +66,6 @@ static_assert(sizeof(OctNode) == 16);
 
 /// Settings of the octree builder, with the defaults used by RayScope.
 struct OctreeBuildConfig {
-  /// How a primitive that straddles a cut is stored: EveryCell (default) or
-  /// SmallestCell; Split throws.
-  PrimStorage storage = PrimStorage::EveryCell;
   /// Deepest level (root = 0), capped at Octree::kMaxDepth. A level-10 cell is
   /// 1/1024 of the root cube's side. 10 rather than 12: on the bunny scene
   /// (data/scenes/bunny.json, one sample per pixel) every-cell storage tests
@@ -79,13 +77,6 @@ struct OctreeBuildConfig {
   /// A cell holding more primitives than this is cut into octants (until
   /// max_depth).
   uint32_t max_leaf_size = 8;
-  /// SmallestCell only: each cell's box is enlarged by this fraction of its
-  /// side on every side. 0.1 (the lecture's 10%) makes a loose cell 1.2 times
-  /// the side, 1.2^3 = 1.73 times the volume. From 0 to kMaxLooseFactor
-  /// (loose_factor_error()); 0 is a plain octree where a primitive that
-  /// straddles a cut stays above it. (AccelConfig::loose_factor replaces it
-  /// when the aggregate builds the tree.)
-  float loose_factor = kDefaultLooseFactor;
 };
 
 /// Quality figures of a built tree (see Octree::quality()).
@@ -122,17 +113,31 @@ class Octree {
   /// Builds the tree over bounds.size() primitives (finite bounds; zero-size
   /// boxes are fine). The root cell is the cube centered on the bounds of all
   /// primitives, with their largest extent as its side (grown by rounding so
-  /// that it holds them all). An empty input gives an empty tree that every
-  /// ray misses. Throws std::invalid_argument for PrimStorage::Split or a
-  /// loose_factor that is negative or not finite, std::length_error for more
-  /// than 2^32 - 1 primitives or references.
-  void build(std::span<const Bounds3> bounds, const OctreeBuildConfig& config = {});
+  /// that it holds them all). A primitive that straddles a cut is stored the
+  /// `storage` way: EveryCell or SmallestCell, whose cells' boxes are
+  /// enlarged by `loose_factor` times their side on every side (0.1, the
+  /// lecture's 10%, makes a loose cell 1.2 times the side, 1.2^3 = 1.73 times
+  /// the volume; 0 is a plain octree where a primitive that straddles a cut
+  /// stays above it). An empty input gives an empty tree that every ray
+  /// misses. Throws std::length_error for more than 2^32 - 1 primitives or
+  /// references.
+  ///
+  /// Precondition (asserted): storage is not Split and loose_factor_error()
+  /// accepts loose_factor. build_accel() (accel_build.h) checks both for
+  /// AccelConfig and refuses a bad one with a message.
+  void build(std::span<const Bounds3> bounds, const OctreeBuildConfig& config = {},
+             PrimStorage storage = PrimStorage::EveryCell,
+             float loose_factor = kDefaultLooseFactor);
 
   bool empty() const { return nodes.empty(); }
   /// The root cell (a cube, up to rounding).
   Bounds3 bounds() const { return bounds_; }
   /// Whether the cells are loose (PrimStorage::SmallestCell).
   bool loose() const { return loose_; }
+  /// How the tree stores straddlers: EveryCell or SmallestCell.
+  PrimStorage storage() const {
+    return loose_ ? PrimStorage::SmallestCell : PrimStorage::EveryCell;
+  }
   int max_depth() const { return max_depth_; }
   OctreeQuality quality() const;
   /// The AccelStructure interface (accel_structure.h): figures, teaching

@@ -45,7 +45,8 @@ inline constexpr float kDefaultLooseFactor = 0.1f;
 inline constexpr float kMaxLooseFactor = 0.5f;
 /// Why `factor` is no loose factor, in one line (no trailing period); empty
 /// when it is one (finite, 0 <= factor <= kMaxLooseFactor). The one check:
-/// the builders throw std::invalid_argument with it, the CLI prints it.
+/// build_accel() (accel_build.h) throws std::invalid_argument with it, the
+/// CLI prints it; the builders take only factors it accepts.
 std::string loose_factor_error(float factor);
 /// "every-cell", "smallest-cell (loose factor F)" or "split": how the tools
 /// name a structure's storage.
