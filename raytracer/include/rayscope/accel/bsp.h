@@ -224,7 +224,7 @@ class BspTree {
   /// on_box_test(child, reached) for both children of an inner node entered;
   /// on_cull(id) for a pushed child skipped by early termination.
   template <bool AnyHit, class Observer, class PrimFn>
-  [[gnu::noinline]] bool traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const;
+  bool traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const;
 
   /// The lecture's range query over the cells (range_query.h, as
   /// Octree::walk_range): a node is entered if the range's bounds reach its

@@ -198,10 +198,8 @@ class UniformGrid {
   /// neighbour's loose box tested). Primitive tests are the caller's (`prim`), after
   /// the mailbox: a primitive is reported at most once per ray.
   ///
-  /// Not inlined, as the kD-tree's walk (kdtree.h): one direct call per ray
-  /// keeps the Aggregate's BVH path as fast as without it.
   template <bool AnyHit, class Observer, class PrimFn>
-  [[gnu::noinline]] bool traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const;
+  bool traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const;
 
   /// Visits the cells a range overlaps, for range queries (all objects in a
   /// box, within a sphere, nearest to a point). `Range` provides

@@ -225,10 +225,8 @@ class KdTree {
   /// termination. Primitive tests are the caller's (`prim`), after the
   /// mailbox: a primitive is reported at most once per ray.
   ///
-  /// Not inlined: inlined into the Aggregate's queries, the walk made their
-  /// BVH path about 5% slower (bunny, one thread); one direct call per ray.
   template <bool AnyHit, class Observer, class PrimFn>
-  [[gnu::noinline]] bool traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const;
+  bool traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const;
 
   /// The lecture's range-query algorithm (range_query.h) on the cells: from
   /// the root cell, a cell the range overlaps is entered; a leaf's references

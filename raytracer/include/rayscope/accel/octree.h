@@ -206,10 +206,8 @@ class Octree {
   /// skipped by early termination. Primitive tests are the caller's (`prim`),
   /// after the mailbox.
   ///
-  /// Not inlined, like KdTree::traverse, so that the Aggregate's BVH path
-  /// keeps its speed.
   template <bool AnyHit, class Observer, class PrimFn>
-  [[gnu::noinline]] bool traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const;
+  bool traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const;
 
   /// The lecture's range query: from the root, wherever `range` overlaps a
   /// node's box (loose box for SmallestCell), report the node's primitives

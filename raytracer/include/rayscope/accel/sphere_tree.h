@@ -187,10 +187,8 @@ class SphereTree {
   /// on_cull(id) for a waiting node skipped by early termination. Primitive
   /// tests are the caller's (`prim`).
   ///
-  /// Not inlined, like KdTree::traverse, so that the Aggregate's BVH path
-  /// keeps its speed.
   template <bool AnyHit, class Observer, class PrimFn>
-  [[gnu::noinline]] bool traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const;
+  bool traverse(const Ray& ray, float& tmax, PrimFn&& prim, Observer& obs) const;
 
   /// The lecture's range query (range_query.h) on the sphere tree: from the
   /// root, a node whose sphere the range overlaps (range.overlaps(sphere),
