@@ -46,6 +46,19 @@ def fetch(proxy):
     return sm.Fetch(proxy)
 
 
+def watch(event):
+    """The texts of the output window's messages of `event` (vtkCommand.ErrorEvent,
+    WarningEvent) from now on, as a list that fills as they come; and the
+    observer's tag."""
+    texts = []
+
+    @calldata_type(VTK_STRING)
+    def on_message(obj, ev, text):
+        texts.append(text)
+
+    return texts, vtkOutputWindow.GetInstance().AddObserver(event, on_message)
+
+
 # ---- Ray Trace of a sphere -----------------------------------------------
 sphere = Sphere(Radius=0.5, ThetaResolution=48, PhiResolution=24)
 rt = RayTrace(Input=[sphere], ImageSize=[W, H])
@@ -153,15 +166,7 @@ print(f"Acceleration Structure (BVH): {len(seen)} nodes, levels {levels}, leaves
       f"{leaf_prims} triangles; visit counts {visits}")
 
 # The filter's old name still makes it, for this release, with a warning.
-warnings = []
-
-
-@calldata_type(VTK_STRING)
-def on_warning(obj, event, text):
-    warnings.append(text)
-
-
-tag = vtkOutputWindow.GetInstance().AddObserver(vtkCommand.WarningEvent, on_warning)
+warnings, tag = watch(vtkCommand.WarningEvent)
 old = fetch(BVH(Input=[sphere]))
 vtkOutputWindow.GetInstance().RemoveObserver(tag)
 assert old.GetNumberOfCells() == boxes.GetNumberOfCells(), (old.GetNumberOfCells(),
@@ -221,15 +226,7 @@ print(f"Range Query: box finds {len(brute)} triangles, testing {tested[1]} throu
       f"against {tested[0]} without; 5 nearest at {dist[0]:.3f} .. {dist[-1]:.3f}")
 
 # ---- bad parameters ------------------------------------------------------------
-messages = []
-
-
-@calldata_type(VTK_STRING)
-def on_error(obj, event, text):
-    messages.append(text)
-
-
-vtkOutputWindow.GetInstance().AddObserver(vtkCommand.ErrorEvent, on_error)
+messages, _ = watch(vtkCommand.ErrorEvent)
 
 
 def expect_error(proxy, words, what):
