@@ -18,6 +18,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "obj_samples.h"
 #include "rayscope/printable_text.h"
 #include "rayscope/scene_io.h"
 
@@ -38,16 +39,7 @@ f 1 4 3
 f 2 3 4
 )";
 
-// A quad (two triangles once triangulated) and a triangle.
-const char* kQuadObj = R"(# quad and triangle
-v 0 0 0
-v 1 0 0
-v 1 1 0
-v 0 1 0
-v 0 0 1
-f 1 2 3 4
-f 1 2 5
-)";
+using rstest::kQuadObj;
 
 // A cube's boundary as six quads: 12 triangles.
 const char* kHexObj = R"(# cube

@@ -31,6 +31,7 @@
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
 
+#include "../obj_samples.h"
 #include "rayscope/scene_io.h"
 #include "rayscope_vtkio/mesh_files.h"
 #include "vtkRayScopeMeshConverter.h"
@@ -144,16 +145,7 @@ endfacet
 endsolid tetra
 )";
 
-// A quad (two triangles once triangulated) and a triangle.
-const char* kQuadObj = R"(# quad and triangle
-v 0 0 0
-v 1 0 0
-v 1 1 0
-v 0 1 0
-v 0 0 1
-f 1 2 3 4
-f 1 2 5
-)";
+using rstest::kQuadObj;
 
 // Legacy VTK unstructured grid with one hexahedron: its boundary is 6 quads,
 // 12 triangles.

@@ -174,8 +174,8 @@ void vtkRayScopeViewer::Internals::ShowImage() {
   this->Display->Modified();
   // The color scale of the cost and depth modes.
   std::string title;
-  const bool scale =
-      rayscope_vtkmodule::display_scale(this->Image, this->Self->ImageMode, this->ScaleTable, title);
+  const bool scale = rayscope_vtkmodule::display_scale(this->Image, this->Self->ImageMode,
+                                                       this->ScaleTable, title);
   this->ScaleBar->SetVisibility(scale);
   if (scale) this->ScaleBar->SetTitle(title.c_str());
   this->Changed |= kImageView;

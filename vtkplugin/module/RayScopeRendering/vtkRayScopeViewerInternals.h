@@ -76,11 +76,11 @@
 #include "vtkXMLPolyDataWriter.h"
 
 #include "RayScopeDisplay.h"
-#include "rayscope_vtkio/image_arrays.h"
 #include "rayscope/frame.h"
 #include "rayscope/image.h"
 #include "rayscope/raytree_format.h"
 #include "rayscope/replay.h"
+#include "rayscope_vtkio/image_arrays.h"
 #include "vtkRayScopeAccelSource.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeRayTreeSource.h"
