@@ -45,7 +45,8 @@ bool is_mesh_path(const std::string& path) {
 // The view of a mesh file: its mesh in the default material, seen from the
 // front (+z), a little from the right and above, so that no axis-aligned face
 // is seen edge-on; the camera frames it (frame_bounds, once the image size is
-// known) and a headlight shines along the view, as VTK's default light does.
+// known) and a headlight (rayscope::headlight: a light at the eye) lights it,
+// as VTK's default light does.
 void frame_mesh(Scene& s, const RenderSettings& rs) {
   Bounds3 b;
   for (const TriangleMesh& m : s.meshes)
@@ -55,11 +56,7 @@ void frame_mesh(Scene& s, const RenderSettings& rs) {
   view.look_at = Vec3(0.0f);
   view.eye = Vec3(0.5f, 0.5f, 1.0f);
   s.camera = frame_bounds(b, float(rs.width) / float(rs.height), view);
-  Light head;
-  head.type = Light::Type::Directional;
-  head.name = "headlight";
-  head.direction = glm::normalize(s.camera.look_at - s.camera.eye);
-  s.lights = {head};
+  s.lights = {headlight(s.camera)};
 }
 
 }  // namespace

@@ -86,10 +86,8 @@ image_view.OrientationAxesVisibility = 0
 image_view.InteractionMode = "2D"
 image_view.Background = [1, 1, 1]
 image_view.UseColorPaletteForBackground = 0
-picture = Show(image, image_view)
+picture = Show(image, image_view)  # in its own colors: the plugin's default display
 picture.SetRepresentationType("Slice")
-ColorBy(picture, ("POINTS", "Color"))
-picture.MapScalars = 0
 marker = Box(Center=[args.pixel[0], args.pixel[1], 0.5], XLength=9, YLength=9, ZLength=1)
 marker_shown = Show(marker, image_view)
 marker_shown.SetRepresentationType("Wireframe")

@@ -1,7 +1,8 @@
 // vtkRayScopePass and vtkRayScopeImageAlgorithm::CopyRenderer: a renderer made
 // of ordinary VTK actors, lights and a camera, ray-traced by the render pass,
 // shows in its window exactly the image the image algorithm produces for the
-// same scene described by hand (datasets, materials, lights, camera). Needs
+// same scene described by hand (datasets, materials, lights, camera);
+// composite data drawn by a composite mapper is one scene. Needs
 // an X display (run under xvfb-run).
 #include <gtest/gtest.h>
 
@@ -12,12 +13,15 @@
 
 #include <vtkActor.h>
 #include <vtkCamera.h>
+#include <vtkCompositeDataDisplayAttributes.h>
+#include <vtkCompositePolyDataMapper2.h>
 #include <vtkElevationFilter.h>
 #include <vtkExecutive.h>
 #include <vtkFieldData.h>
 #include <vtkImageData.h>
 #include <vtkIntArray.h>
 #include <vtkLight.h>
+#include <vtkMultiBlockDataSet.h>
 #include <vtkNew.h>
 #include <vtkPlaneSource.h>
 #include <vtkPointData.h>
@@ -25,10 +29,12 @@
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
+#include <vtkSmartVolumeMapper.h>
 #include <vtkSphereSource.h>
 #include <vtkTransform.h>
 #include <vtkTransformFilter.h>
 #include <vtkUnsignedCharArray.h>
+#include <vtkVolume.h>
 #include <vtkWindowToImageFilter.h>
 
 #include "vtkRayScopeImageAlgorithm.h"
@@ -247,9 +253,9 @@ TEST_F(VtkPass, ParallelCameraHeadlightAndCameraLight) {
   HandScene h(r);
   h.alg->RemoveAllLights();
   h.alg->CopyCamera(c);
-  double view[3];
-  for (int k = 0; k < 3; ++k) view[k] = c->GetFocalPoint()[k] - c->GetPosition()[k];
-  h.alg->AddDirectionalLight(view[0], view[1], view[2], 1, 1, 1, 0.7);
+  // The renderer's headlight is the algorithm's: along the view, no shadow.
+  h.alg->SetHeadlight(1);
+  h.alg->SetHeadlightIntensity(0.7);
   // The camera light, in world coordinates: where vtkLight puts it.
   double p[3], f[3];
   cam->GetTransformedPosition(p);
@@ -380,4 +386,80 @@ TEST_F(VtkPass, DrawsIntoItsViewportOnly) {
   // The OpenGL ball covers a few thousand pixels of the black left half.
   EXPECT_GT(left_lit, 1000);
   EXPECT_EQ(left_cleared, 0);
+}
+
+// A multiblock drawn by vtkCompositePolyDataMapper2 (what VTK and ParaView use
+// for composite data): one image of both blocks, the sphere's shadow on the
+// floor, the same pixels as the image algorithm given the multiblock, and the
+// mapper's block visibility and colors.
+TEST_F(VtkPass, CompositeMapperBlocksAreOneScene) {
+  RendererScene r;
+  r.renderer->RemoveAllViewProps();
+  r.floor->Update();
+  r.ball->Update();
+  vtkNew<vtkMultiBlockDataSet> blocks;
+  blocks->SetBlock(0, r.floor->GetOutput());
+  blocks->SetBlock(1, r.ball->GetOutput());
+  vtkNew<vtkCompositePolyDataMapper2> mapper;
+  mapper->SetInputDataObject(blocks);
+  vtkNew<vtkCompositeDataDisplayAttributes> attributes;
+  mapper->SetCompositeDataDisplayAttributes(attributes);
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  r.renderer->AddActor(actor);
+
+  vtkSmartPointer<vtkImageData> shown = r.render_and_read();
+  EXPECT_EQ(r.pass->GetNumberOfRenderedProps(), 1);
+  vtkImageData* last = r.pass->GetLastImage();
+  ASSERT_NE(last, nullptr);
+  EXPECT_GT(count_object(last, 0), 50);
+  EXPECT_GT(count_object(last, 1), 50);
+
+  HandScene h(r);
+  h.alg->RemoveAllInputConnections(0);
+  h.alg->SetInputData(blocks);
+  h.alg->SetInputMaterial(0, nullptr);
+  h.alg->SetInputMaterial(1, nullptr);
+  h.alg->SetInputMaterial(2, nullptr);
+  ASSERT_EQ(update(h.alg), 1);
+  EXPECT_EQ(max_byte_difference(shown, h.alg->GetOutput()), 0);
+
+  // The sphere's block hidden, the floor's block red.
+  attributes->SetBlockVisibility(r.ball->GetOutput(), false);
+  const double red[3] = {1.0, 0.0, 0.0};
+  attributes->SetBlockColor(r.floor->GetOutput(), red);
+  mapper->Modified();
+  r.render_and_read();
+  last = r.pass->GetLastImage();
+  ASSERT_NE(last, nullptr);
+  EXPECT_EQ(count_object(last, 1), 0);
+  auto* color = vtkUnsignedCharArray::SafeDownCast(last->GetPointData()->GetArray("Color"));
+  auto* ids = vtkIntArray::SafeDownCast(last->GetPointData()->GetArray("ObjectId"));
+  int floor = 0, red_floor = 0;
+  for (vtkIdType i = 0; i < ids->GetNumberOfTuples(); ++i)
+    if (ids->GetValue(i) == 0) {
+      ++floor;
+      red_floor += color->GetTypedComponent(i, 0) > 0 && color->GetTypedComponent(i, 1) == 0;
+    }
+  EXPECT_GT(red_floor, floor / 2);
+}
+
+// A volume in the renderer is not drawn, and says so once.
+TEST_F(VtkPass, VolumeGivesOneWarning) {
+  RendererScene r;
+  vtkNew<vtkImageData> grid;
+  grid->SetDimensions(4, 4, 4);
+  grid->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  vtkNew<vtkSmartVolumeMapper> vmapper;
+  vmapper->SetInputData(grid);
+  vtkNew<vtkVolume> volume;
+  volume->SetMapper(vmapper);
+  r.renderer->AddVolume(volume);
+  vtkNew<ErrorCatcher> warnings;
+  r.pass->GetImageAlgorithm()->AddObserver(vtkCommand::WarningEvent, warnings);
+  r.render_and_read();
+  r.render_and_read();
+  EXPECT_EQ(warnings->count, 1);
+  EXPECT_NE(warnings->last.find("vtkVolume"), std::string::npos) << warnings->last;
+  EXPECT_EQ(r.pass->GetNumberOfRenderedProps(), 3);
 }

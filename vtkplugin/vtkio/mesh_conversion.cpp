@@ -215,6 +215,22 @@ vtkSmartPointer<vtkPolyData> triangulate(vtkDataSet* input, const SurfaceOptions
 
 }  // namespace
 
+vtkSmartPointer<vtkUnsignedCharArray> map_colors(vtkMapper* coloring, vtkPolyData* data,
+                                                 int& cell_flag) {
+  cell_flag = 0;
+  if (!coloring) return nullptr;
+  vtkNew<vtkDataSetMapper> mapper;
+  mapper->ShallowCopy(coloring);
+  if (vtkScalarsToColors* lut = coloring->GetLookupTable()) {
+    vtkSmartPointer<vtkScalarsToColors> copy = vtk::TakeSmartPointer(lut->NewInstance());
+    copy->DeepCopy(lut);
+    mapper->SetLookupTable(copy);
+  }
+  mapper->SetInterpolateScalarsBeforeMapping(0);
+  mapper->SetInputData(data);
+  return mapper->MapScalars(data, 1.0, cell_flag);
+}
+
 ColorSource convert_dataset(vtkDataSet* input, const SurfaceOptions& options, vtkMapper* coloring,
                             vtkPolyData* output) {
   // Before any VTK filter indexes the points with the cells' ids.
@@ -225,20 +241,8 @@ ColorSource convert_dataset(vtkDataSet* input, const SurfaceOptions& options, vt
   // The copy maps with a private copy of the lookup table: the mapper sets the
   // table's range, which must not modify the caller's table on every
   // conversion.
-  vtkSmartPointer<vtkUnsignedCharArray> mapped;
   int cell_flag = 0;
-  if (coloring) {
-    vtkNew<vtkDataSetMapper> mapper;
-    mapper->ShallowCopy(coloring);
-    if (vtkScalarsToColors* lut = coloring->GetLookupTable()) {
-      vtkSmartPointer<vtkScalarsToColors> copy = vtk::TakeSmartPointer(lut->NewInstance());
-      copy->DeepCopy(lut);
-      mapper->SetLookupTable(copy);
-    }
-    mapper->SetInterpolateScalarsBeforeMapping(0);
-    mapper->SetInputData(tri);
-    mapped = mapper->MapScalars(tri, 1.0, cell_flag);
-  }
+  vtkSmartPointer<vtkUnsignedCharArray> mapped = map_colors(coloring, tri, cell_flag);
 
   const vtkIdType ntri = tri->GetNumberOfPolys();
   const vtkIdType npts = tri->GetNumberOfPoints();

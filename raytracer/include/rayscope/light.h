@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "rayscope/camera.h"
 #include "rayscope/math.h"
 
 namespace rayscope {
@@ -28,6 +29,31 @@ struct Light {
     return c;
   }
 };
+
+/// A headlight: a light at the eye, which casts no shadow the eye can see.
+/// For a central projection, a point light at camera.eye without
+/// attenuation; for a parallel projection, whose eye is at infinity, a
+/// directional light along the view. Shadow rays toward it are traced as
+/// toward any light, so ray trees show them and a mirror can show the shadows
+/// it casts; from a surface the eye sees they are never blocked. (VTK's
+/// headlight shines along the view everywhere; traced with shadows, such a
+/// light darkens every surface behind a depth edge of a perspective view,
+/// bands VTK's own view never shows.) Named "headlight".
+inline Light headlight(const Camera& camera, const Color& color = Color(1.0f),
+                       float intensity = 1.0f) {
+  Light l;
+  l.name = "headlight";
+  if (camera.parallel) {
+    l.type = Light::Type::Directional;
+    l.direction = glm::normalize(camera.look_at - camera.eye);
+  } else {
+    l.type = Light::Type::Point;
+    l.position = camera.eye;
+  }
+  l.color = color;
+  l.intensity = intensity;
+  return l;
+}
 
 /// The largest light intensity a light may have.
 inline constexpr double kMaxLightIntensity = 1e30;

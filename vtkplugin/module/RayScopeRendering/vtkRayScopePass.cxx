@@ -73,6 +73,10 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
     return;
   }
   vtkImageData* image = alg->GetOutput();
+  if (!image) {  // the algorithm's output port makes images; anything else is a bug
+    vtkErrorMacro(<< "the ray tracer's output is not an image");
+    return;
+  }
   this->HasImage = true;
   int dims[3];
   image->GetDimensions(dims);

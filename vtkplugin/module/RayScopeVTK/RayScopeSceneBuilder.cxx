@@ -5,11 +5,12 @@
 #include <exception>
 #include <string>
 
+#include "vtkCompositeDataSet.h"
 #include "vtkDataSet.h"
-#include "vtkMath.h"
 
 #include "rayscope/image.h"
 #include "rayscope/render.h"
+#include "rayscope_vtkio/dataset_leaves.h"
 #include "rayscope_vtkio/mesh_conversion.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeMaterial.h"
@@ -59,28 +60,25 @@ rayscope::Vec3 local(const rayscope::Scene& s, const double v[3]) {
   return s.to_local(rayscope::DVec3(v[0], v[1], v[2]));
 }
 
-// The headlight (if on) and the other lights, as core lights.
+// The headlight (if on) and the other lights, as core lights; headlights at
+// the eye of the scene's camera (placed first).
 std::vector<rayscope::Light> core_lights(vtkRayScopeImageAlgorithm* alg,
                                          const std::vector<SceneLight>& lights,
                                          const rayscope::Scene& s) {
   std::vector<rayscope::Light> out;
   const bool shadows = alg->GetShadows() != 0;
-  if (alg->GetHeadlight()) {
-    rayscope::Light l;
-    l.type = rayscope::Light::Type::Directional;
-    l.name = "headlight";
-    const double* p = alg->GetPosition();
-    const double* f = alg->GetFocalPoint();
-    double d[3] = {f[0] - p[0], f[1] - p[1], f[2] - p[2]};
-    vtkMath::Normalize(d);
-    l.direction = vec3(d);
-    l.color = rayscope::Color(1.0f);
-    l.intensity = float(alg->GetHeadlightIntensity());
+  auto headlight = [&](const rayscope::Color& color, double intensity) {
+    rayscope::Light l = rayscope::headlight(s.camera, color, float(intensity));
     l.casts_shadows = shadows;
     out.push_back(l);
-  }
+  };
+  if (alg->GetHeadlight()) headlight(rayscope::Color(1.0f), alg->GetHeadlightIntensity());
   for (size_t i = 0; i < lights.size(); ++i) {
     const SceneLight& u = lights[i];
+    if (u.headlight) {
+      headlight(linear_color(u.color), u.intensity);
+      continue;
+    }
     rayscope::Light l;
     l.type = u.point ? rayscope::Light::Type::Point : rayscope::Light::Type::Directional;
     l.name = "light " + std::to_string(i);
@@ -94,24 +92,52 @@ std::vector<rayscope::Light> core_lights(vtkRayScopeImageAlgorithm* alg,
   return out;
 }
 
+// The material of object `source`: its input's (or the default), with the
+// color and opacity its composite mapper's display attributes give the block.
+rayscope::Material object_material(vtkRayScopeImageAlgorithm* alg, const ObjectSource& source,
+                                   const rayscope_vtkio::DatasetLeaf& leaf) {
+  vtkRayScopeMaterial* m = alg->GetInputMaterial(source.input);
+  rayscope::Material out = (m ? m : alg->GetMaterial())->ToCore();
+  out.name = source.name;
+  if (leaf.has_color) out.color = linear_color(leaf.color);
+  if (leaf.has_opacity) out.transparency = float(1.0 - std::clamp(leaf.opacity, 0.0, 1.0));
+  return out;
+}
+
+// "input 2", or "input 2 block 5 'wall'" for a leaf of a composite input.
+std::string object_name(vtkRayScopeImageAlgorithm* alg, int input, vtkDataObject* data,
+                        const rayscope_vtkio::DatasetLeaf& leaf) {
+  std::string name = alg->GetInputName(input);
+  if (data == leaf.data) return name;
+  name += " block " + std::to_string(leaf.flat_index);
+  if (!leaf.name.empty()) name += " '" + leaf.name + "'";
+  return name;
+}
+
 }  // namespace
 
 int SceneBuilder::CheckTriangles(vtkRayScopeImageAlgorithm* alg,
-                                 const std::vector<vtkDataSet*>& inputs,
+                                 const std::vector<vtkDataSet*>& data,
+                                 const std::vector<ObjectSource>& sources,
                                  const std::vector<rayscope::TriangleMesh>& meshes) {
-  // What an input without triangles is: its class and size tell an empty
+  // What an object without triangles is: its class and size tell an empty
   // reader output (0 points) from a dataset of lines, vertices or a 1-D image.
   auto what = [&](size_t i) {
-    return alg->GetObjectName(int(i)) + " (" + inputs[i]->GetClassName() + " with " +
-           std::to_string(inputs[i]->GetNumberOfPoints()) + " points, " +
-           std::to_string(inputs[i]->GetNumberOfCells()) + " cells)";
+    return sources[i].name + " (" + data[i]->GetClassName() + " with " +
+           std::to_string(data[i]->GetNumberOfPoints()) + " points, " +
+           std::to_string(data[i]->GetNumberOfCells()) + " cells)";
   };
   size_t empty = 0;
   for (const rayscope::TriangleMesh& m : meshes) empty += m.triangles.empty();
+  if (meshes.empty()) {
+    vtkErrorWithObjectMacro(alg, << "nothing to render: the composite inputs hold no dataset");
+    return 0;
+  }
   if (empty == meshes.size()) {
     vtkErrorWithObjectMacro(
-        alg, << "nothing to render: " << (meshes.size() == 1 ? what(0) : std::string("no input"))
-             << " has no surface triangles");
+        alg, << "nothing to render: "
+             << (meshes.size() == 1 ? what(0) + " has no surface triangles"
+                                    : "no input dataset or block has surface triangles"));
     return 0;
   }
   for (size_t i = 0; i < meshes.size(); ++i)
@@ -125,6 +151,7 @@ void SceneBuilder::SetFixedScene(const rayscope::Scene& scene) {
   this->Fixed = true;
   this->HasScene = false;
   this->GeometryInputs.clear();
+  this->Objects.clear();
 }
 
 rayscope::PrimStorage storage_of(int storage) {
@@ -184,6 +211,7 @@ int SceneBuilder::UpdateFixed(vtkRayScopeImageAlgorithm* alg) {
     this->HasScene = false;
     if (!this->Commit(alg, accel)) return 0;
   }
+  this->PlaceCamera(alg);
   return this->PrepareCamera(alg);
 }
 
@@ -191,23 +219,40 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
   if (this->Fixed) return this->UpdateFixed(alg);
   const int n = alg->GetNumberOfInputConnections(0);
   if (n == 0) {
-    vtkErrorWithObjectMacro(alg, << "no input: connect at least one vtkDataSet to port 0");
+    vtkErrorWithObjectMacro(alg, << "no input: connect at least one vtkDataSet or composite "
+                                    "dataset to port 0");
     return 0;
   }
-  std::vector<vtkDataSet*> inputs(size_t(n), nullptr);
+  // The scene objects: every input dataset, and every visible leaf of every
+  // composite input, in input order and then flat-index order.
+  std::vector<ObjectSource> sources;
+  std::vector<rayscope_vtkio::DatasetLeaf> leaves;
   for (int i = 0; i < n; ++i) {
-    inputs[size_t(i)] = vtkDataSet::SafeDownCast(alg->GetInputDataObject(0, i));
-    if (!inputs[size_t(i)]) {
-      vtkErrorWithObjectMacro(alg, << "input " << i << " is not a vtkDataSet");
+    vtkDataObject* data = alg->GetInputDataObject(0, i);
+    if (!vtkDataSet::SafeDownCast(data) && !vtkCompositeDataSet::SafeDownCast(data)) {
+      vtkErrorWithObjectMacro(alg, << alg->GetInputName(i) << " is "
+                                   << (data ? data->GetClassName() : "missing")
+                                   << ", not a vtkDataSet or vtkCompositeDataSet");
       return 0;
     }
+    rayscope_vtkio::DatasetLeaves found =
+        rayscope_vtkio::dataset_leaves(data, alg->GetInputBlockAttributes(i));
+    for (const std::string& skipped : found.skipped)
+      vtkWarningWithObjectMacro(
+          alg, << alg->GetInputName(i) << " " << skipped << " is not a dataset: it is not shown");
+    for (const rayscope_vtkio::DatasetLeaf& leaf : found.leaves) {
+      sources.push_back(
+          {i, data == leaf.data ? -1 : int(leaf.flat_index), object_name(alg, i, data, leaf)});
+      leaves.push_back(leaf);
+    }
   }
+  const std::vector<vtkDataSet*> datasets = rayscope_vtkio::leaf_datasets(leaves);
 
-  // Geometry is converted again only when an input or its converter changed.
-  auto converter_of = [&](int i) { return alg->GetConverterOf(i); };
-  bool regeometry = !this->HasScene || inputs != this->GeometryInputs;
-  for (int i = 0; i < n; ++i)
-    regeometry |= inputs[size_t(i)]->GetMTime() > this->GeometryTime.GetMTime() ||
+  // Geometry is converted again only when a dataset or its converter changed.
+  auto converter_of = [&](size_t object) { return alg->GetConverterOf(sources[object].input); };
+  bool regeometry = !this->HasScene || datasets != this->GeometryInputs;
+  for (size_t i = 0; i < datasets.size(); ++i)
+    regeometry |= datasets[i]->GetMTime() > this->GeometryTime.GetMTime() ||
                   converter_of(i)->GetMTime() > this->GeometryTime.GetMTime();
   std::vector<rayscope::TriangleMesh> meshes;
   // The local origin (the center of the inputs' bounds, for data far from the
@@ -215,34 +260,31 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
   // geometry (a camera move converts nothing).
   rayscope::DVec3 origin = this->Scene.origin;
   if (regeometry) {
-    origin = rayscope_vtkio::local_origin(inputs);
+    origin = rayscope_vtkio::local_origin(datasets);
     const double o[3] = {origin.x, origin.y, origin.z};
-    meshes.resize(size_t(n));
-    for (int i = 0; i < n; ++i) {
+    meshes.resize(datasets.size());
+    for (size_t i = 0; i < datasets.size(); ++i) {
       std::string why;
-      if (!converter_of(i)->ConvertToMesh(inputs[size_t(i)], meshes[size_t(i)], &why, o)) {
-        vtkErrorWithObjectMacro(alg, << alg->GetObjectName(i) << " ("
-                                     << inputs[size_t(i)]->GetClassName()
+      if (!converter_of(i)->ConvertToMesh(datasets[i], meshes[i], &why, o)) {
+        vtkErrorWithObjectMacro(alg, << sources[i].name << " (" << datasets[i]->GetClassName()
                                      << ") cannot be converted to triangles: " << why);
         return 0;
       }
-      meshes[size_t(i)].name = alg->GetObjectName(i);
-      meshes[size_t(i)].material = uint32_t(i);
+      meshes[i].name = sources[i].name;
+      meshes[i].material = uint32_t(i);
     }
     ++this->Conversions;
-    if (!this->CheckTriangles(alg, inputs, meshes)) return 0;
+    if (!this->CheckTriangles(alg, datasets, sources, meshes)) return 0;
   }
 
-  std::vector<rayscope::Material> materials(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    vtkRayScopeMaterial* m = alg->GetInputMaterial(i);
-    materials[size_t(i)] = (m ? m : alg->GetMaterial())->ToCore();
-    materials[size_t(i)].name = alg->GetObjectName(i);
-  }
+  std::vector<rayscope::Material> materials(sources.size());
+  for (size_t i = 0; i < sources.size(); ++i)
+    materials[i] = object_material(alg, sources[i], leaves[i]);
   // Other material and light values (a headlight following the camera, a new
   // color) are read while tracing and are simply replaced.
   rayscope::Scene& s = this->Scene;
   if (regeometry) s.origin = origin;
+  this->PlaceCamera(alg, datasets);
   std::vector<rayscope::Light> core = core_lights(alg, lights, s);
   const rayscope::AccelConfig accel = accel_config_of(alg);
   bool recommit = regeometry || materials.size() != s.materials.size() ||
@@ -266,23 +308,24 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
     // rendered without it, reported once per problem and input.
     for (const std::string& w : s.summary().warnings) vtkWarningWithObjectMacro(alg, << w);
     if (regeometry) {
-      this->GeometryInputs = inputs;
+      this->GeometryInputs = datasets;
       this->GeometryTime.Modified();
     }
   }
+  this->Objects = std::move(sources);
   s.background = linear_color(alg->GetBackground());
   s.ambient_light = linear_color(alg->GetAmbientLight());
-  return this->PrepareCamera(alg, inputs);
+  return this->PrepareCamera(alg);
 }
 
-int SceneBuilder::PrepareCamera(vtkRayScopeImageAlgorithm* alg,
-                                const std::vector<vtkDataSet*>& inputs) {
+void SceneBuilder::PlaceCamera(vtkRayScopeImageAlgorithm* alg,
+                               const std::vector<vtkDataSet*>& data) {
   rayscope::Scene& s = this->Scene;
   const rayscope::DVec3 position = dvec3(alg->GetPosition()), focal = dvec3(alg->GetFocalPoint());
   rayscope::CameraFit c{position, focal, dvec3(alg->GetViewUp()), alg->GetParallelScale()};
   double b[6];
   // Aspect 1: the bounds fill the vertical view angle whatever the image's shape.
-  if (alg->GetAutoCamera() && rayscope_vtkio::finite_bounds(inputs, b))
+  if (alg->GetAutoCamera() && rayscope_vtkio::finite_bounds(data, b))
     c = rayscope::fit_bounds(rayscope::DVec3(b[0], b[2], b[4]), rayscope::DVec3(b[1], b[3], b[5]),
                              position, focal, c.up, alg->GetViewAngle(), 1.0);
   s.camera.eye = s.to_local(c.eye);
@@ -291,6 +334,10 @@ int SceneBuilder::PrepareCamera(vtkRayScopeImageAlgorithm* alg,
   s.camera.vfov_degrees = float(alg->GetViewAngle());
   s.camera.parallel = alg->GetParallelProjection() != 0;
   s.camera.parallel_scale = float(c.parallel_scale);
+}
+
+int SceneBuilder::PrepareCamera(vtkRayScopeImageAlgorithm* alg) {
+  rayscope::Scene& s = this->Scene;
   try {
     rayscope::prepare_frame(s, alg->GetRenderSettings());
   } catch (const std::exception& e) {

@@ -3,6 +3,7 @@
 // so that only what changed is redone.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "vtkTimeStamp.h"
@@ -14,6 +15,15 @@ class vtkDataSet;
 class vtkRayScopeImageAlgorithm;
 
 namespace rayscope_vtkmodule {
+
+/// Where a scene object comes from: an input, and for a composite input the
+/// leaf (rayscope_vtkio::dataset_leaves()).
+struct ObjectSource {
+  int input = 0;
+  /// The leaf's flat index in a composite input; -1 for a dataset input.
+  int flat_index = -1;
+  std::string name;  ///< The object's name ("input 0", "input 1 block 3 'wall'").
+};
 
 /// A light besides the headlight, in VTK terms (sRGB color).
 using SceneLight = vtkRayScopeSceneSettings::Light;
@@ -47,6 +57,9 @@ class SceneBuilder {
   /// the scene's.
   void SetFixedScene(const rayscope::Scene& scene);
 
+  /// Where each object of the scene comes from (empty for a fixed scene).
+  const std::vector<ObjectSource>& GetObjects() const { return this->Objects; }
+
   /// The scene of the last successful Update(), else null.
   rayscope::Scene* GetScene() { return this->HasScene ? &this->Scene : nullptr; }
   /// How often Update() converted the inputs to triangles, and committed the
@@ -55,23 +68,28 @@ class SceneBuilder {
   size_t GetCommits() const { return this->Commits; }
 
  private:
-  // Converted inputs without any triangle: an error when no input has one
-  // (returns 0), else a warning per empty input (returns 1).
-  static int CheckTriangles(vtkRayScopeImageAlgorithm* alg, const std::vector<vtkDataSet*>& inputs,
+  // Converted objects without any triangle: an error when no object has one
+  // (returns 0), else a warning per empty object (returns 1).
+  static int CheckTriangles(vtkRayScopeImageAlgorithm* alg, const std::vector<vtkDataSet*>& data,
+                            const std::vector<ObjectSource>& sources,
                             const std::vector<rayscope::TriangleMesh>& meshes);
 
   int UpdateFixed(vtkRayScopeImageAlgorithm* alg);
   // Scene.commit(accel), its error reported on `alg`; 1 on success.
   int Commit(vtkRayScopeImageAlgorithm* alg, const rayscope::AccelConfig& accel);
-  // The camera of `alg` into the scene, prepared for the image size; with
-  // AutoCamera, fitted to `inputs`.
-  int PrepareCamera(vtkRayScopeImageAlgorithm* alg, const std::vector<vtkDataSet*>& inputs = {});
+  // The camera of `alg` into the scene (scene-local); with AutoCamera, fitted
+  // to `data`.
+  void PlaceCamera(vtkRayScopeImageAlgorithm* alg, const std::vector<vtkDataSet*>& data = {});
+  // The scene's camera prepared for the image size (an invalid camera is an
+  // error on `alg`); 1 on success.
+  int PrepareCamera(vtkRayScopeImageAlgorithm* alg);
 
   rayscope::Scene Scene;
   bool HasScene = false;
-  bool Fixed = false;         // SetFixedScene() was called
-  vtkTimeStamp GeometryTime;  // when the meshes were last converted
-  std::vector<vtkDataSet*> GeometryInputs;
+  bool Fixed = false;                       // SetFixedScene() was called
+  vtkTimeStamp GeometryTime;                // when the meshes were last converted
+  std::vector<vtkDataSet*> GeometryInputs;  // the datasets converted, one per object
+  std::vector<ObjectSource> Objects;
   size_t Conversions = 0, Commits = 0;
 };
 

@@ -8,24 +8,29 @@
 #include "vtkAlgorithmOutput.h"
 #include "vtkCamera.h"
 #include "vtkCellData.h"
+#include "vtkCompositeDataDisplayAttributes.h"
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkDataSet.h"
+#include "vtkFieldData.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkIntArray.h"
 #include "vtkMapper.h"
-#include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkScalarsToColors.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkStringArray.h"
 
 #include "RayScopeProgressRelay.h"
 #include "rayscope/camera.h"
 #include "rayscope/render_settings.h"
 #include "rayscope/scene.h"
 #include "rayscope/stats.h"
+#include "rayscope_vtkio/data_arrays.h"
+#include "rayscope_vtkio/dataset_leaves.h"
 #include "rayscope_vtkio/image_arrays.h"
 #include "rayscope_vtkio/mesh_conversion.h"
 #include "vtkRayScopeImageAlgorithmInternals.h"
@@ -54,7 +59,9 @@ int vtkRayScopeImageAlgorithm::ResetCamera() {
   for (int i = 0; i < n; ++i) {
     vtkAlgorithmOutput* c = this->GetInputConnection(0, i);
     c->GetProducer()->Update(c->GetIndex());
-    inputs.push_back(vtkDataSet::SafeDownCast(this->GetInputDataObject(0, i)));
+    const rayscope_vtkio::DatasetLeaves found = rayscope_vtkio::dataset_leaves(
+        this->GetInputDataObject(0, i), this->GetInputBlockAttributes(i));
+    for (const rayscope_vtkio::DatasetLeaf& leaf : found.leaves) inputs.push_back(leaf.data);
   }
   double b[6];
   if (!rayscope_vtkio::finite_bounds(inputs, b)) {
@@ -133,6 +140,29 @@ vtkRayScopeMeshConverter* vtkRayScopeImageAlgorithm::GetInputConverter(int index
   return it == this->Internal->input_converters.end() ? nullptr : it->second.Get();
 }
 
+void vtkRayScopeImageAlgorithm::SetInputBlockAttributes(
+    int index, vtkCompositeDataDisplayAttributes* attributes) {
+  if (index < 0) {
+    vtkErrorMacro(<< "SetInputBlockAttributes: input index " << index << " is negative");
+    return;
+  }
+  auto& m = this->Internal->input_block_attributes;
+  auto it = m.find(index);
+  if (!attributes) {
+    if (it == m.end()) return;
+    m.erase(it);
+  } else {
+    if (it != m.end() && it->second == attributes) return;
+    m[index] = attributes;
+  }
+  this->Modified();
+}
+
+vtkCompositeDataDisplayAttributes* vtkRayScopeImageAlgorithm::GetInputBlockAttributes(int index) {
+  auto it = this->Internal->input_block_attributes.find(index);
+  return it == this->Internal->input_block_attributes.end() ? nullptr : it->second.Get();
+}
+
 vtkMTimeType vtkRayScopeImageAlgorithm::GetMTime() {
   vtkMTimeType t = this->Superclass::GetMTime();
   if (this->LookupTable) t = std::max(t, this->LookupTable->GetMTime());
@@ -140,11 +170,18 @@ vtkMTimeType vtkRayScopeImageAlgorithm::GetMTime() {
   t = std::max(t, this->Internal->converter->GetMTime());
   for (auto& [index, m] : this->Internal->input_materials) t = std::max(t, m->GetMTime());
   for (auto& [index, c] : this->Internal->input_converters) t = std::max(t, c->GetMTime());
+  for (auto& [index, a] : this->Internal->input_block_attributes) t = std::max(t, a->GetMTime());
   return t;
 }
 
+std::string vtkRayScopeImageAlgorithm::GetInputName(int input) {
+  return "input " + std::to_string(input);
+}
+
 std::string vtkRayScopeImageAlgorithm::GetObjectName(int object) {
-  return "input " + std::to_string(object);
+  const auto& objects = this->Internal->builder.GetObjects();
+  return object >= 0 && size_t(object) < objects.size() ? objects[size_t(object)].name
+                                                        : std::string();
 }
 
 std::string vtkRayScopeImageAlgorithm::ValidateParameters() {
@@ -167,6 +204,8 @@ void vtkRayScopeImageAlgorithm::WarnAboutUnconnectedInputs() {
     if (index >= n) warn("a material (SetInputMaterial)", index);
   for (auto& [index, c] : this->Internal->input_converters)
     if (index >= n) warn("a converter (SetInputConverter)", index);
+  for (auto& [index, a] : this->Internal->input_block_attributes)
+    if (index >= n) warn("block attributes (SetInputBlockAttributes)", index);
 }
 
 rayscope::RenderSettings vtkRayScopeImageAlgorithm::GetRenderSettings() {
@@ -267,17 +306,19 @@ int vtkRayScopeImageAlgorithm::ConfigureColoring() {
   mapper->SetLookupTable(this->Internal->default_table);
   mapper->UseLookupTableScalarRangeOff();
   double range[2] = {VTK_DOUBLE_MAX, VTK_DOUBLE_MIN};
-  for (int i = 0; i < this->GetNumberOfInputConnections(0); ++i) {
-    auto* ds = vtkDataSet::SafeDownCast(this->GetInputDataObject(0, i));
-    vtkDataArray* a = !ds     ? nullptr
-                      : cells ? ds->GetCellData()->GetArray(name)
-                              : ds->GetPointData()->GetArray(name);
-    if (!a || a->GetNumberOfTuples() == 0) continue;
-    double r[2];
-    a->GetRange(r, a->GetNumberOfComponents() > 1 ? -1 : 0);
-    range[0] = std::min(range[0], r[0]);
-    range[1] = std::max(range[1], r[1]);
-  }
+  for (int i = 0; i < this->GetNumberOfInputConnections(0); ++i)
+    for (const rayscope_vtkio::DatasetLeaf& leaf :
+         rayscope_vtkio::dataset_leaves(this->GetInputDataObject(0, i),
+                                        this->GetInputBlockAttributes(i))
+             .leaves) {
+      vtkDataArray* a = cells ? leaf.data->GetCellData()->GetArray(name)
+                              : leaf.data->GetPointData()->GetArray(name);
+      if (!a || a->GetNumberOfTuples() == 0) continue;
+      double r[2];
+      a->GetRange(r, a->GetNumberOfComponents() > 1 ? -1 : 0);
+      range[0] = std::min(range[0], r[0]);
+      range[1] = std::max(range[1], r[1]);
+    }
   if (range[0] <= range[1]) mapper->SetScalarRange(range);
   return 1;
 }
@@ -293,7 +334,10 @@ int vtkRayScopeImageAlgorithm::UpdateScene() {
 
 int vtkRayScopeImageAlgorithm::FillInputPortInformation(int port, vtkInformation* info) {
   if (port != 0) return 0;
+  // Composite data is taken whole (one scene of all leaves), not block by
+  // block as the composite pipeline would run a dataset algorithm.
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
   info->Set(vtkAlgorithm::INPUT_IS_REPEATABLE(), 1);
   // Optional for the pipeline: a core scene (SetCoreScene) needs no input;
   // without one, the scene builder reports the missing input.
@@ -353,8 +397,27 @@ int vtkRayScopeImageAlgorithm::RequestData(vtkInformation*, vtkInformationVector
     return 0;
   }
   rayscope_vtkio::framebuffer_to_image(fb, counters, output);
+  this->AddObjectArrays(output);
   this->UpdateProgress(1.0);
   return 1;
+}
+
+void vtkRayScopeImageAlgorithm::AddObjectArrays(vtkImageData* image) {
+  const auto& objects = this->Internal->builder.GetObjects();
+  const auto n = vtkIdType(objects.size());
+  auto input = rayscope_vtkio::make_array<vtkIntArray>("ObjectInput", 1, n);
+  auto flat = rayscope_vtkio::make_array<vtkIntArray>("ObjectFlatIndex", 1, n);
+  auto name = vtkSmartPointer<vtkStringArray>::New();
+  name->SetName("ObjectName");
+  name->SetNumberOfValues(n);
+  for (vtkIdType i = 0; i < n; ++i) {
+    input->SetValue(i, objects[size_t(i)].input);
+    flat->SetValue(i, objects[size_t(i)].flat_index);
+    name->SetValue(i, objects[size_t(i)].name);
+  }
+  image->GetFieldData()->AddArray(input);
+  image->GetFieldData()->AddArray(flat);
+  image->GetFieldData()->AddArray(name);
 }
 
 void vtkRayScopeImageAlgorithm::PrintSelf(ostream& os, vtkIndent indent) {

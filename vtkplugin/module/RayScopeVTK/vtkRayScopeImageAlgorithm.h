@@ -3,11 +3,19 @@
  * @brief   Ray-traces VTK datasets (Whitted: shadows, reflection, refraction)
  *          into vtkImageData.
  *
- * Input port 0 takes one or more vtkDataSet connections (AddInputConnection /
- * AddInputData). Input k becomes scene object k: its surface triangles as
- * vtkRayScopeMeshConverter makes them (colored through the converter's mapper
- * settings), with material k (SetInputMaterial) or the default material
- * (GetMaterial()).
+ * Input port 0 takes one or more connections (AddInputConnection /
+ * AddInputData) of vtkDataSet or composite data (vtkMultiBlockDataSet,
+ * vtkPartitionedDataSet, vtkPartitionedDataSetCollection, nested in any way).
+ * Every dataset becomes a scene object: an input dataset, and each leaf of a
+ * composite input (its empty blocks and blocks hidden by SetInputBlockAttributes()
+ * left out). All are traced together, so blocks shadow and reflect each
+ * other, and the output is one image. Objects are numbered input by input,
+ * a composite input's leaves in flat-index order (vtkDataObjectTreeIterator's);
+ * with dataset inputs only, object k is input k. An object is its dataset's
+ * surface triangles as vtkRayScopeMeshConverter makes them (colored through the
+ * converter's mapper settings), with its input's material (SetInputMaterial)
+ * or the default material (GetMaterial()), and the block's color and opacity
+ * where the block attributes set them.
  *
  * Input that cannot be rendered is an error (vtkErrorMacro) and leaves the
  * output empty: no input, an input whose cells name points it lacks, or
@@ -20,8 +28,9 @@
  * The camera follows vtkCamera (Position, FocalPoint, ViewUp, vertical
  * ViewAngle in degrees, ParallelProjection with ParallelScale = half the image
  * height in world units; CopyCamera() takes them from a vtkCamera). Lights are
- * a headlight (a white directional light shining from the camera along the
- * view direction, as VTK's headlight; on by default) plus any point and
+ * a headlight (a white light at the eye, rayscope::headlight(): a point light
+ * at the camera's position, or along the view for a parallel camera, so it
+ * casts no shadow the eye can see; on by default) plus any point and
  * directional lights added (CopyRenderer() takes all of this, and the
  * datasets, from a vtkRenderer). Colors are sRGB display values as everywhere in
  * VTK (see vtkRayScopeMeshConverter); shading is computed in linear RGB.
@@ -37,7 +46,9 @@
  * - "Depth": float distance along the primary ray of sample 0 to the first
  *   hit, NaN on the background.
  * - "Normal": float unit shading normal at that hit, 0 on the background.
- * - "ObjectId": int, the input index hit by sample 0, -1 on the background.
+ * - "ObjectId": int, the scene object hit by sample 0, -1 on the background
+ *   (the input index when every input is a dataset; field data below says
+ *   which input and block each object is).
  * - "Cost": int, BVH nodes visited by every ray of the pixel (all samples,
  *   secondary and shadow rays included); with "CostRays", "CostBoxes",
  *   "CostPrimitives". Only when ComputeCost is on (default; it renders with the
@@ -46,7 +57,11 @@
  *   (MaxSamples > 0).
  *
  * Field data: "RayCounts" (primary, shadow, reflection, refraction rays),
- * "ShadowRaysOccluded", "NodesVisited", "BoxesTested", "PrimitivesTested".
+ * "ShadowRaysOccluded", "NodesVisited", "BoxesTested", "PrimitivesTested";
+ * and one tuple per scene object, indexed by ObjectId: "ObjectInput" (int,
+ * the input index), "ObjectFlatIndex" (int, the leaf's flat index in its
+ * composite input, -1 for a dataset input) and "ObjectName" (string, e.g.
+ * "input 1 block 3 'wall'").
  *
  * Progress is reported per finished tile through UpdateProgress (ProgressEvent
  * observers run on the calling thread). Parameters are checked once per
@@ -71,6 +86,7 @@
 #include <string>  // std::string
 
 class vtkCamera;
+class vtkCompositeDataDisplayAttributes;
 class vtkDataSet;
 class vtkRayScopeMaterial;
 class vtkRayScopeMeshConverter;
@@ -264,6 +280,16 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   void SetInputConverter(int index, vtkRayScopeMeshConverter* converter);
   vtkRayScopeMeshConverter* GetInputConverter(int index);
 
+  /// Gives composite input `index` the block visibility, color and opacity of
+  /// a composite mapper (vtkCompositeDataDisplayAttributes, as
+  /// vtkCompositePolyDataMapper2 uses them: a block's setting applies to its
+  /// sub-blocks unless they set their own). Hidden blocks are not in the
+  /// scene; a block color replaces the material color, a block opacity the
+  /// material's transparency (1 - opacity). Null: every block as its input.
+  /// Index rules as SetInputMaterial().
+  void SetInputBlockAttributes(int index, vtkCompositeDataDisplayAttributes* attributes);
+  vtkCompositeDataDisplayAttributes* GetInputBlockAttributes(int index);
+
   ///@{
   /// How inputs without a converter of their own are colored:
   /// - COLOR_BY_MAPPER (default): as GetConverter()'s mapper colors them, i.e.
@@ -288,7 +314,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
    * it:
    *
    * - Inputs: every visible vtkActor with a mapper that has an input, in the
-   *   order of vtkRenderer::GetActors(); input k is the k-th such actor. Its
+   *   order of vtkRenderer::GetActors(); input k is the k-th such actor. A
+   *   composite mapper's (vtkCompositePolyDataMapper2's) block visibility,
+   *   colors and opacity come with it (SetInputBlockAttributes()). Its
    *   mapper's input connection is used, moved by the actor's matrix
    *   (position, orientation, scale, user matrix) through a vtkTransformFilter
    *   when that is not the identity. Each input gets its own converter, whose
@@ -305,14 +333,18 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
    *   in every direction). Others are directional, shining from position to
    *   focal point. Light color is the vtkLight's diffuse color times its
    *   intensity. A renderer without lights gets the headlight VTK would
-   *   create for it (AutomaticLightCreation). The Headlight option is
-   *   switched off, since the renderer's own headlight is among its lights.
+   *   create for it (AutomaticLightCreation). Non-positional headlights
+   *   become a light at the eye, as the Headlight option's light
+   *   (rayscope::headlight()), with their color and intensity; the Headlight
+   *   option is switched off, since the renderer's own headlight is among its
+   *   lights.
    * - Camera: the active vtkCamera (CopyCamera(), with a horizontal view
    *   angle converted to the vertical one); size: the renderer's size in
    *   pixels; Background: the renderer's background (not gradients or
    *   textures); AmbientLight: vtkRenderer::GetAmbient().
    *
-   * Props that are not vtkActors (2D actors, volumes) are ignored, and so are
+   * Props that are not vtkActors (2D actors, volumes) are not drawn: a visible
+   * vtkVolume gives one warning, the first time it is seen. Ignored too are
    * textures, representation (points/wireframe actors are ray-traced as
    * surfaces) and backface properties. Returns the number of inputs (actors),
    * or -1 for a null renderer. Calling it again reuses what did not change:
@@ -328,7 +360,10 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// error. Used by the ray-tree and structure sources.
   int UpdateScene();
 
-  /// Name of scene object k (the input index, "input k").
+  /// The name of input k in messages and object names ("input k").
+  std::string GetInputName(int input);
+  /// The name of scene object k of the last update ("input 0", "input 1 block
+  /// 3 'wall'"); empty when there is no such object.
   std::string GetObjectName(int object);
 
   /// The checks only VTK has (camera, background and ambient colors, lights,
@@ -398,9 +433,11 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   // The converter of inputs without their own, for ScalarColoring (after an
   // update of the inputs); 0 after an error.
   int ConfigureColoring();
-  // A warning for each material or converter set for an input index that has
-  // no input connection.
+  // A warning for each material, converter or block attributes set for an
+  // input index that has no input connection.
   void WarnAboutUnconnectedInputs();
+  // The field data arrays that say which input and block each object is.
+  void AddObjectArrays(vtkImageData* image);
 };
 
 #endif

@@ -5,9 +5,12 @@
 #include <map>
 #include <vector>
 
+#include "vtkCompositeDataDisplayAttributes.h"
 #include "vtkLookupTable.h"
 #include "vtkNew.h"
 #include "vtkSmartPointer.h"
+#include "vtkVolume.h"
+#include "vtkWeakPointer.h"
 
 #include "RayScopeSceneBuilder.h"
 #include "vtkRayScopeImageAlgorithm.h"
@@ -26,6 +29,9 @@ struct vtkRayScopeImageAlgorithm::Internals {
   vtkNew<vtkRayScopeMeshConverter> coloring_converter;
   vtkNew<vtkLookupTable> default_table;  // COLOR_BY_ARRAY without LookupTable
   std::map<int, vtkSmartPointer<vtkRayScopeMeshConverter>> input_converters;
+  std::map<int, vtkSmartPointer<vtkCompositeDataDisplayAttributes>> input_block_attributes;
+  // Volumes CopyRenderer() warned about (once each).
+  std::vector<vtkWeakPointer<vtkVolume>> warned_volumes;
   rayscope_vtkmodule::CopiedActors actors;  // CopyRenderer()'s cache
   rayscope_vtkmodule::SceneBuilder builder;
 };

@@ -5,10 +5,12 @@
 #include <cmath>
 #include <vector>
 
+#include "vtkAbstractVolumeMapper.h"
 #include "vtkActor.h"
 #include "vtkActorCollection.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkCamera.h"
+#include "vtkCompositePolyDataMapper2.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
 #include "vtkMapper.h"
@@ -18,6 +20,8 @@
 #include "vtkRenderer.h"
 #include "vtkTransform.h"
 #include "vtkTransformFilter.h"
+#include "vtkVolume.h"
+#include "vtkVolumeCollection.h"
 
 #include "vtkRayScopeImageAlgorithmInternals.h"
 
@@ -66,6 +70,7 @@ int vtkRayScopeImageAlgorithm::CopyRenderer(vtkRenderer* ren) {
   auto headlight = [&](double intensity, const double* color) {
     rayscope_vtkmodule::SceneLight l;
     l.point = false;
+    l.headlight = true;
     for (int k = 0; k < 3; ++k) {
       l.v[k] = camera->GetFocalPoint()[k] - camera->GetPosition()[k];
       l.color[k] = color[k];
@@ -102,6 +107,23 @@ int vtkRayScopeImageAlgorithm::CopyRenderer(vtkRenderer* ren) {
   }
   this->SetHeadlight(0);
   this->GetSettings()->SetLights(lights);
+
+  // Volumes are not ray-traced: said once per volume.
+  vtkVolumeCollection* volumes = ren->GetVolumes();
+  vtkCollectionSimpleIterator vit;
+  volumes->InitTraversal(vit);
+  while (vtkVolume* volume = volumes->GetNextVolume(vit)) {
+    if (!volume->GetVisibility()) continue;
+    auto& warned = in.warned_volumes;
+    if (std::find(warned.begin(), warned.end(), volume) != warned.end()) continue;
+    warned.erase(std::remove(warned.begin(), warned.end(), nullptr), warned.end());
+    warned.push_back(volume);
+    vtkAbstractVolumeMapper* vm = volume->GetMapper();
+    vtkWarningMacro(<< "CopyRenderer: the renderer's vtkVolume (" << volume << ", "
+                    << (vm ? vm->GetClassName() : "no mapper")
+                    << ") is not drawn: RayScope ray-traces surfaces, lines and points, not "
+                       "volumes; show its outer surface (e.g. vtkGeometryFilter) or a contour");
+  }
 
   // Actors.
   for (rayscope_vtkmodule::CopiedActor& e : in.actors) e.used = false;
@@ -149,6 +171,8 @@ int vtkRayScopeImageAlgorithm::CopyRenderer(vtkRenderer* ren) {
     copy_converter_settings(in.converter, e.converter);
     e.converter->SetMapper(mapper);
     e.material->CopyProperty(actor->GetProperty());
+    auto* composite = vtkCompositePolyDataMapper2::SafeDownCast(mapper);
+    e.block_attributes = composite ? composite->GetCompositeDataDisplayAttributes() : nullptr;
     connections.push_back(connection);
     entries.push_back(size_t(it - in.actors.begin()));
   }
@@ -163,12 +187,15 @@ int vtkRayScopeImageAlgorithm::CopyRenderer(vtkRenderer* ren) {
   for (size_t i = 0; i < entries.size(); ++i) {
     this->SetInputConverter(int(i), in.actors[entries[i]].converter);
     this->SetInputMaterial(int(i), in.actors[entries[i]].material);
+    this->SetInputBlockAttributes(int(i), in.actors[entries[i]].block_attributes);
   }
   // Inputs that are gone lose their converters and materials; so do actors.
   for (auto it = in.input_converters.begin(); it != in.input_converters.end();)
     it = it->first >= int(entries.size()) ? in.input_converters.erase(it) : std::next(it);
   for (auto it = in.input_materials.begin(); it != in.input_materials.end();)
     it = it->first >= int(entries.size()) ? in.input_materials.erase(it) : std::next(it);
+  for (auto it = in.input_block_attributes.begin(); it != in.input_block_attributes.end();)
+    it = it->first >= int(entries.size()) ? in.input_block_attributes.erase(it) : std::next(it);
   in.actors.erase(std::remove_if(in.actors.begin(), in.actors.end(),
                                  [](const rayscope_vtkmodule::CopiedActor& e) { return !e.used; }),
                   in.actors.end());

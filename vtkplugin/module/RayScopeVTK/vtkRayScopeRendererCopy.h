@@ -8,6 +8,7 @@
 #include "vtkWeakPointer.h"
 
 class vtkActor;
+class vtkCompositeDataDisplayAttributes;
 class vtkRayScopeMaterial;
 class vtkRayScopeMeshConverter;
 class vtkTransformFilter;
@@ -22,6 +23,8 @@ struct CopiedActor {
   vtkSmartPointer<vtkTransformFilter> transform;  // null while the matrix is the identity
   vtkSmartPointer<vtkRayScopeMeshConverter> converter;
   vtkSmartPointer<vtkRayScopeMaterial> material;
+  // A composite mapper's block visibility, colors and opacity (else null).
+  vtkSmartPointer<vtkCompositeDataDisplayAttributes> block_attributes;
   bool used = false;
 };
 

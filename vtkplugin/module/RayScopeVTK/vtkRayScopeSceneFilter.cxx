@@ -54,7 +54,9 @@ vtkMTimeType vtkRayScopeSceneFilter::GetMTime() {
 
 int vtkRayScopeSceneFilter::FillInputPortInformation(int port, vtkInformation* info) {
   if (port != 0) return 0;
+  // Composite data is taken whole, as vtkRayScopeImageAlgorithm takes it.
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
   info->Set(vtkAlgorithm::INPUT_IS_REPEATABLE(), 1);
   info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
   return 1;

@@ -47,8 +47,9 @@ struct vtkRayScopeSceneSettings::Internals {
 };
 
 bool vtkRayScopeSceneSettings::Light::operator==(const Light& o) const {
-  return point == o.point && std::equal(v, v + 3, o.v) && std::equal(color, color + 3, o.color) &&
-         intensity == o.intensity && std::equal(attenuation, attenuation + 3, o.attenuation);
+  return point == o.point && headlight == o.headlight && std::equal(v, v + 3, o.v) &&
+         std::equal(color, color + 3, o.color) && intensity == o.intensity &&
+         std::equal(attenuation, attenuation + 3, o.attenuation);
 }
 
 vtkRayScopeSceneSettings::vtkRayScopeSceneSettings()

@@ -236,8 +236,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeSceneSettings : public vtkObject {
   ///@}
 
   ///@{
-  /// VTK-style headlight: directional, from the camera toward the focal point
-  /// (default on, intensity 1).
+  /// The headlight: a white light at the eye (rayscope::headlight(): a point
+  /// light at the camera's position, along the view for a parallel camera),
+  /// which casts no shadow the eye can see (default on, intensity 1).
   vtkSetMacro(Headlight, vtkTypeBool);
   vtkGetMacro(Headlight, vtkTypeBool);
   vtkBooleanMacro(Headlight, vtkTypeBool);
@@ -292,9 +293,12 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeSceneSettings : public vtkObject {
   /// Validate() does that).
   rayscope::RenderSettings GetRenderSettings();
 
-  /// A light added with AddPointLight() or AddDirectionalLight().
+  /// A light added with AddPointLight() or AddDirectionalLight(), or a
+  /// renderer's headlight (vtkRayScopeImageAlgorithm::CopyRenderer()).
   struct Light {
     bool point = true;
+    /// A light at the eye (rayscope::headlight()); `v` is not used.
+    bool headlight = false;
     double v[3] = {0.0, 0.0, 0.0};  // position (point) or direction of travel (directional)
     double color[3] = {1.0, 1.0, 1.0};
     double intensity = 1.0;

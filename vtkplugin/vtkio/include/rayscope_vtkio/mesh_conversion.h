@@ -8,9 +8,12 @@
 
 #include <glm/glm.hpp>
 
+#include "vtkSmartPointer.h"
+
 class vtkDataSet;
 class vtkMapper;
 class vtkPolyData;
+class vtkUnsignedCharArray;
 
 namespace rayscope {
 struct TriangleMesh;
@@ -45,6 +48,13 @@ enum class ColorSource { None = 0, Point = 1, Cell = 2, Field = 3 };
 /// name) when a cell names a point the data lacks, before any VTK filter runs.
 ColorSource convert_dataset(vtkDataSet* input, const SurfaceOptions& options, vtkMapper* coloring,
                             vtkPolyData* output);
+
+/// The colors `coloring` (may be null: none) gives `data`, as its
+/// vtkMapper::MapScalars(data, 1.0, cell_flag) maps them, by a private copy
+/// of the mapper and its lookup table (neither is modified): RGBA bytes per
+/// point (cell_flag 0), per cell (1) or field tuple (2), or null.
+vtkSmartPointer<vtkUnsignedCharArray> map_colors(vtkMapper* coloring, vtkPolyData* data,
+                                                 int& cell_flag);
 
 /// The union of the bounds of `data` (null entries and datasets without points
 /// ignored), finite: a dataset with a NaN or infinite point, whose
