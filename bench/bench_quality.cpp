@@ -208,7 +208,7 @@ LoadedScene load_case(const std::string& name, const fs::path& file) {
     l.scene = make_default_scene();
     return l;
   }
-  return load_scene(file, rayscope_vtkio::load_mesh);
+  return load_scene(file, rayscope_vtkio::load_meshes);
 }
 
 // ---------------------------------------------------------------------------

@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
   // Click to tree, bunny scene.
   rayscope::LoadedScene bunny;
   try {
-    bunny = rayscope::load_scene(bunny_file, rayscope_vtkio::load_mesh);
+    bunny = rayscope::load_scene(bunny_file, rayscope_vtkio::load_meshes);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_viewer: %s\n", e.what());
     return 1;

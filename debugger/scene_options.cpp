@@ -6,12 +6,13 @@
 #include <filesystem>
 #include <fstream>
 
-#include <vtkDataSet.h>
+#include <vtkDataObject.h>
 #include <vtkSmartPointer.h>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "rayscope/input_file.h"
 #include "rayscope/shapes.h"
+#include "rayscope_vtkio/dataset_leaves.h"
 #include "rayscope_vtkio/mesh_conversion.h"
 #include "rayscope_vtkio/mesh_files.h"
 
@@ -89,9 +90,10 @@ bool parse_ints(const std::string& s, int n, int* out) {
 void SceneOptions::add_to(CLI::App* cmd, bool render_settings, bool walk_option) {
   using RS = RenderSettings;
   cmd->add_option("scene", scene,
-                  "Scene file (.json), or a mesh file (.obj .stl .ply .vtp .vtu .vtk) shown in "
-                  "the default material with a camera that frames it and a headlight; omit for "
-                  "the default scene");
+                  "Scene file (.json), or a mesh file (" + rayscope_vtkio::mesh_file_extensions() +
+                      ") shown in the default material with a camera that frames it and a "
+                      "headlight (each block of a composite file its own object); omit for the "
+                      "default scene");
   if (render_settings) {
     cmd->add_option("--size", size, "Image size WIDTHxHEIGHT");
     const std::string pixels = ", at most " + std::to_string(RS::kMaxPixels) + " pixels in all";
@@ -200,15 +202,27 @@ LoadedScene SceneOptions::load() const {
     // around a local origin at the center of its bounds when it lies far from
     // the world's origin (Scene::origin), so that such data keeps its
     // precision.
+    // A composite file's blocks are meshes named "FILE block N (NAME)".
     rayscope::MeshOptions options;
     options.file = scene;
-    vtkSmartPointer<vtkDataSet> data = rayscope_vtkio::read_dataset_file(options.file);
-    loaded.scene.origin = rayscope_vtkio::local_origin({data.Get()});
+    vtkSmartPointer<vtkDataObject> data = rayscope_vtkio::read_mesh_data_file(options.file);
+    loaded.scene.origin = rayscope_vtkio::local_origin(
+        rayscope_vtkio::leaf_datasets(rayscope_vtkio::dataset_leaves(data).leaves));
     options.to_scene = glm::translate(glm::dmat4(1.0), -loaded.scene.origin);
-    loaded.scene.meshes.push_back(rayscope_vtkio::load_mesh_from(options, data));
+    LoadedMeshFile file = rayscope_vtkio::load_meshes_from(options, data);
+    const std::string file_name = options.file.filename().string();
+    for (TriangleMesh& m : file.meshes) {
+      m.name = m.name.empty() ? file_name : file_name + " " + m.name;
+      loaded.scene.meshes.push_back(std::move(m));
+    }
+    loaded.warnings = std::move(file.warnings);
   } else {
-    loaded = load_scene(scene, rayscope_vtkio::load_mesh);
+    loaded = load_scene(scene, rayscope_vtkio::load_meshes);
   }
+  // What the mesh reader left out (a composite file's blocks without
+  // triangles), one line each, whatever the command.
+  for (const std::string& w : loaded.warnings)
+    std::fprintf(stderr, "rayscope: warning: %s\n", w.c_str());
   // The options override the scene's settings one by one; after each, the one
   // RenderSettings::validate() checks the result, so that its message (the
   // setting, its range, the value) comes with the option that broke it.

@@ -78,7 +78,7 @@ json moved(json s, double d, const std::filesystem::path& base_dir) {
 }
 
 Framebuffer render_text(const json& scene, const std::filesystem::path& base_dir) {
-  LoadedScene ls = parse_scene(scene.dump(), "scene", base_dir, rayscope_vtkio::load_mesh);
+  LoadedScene ls = parse_scene(scene.dump(), "scene", base_dir, rayscope_vtkio::load_meshes);
   ls.scene.commit();
   return render(ls.scene, rstest::small_render(160, 120, 2));
 }
@@ -164,9 +164,9 @@ TEST_F(FarFromOrigin, MeshFileWithDoublePointsFarAwayKeepsItsPrecision) {
 TEST_F(FarFromOrigin, RayTreesReportWorldCoordinates) {
   const double d = 1e7;
   const json base = read_json(kScenes / "bunny_glass.json");
-  LoadedScene near = parse_scene(base.dump(), "near", kScenes, rayscope_vtkio::load_mesh);
+  LoadedScene near = parse_scene(base.dump(), "near", kScenes, rayscope_vtkio::load_meshes);
   LoadedScene far =
-      parse_scene(moved(base, d, kScenes).dump(), "far", kScenes, rayscope_vtkio::load_mesh);
+      parse_scene(moved(base, d, kScenes).dump(), "far", kScenes, rayscope_vtkio::load_meshes);
   near.scene.commit();
   far.scene.commit();
   // Near the world's origin the scene keeps it; far away the origin is the

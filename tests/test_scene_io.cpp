@@ -66,7 +66,7 @@ f 4 1 5 8
 // (load_obj: its files, formats and messages are tested with
 // scene files in tests/vtk/test_vtk_mesh_files.cpp), so that the parser's
 // tests need no VTK.
-TriangleMesh load_obj(const MeshOptions& mo) {
+LoadedMeshFile load_obj(const MeshOptions& mo) {
   std::ifstream in(mo.file);
   if (!in) throw std::runtime_error(mo.file.string() + ": cannot be opened");
   TriangleMesh m;
@@ -87,7 +87,7 @@ TriangleMesh load_obj(const MeshOptions& mo) {
         m.triangles.push_back({corners[0], corners[k - 1], corners[k]});
     }
   }
-  return m;
+  return {{m}, {}};
 }
 
 class SceneIo : public ::testing::Test {
@@ -403,3 +403,37 @@ TEST_F(SceneIo, ParseSceneUsesTheGivenName) {
 }
 
 }  // namespace
+
+// A file of several datasets (a composite file) gives one mesh per dataset:
+// each its own scene object, after the meshes before it and before those after
+// it, named by the object and its place in the file, in the object's material;
+// the loader's warnings come back naming the object.
+TEST_F(SceneIo, OneMeshObjectCanGiveSeveralMeshes) {
+  MeshLoader two_blocks = [](const MeshOptions& mo) {
+    LoadedMeshFile f = load_obj(mo);
+    if (mo.file.filename() == "quad.obj") {
+      f.meshes.push_back(f.meshes[0]);
+      f.meshes[0].name = "block 1";
+      f.meshes[1].name = "block 2 (lid)";
+      f.warnings.push_back(mo.file.string() + ": block 3: no surface triangles, left out");
+    }
+    return f;
+  };
+  LoadedScene ls = parse_scene(R"({"materials": {"red": {"color": [1, 0, 0]}},
+      "objects": [{"type": "mesh", "file": "tetra.obj"},
+                  {"type": "mesh", "name": "box", "file": "quad.obj", "material": "red"},
+                  {"type": "mesh", "file": "hex.obj"}]})",
+                               "x", dir_, two_blocks);
+  ASSERT_EQ(ls.scene.meshes.size(), 4u);
+  EXPECT_EQ(ls.scene.meshes[0].name, "mesh0");
+  EXPECT_EQ(ls.scene.meshes[1].name, "box block 1");
+  EXPECT_EQ(ls.scene.meshes[2].name, "box block 2 (lid)");
+  EXPECT_EQ(ls.scene.meshes[3].name, "mesh2");
+  EXPECT_EQ(ls.scene.meshes[1].material, ls.scene.meshes[2].material);
+  EXPECT_NE(ls.scene.meshes[1].material, ls.scene.meshes[0].material);
+  EXPECT_EQ(ls.scene.meshes[1].triangles.size(), 3u);
+  EXPECT_EQ(ls.scene.meshes[2].triangles.size(), 3u);
+  ASSERT_EQ(ls.warnings.size(), 1u);
+  EXPECT_EQ(ls.warnings[0], "x: objects[1].file: " + (dir_ / "quad.obj").string() +
+                                ": block 3: no surface triangles, left out");
+}

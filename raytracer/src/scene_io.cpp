@@ -421,9 +421,9 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
             r.fail(w + ".transform", "transform is singular");
         }
         mo.to_scene = glm::translate(glm::dmat4(1.0), -s.origin) * t;
-        TriangleMesh m;
+        LoadedMeshFile loaded;
         try {
-          m = mesh_loader(mo);
+          loaded = mesh_loader(mo);
         } catch (const MeshOptionError& e) {
           // what() is "KEY: problem", KEY within the object (e.g. color_by.array).
           throw SceneError(name + ": " + w + "." + e.what());
@@ -431,9 +431,14 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
           std::string msg = e.what();
           throw SceneError(name + ": " + w + ".file: " + msg);
         }
-        m.name = oname;
-        m.material = material_ref(j, w);
-        s.meshes.push_back(std::move(m));
+        const uint32_t material = material_ref(j, w);
+        for (TriangleMesh& m : loaded.meshes) {
+          m.name = m.name.empty() ? oname : oname + " " + m.name;
+          m.material = material;
+          s.meshes.push_back(std::move(m));
+        }
+        for (const std::string& warning : loaded.warnings)
+          out.warnings.push_back(name + ": " + w + ".file: " + warning);
       } else {
         r.fail(w + ".type",
                "expected \"sphere\", \"plane\" or \"mesh\", got \"" + printable_text(type) + "\"");

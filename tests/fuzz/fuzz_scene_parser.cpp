@@ -39,7 +39,7 @@ namespace {
 // branch of mesh handling (load errors, smooth normals, vertex colors,
 // non-finite vertices, empty meshes). A missing file throws like the reader,
 // and so does a color_by array named "missing"; smooth false drops normals.
-rayscope::TriangleMesh fake_mesh(const rayscope::MeshOptions& options) {
+rayscope::TriangleMesh fake_one_mesh(const rayscope::MeshOptions& options) {
   const std::filesystem::path& path = options.file;
   const std::string file = path.filename().string();
   if (file.find("missing") != std::string::npos)
@@ -59,6 +59,19 @@ rayscope::TriangleMesh fake_mesh(const rayscope::MeshOptions& options) {
                                     options.color_by->array + "'");
   if (!options.smooth) m.normals.clear();
   return m;
+}
+
+// A file named "blocks*" is composite: two meshes, one per block, and a
+// warning for a third left out.
+rayscope::LoadedMeshFile fake_mesh(const rayscope::MeshOptions& options) {
+  rayscope::LoadedMeshFile loaded{{fake_one_mesh(options)}, {}};
+  if (options.file.filename().string().rfind("blocks", 0) == 0) {
+    loaded.meshes.push_back(loaded.meshes[0]);
+    loaded.meshes[0].name = "block 1";
+    loaded.meshes[1].name = "block 2 (second)";
+    loaded.warnings.push_back(options.file.string() + ": block 3: no surface triangles, left out");
+  }
+  return loaded;
 }
 
 void check_accepted_scene(rayscope::LoadedScene& loaded) {

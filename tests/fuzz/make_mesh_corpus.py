@@ -5,10 +5,14 @@ format the mesh loader reads, made by VTK's own writers.
 Usage: make_mesh_corpus.py OUT_DIR   (tests/fuzz/corpus/mesh_loader)
 
 Each corpus file is one byte choosing the format (its index in
-fuzz_mesh_loader.cpp's kFormats: obj, stl, ply, vtk, vtp, vtu) followed by the
-file. The meshes are a tetrahedron (with normals, colors and a scalar array in
-the formats that store them) and a quad of two triangles; every file is well
-under 10 KB.
+fuzz_mesh_loader.cpp's kFormats: obj, stl, ply, vtk, vtp, vtu, vti, pvtp,
+pvtu, pvti, vtm, vtpc, ex2) followed by the file, then, for files that name
+other files (parallel pieces, composite blocks), each of those after a line
+"%%file NAME" (the fuzzer writes them beside the input file; block files
+move from the writer's subfolder to beside it). The meshes are a tetrahedron
+(with normals, colors and a scalar array in the formats that store them), a
+quad of two triangles and small images; every corpus file is well under 10
+KB.
 """
 import os
 import sys
@@ -16,7 +20,9 @@ import tempfile
 
 import vtk
 
-FORMATS = [".obj", ".stl", ".ply", ".vtk", ".vtp", ".vtu"]
+FORMATS = [".obj", ".stl", ".ply", ".vtk", ".vtp", ".vtu", ".vti", ".pvtp", ".pvtu", ".pvti",
+           ".vtm", ".vtpc", ".ex2"]
+FILE_MARK = b"\n%%file "
 
 
 def tetra(decorated):
@@ -105,6 +111,64 @@ def old_legacy():
     return w
 
 
+def two_blocks(kind):
+    """The tetrahedron and the quad as two blocks (a multiblock dataset, the
+    second named), or as two partitioned datasets of one partition each."""
+    if kind == "vtm":
+        mb = vtk.vtkMultiBlockDataSet()
+        mb.SetNumberOfBlocks(2)
+        mb.SetBlock(0, tetra(True))
+        mb.SetBlock(1, quad())
+        mb.GetMetaData(1).Set(vtk.vtkCompositeDataSet.NAME(), "quad")
+        return mb
+    pc = vtk.vtkPartitionedDataSetCollection()
+    pc.SetNumberOfPartitionedDataSets(2)
+    for i, block in enumerate((tetra(False), quad())):
+        pd = vtk.vtkPartitionedDataSet()
+        pd.SetPartition(0, block)
+        pc.SetPartitionedDataSet(i, pd)
+    return pc
+
+
+def exodus_blocks():
+    """Two element blocks: a tetrahedron and a hexahedron beside it."""
+    hexa = vtk.vtkUnstructuredGrid()
+    pts = vtk.vtkPoints()
+    for p in ((2, 0, 0), (3, 0, 0), (3, 1, 0), (2, 1, 0), (2, 0, 1), (3, 0, 1), (3, 1, 1), (2, 1, 1)):
+        pts.InsertNextPoint(p)
+    hexa.SetPoints(pts)
+    hexa.InsertNextCell(vtk.VTK_HEXAHEDRON, 8, range(8))
+    mb = vtk.vtkMultiBlockDataSet()
+    mb.SetNumberOfBlocks(2)
+    mb.SetBlock(0, volume())
+    mb.SetBlock(1, hexa)
+    return mb
+
+
+def parallel(writer):
+    """A parallel writer of two pieces."""
+    writer.SetNumberOfPieces(2)
+    writer.SetStartPiece(0)
+    writer.SetEndPiece(1)
+    return writer
+
+
+def with_named_files(path, body):
+    """The file's bytes followed by every file it names (pieces, blocks), as
+    the fuzzer takes them; block files are moved beside it."""
+    folder, name = os.path.split(path)
+    stem = os.path.splitext(name)[0]
+    files = sorted(f for f in os.listdir(folder) if f.startswith(stem + "_"))
+    sub = os.path.join(folder, stem)
+    if os.path.isdir(sub):
+        files += sorted(os.path.join(stem, f) for f in os.listdir(sub))
+        body = body.replace((stem + "/").encode(), b"")
+    for f in files:
+        with open(os.path.join(folder, f), "rb") as named:
+            body += FILE_MARK + os.path.basename(f).encode() + b"\n" + named.read()
+    return body
+
+
 def write(writer, data, path, mode=None):
     writer.SetInputData(data)
     writer.SetFileName(path)
@@ -147,14 +211,26 @@ def main(out):
         ("image_ascii.vtk", vtk.vtkStructuredPointsWriter(), image(), "ascii"),
         ("image_binary.vtk", vtk.vtkStructuredPointsWriter(), image(), "binary"),
         ("tetra_volume_binary.vtk", vtk.vtkUnstructuredGridWriter(), volume(), "binary"),
+        ("image_ascii.vti", vtk.vtkXMLImageDataWriter(), image(), "xml-ascii"),
+        ("image_appended.vti", vtk.vtkXMLImageDataWriter(), image(), "xml-appended"),
+        ("tetra_pieces.pvtp", parallel(vtk.vtkXMLPPolyDataWriter()), tetra(True), "xml-ascii"),
+        ("tetra_volume_pieces.pvtu", parallel(vtk.vtkXMLPUnstructuredGridWriter()), volume(),
+         "xml-binary"),
+        ("image_pieces.pvti", parallel(vtk.vtkXMLPImageDataWriter()), image(), "xml-ascii"),
+        ("blocks.vtm", vtk.vtkXMLMultiBlockDataWriter(), two_blocks("vtm"), "xml-ascii"),
+        ("blocks.vtpc", vtk.vtkXMLPartitionedDataSetCollectionWriter(), two_blocks("vtpc"),
+         "xml-ascii"),
+        ("blocks.ex2", vtk.vtkExodusIIWriter(), exodus_blocks(), None),
     ]
-    with tempfile.TemporaryDirectory() as tmp:
+    with tempfile.TemporaryDirectory() as top:
         for name, writer, data, mode in cases:
-            path = os.path.join(tmp, name)
-            write(writer, data, path, mode)
+            tmp = os.path.join(top, os.path.splitext(name)[0] + "_" + name.split(".")[1])
+            os.makedirs(tmp)
             ext = os.path.splitext(name)[1]
+            path = os.path.join(tmp, "input" + ext)
+            write(writer, data, path, mode)
             with open(path, "rb") as f:
-                body = f.read()
+                body = with_named_files(path, f.read())
             if len(body) >= 10000:
                 sys.exit(f"{name}: {len(body)} bytes, too large for the seed corpus")
             with open(os.path.join(out, name), "wb") as f:

@@ -211,10 +211,11 @@ TEST_F(VtkMeshFiles, SceneFilesReadTheirMeshesThroughTheLoader) {
   std::ofstream(dir_ / "quad.obj") << kQuadObj;
   std::ofstream(dir_ / "hex.vtk") << kHexVtk;
   std::ofstream(dir_ / "mesh.xyz") << "1 2 3\n";
-  const rayscope::LoadedScene ls = rayscope::parse_scene(R"({"objects": [
+  const rayscope::LoadedScene ls =
+      rayscope::parse_scene(R"({"objects": [
       {"type": "mesh", "file": "tetra.stl", "transform": {"translate": [1, 0, 0], "scale": 2}},
       {"type": "mesh", "file": "quad.obj"}, {"type": "mesh", "file": "hex.vtk"}]})",
-                                                         "scene", dir_, rayscope_vtkio::load_mesh);
+                            "scene", dir_, rayscope_vtkio::load_meshes);
   ASSERT_EQ(ls.scene.meshes.size(), 3u);
   EXPECT_EQ(ls.scene.meshes[0].triangles.size(), 4u);
   EXPECT_EQ(ls.scene.meshes[1].triangles.size(), 3u);
@@ -227,7 +228,7 @@ TEST_F(VtkMeshFiles, SceneFilesReadTheirMeshesThroughTheLoader) {
   auto error = [&](const std::string& file) -> std::string {
     try {
       rayscope::parse_scene(R"({"objects": [{"type": "mesh", "file": ")" + file + R"("}]})",
-                            "scene", dir_, rayscope_vtkio::load_mesh);
+                            "scene", dir_, rayscope_vtkio::load_meshes);
     } catch (const rayscope::SceneError& e) {
       return e.what();
     }
@@ -337,7 +338,7 @@ TEST_F(VtkMeshFiles, SceneFileColorByReachesTheLoader) {
     TriangleMesh m;
     m.positions = {glm::vec3(0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0)};
     m.triangles = {glm::uvec3(0, 1, 2)};
-    return m;
+    return rayscope::LoadedMeshFile{{m}, {}};
   };
   rayscope::parse_scene(R"({"objects": [
       {"type": "mesh", "file": "a.vtp", "smooth": false,
@@ -387,7 +388,7 @@ TEST_F(VtkMeshFiles, ColorByErrorsNameTheFileAndKey) {
     const std::string text = R"({"objects": [{"type": "mesh", "file": ")" + file.string() +
                              R"(", "color_by": )" + c.color_by + "}]}";
     try {
-      rayscope::parse_scene(text, "scene.json", dir_, rayscope_vtkio::load_mesh);
+      rayscope::parse_scene(text, "scene.json", dir_, rayscope_vtkio::load_meshes);
       ADD_FAILURE() << c.color_by << ": no error";
     } catch (const rayscope::SceneError& e) {
       const std::string msg = e.what();

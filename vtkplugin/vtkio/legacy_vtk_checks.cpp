@@ -29,12 +29,6 @@ namespace {
 using namespace checks;
 using u64 = std::uint64_t;
 
-/// Structured datasets (STRUCTURED_POINTS, STRUCTURED_GRID,
-/// RECTILINEAR_GRID) declare their size by DIMENSIONS alone; VTK's surface
-/// filter then makes their outer faces. More points than this (a 512^3
-/// volume) is refused rather than handed to it.
-constexpr u64 kMaxStructuredPoints = u64(1) << 27;
-
 std::string lower(std::string_view s) {
   std::string u(s);
   for (char& c : u) c = char(std::tolower(static_cast<unsigned char>(c)));

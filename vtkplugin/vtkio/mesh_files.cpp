@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cctype>
+#include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <vtkCellData.h>
 #include <vtkColorTransferFunction.h>
@@ -11,6 +13,7 @@
 #include <vtkDataSet.h>
 #include <vtkDataSetMapper.h>
 #include <vtkDataSetReader.h>
+#include <vtkExodusIIReader.h>
 #include <vtkLookupTable.h>
 #include <vtkNew.h>
 #include <vtkOBJReader.h>
@@ -20,12 +23,19 @@
 #include <vtkPolyData.h>
 #include <vtkSTLReader.h>
 #include <vtkUnsignedCharArray.h>
+#include <vtkXMLImageDataReader.h>
+#include <vtkXMLMultiBlockDataReader.h>
+#include <vtkXMLPImageDataReader.h>
+#include <vtkXMLPPolyDataReader.h>
+#include <vtkXMLPUnstructuredGridReader.h>
+#include <vtkXMLPartitionedDataSetCollectionReader.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include "rayscope/input_file.h"
 #include "rayscope/printable_text.h"
+#include "rayscope_vtkio/dataset_leaves.h"
 #include "rayscope_vtkio/mesh_checks.h"
 #include "rayscope_vtkio/mesh_conversion.h"
 #include "rayscope_vtkio/plain_obj.h"
@@ -72,33 +82,54 @@ std::string array_names(vtkFieldData* fd) {
   return names;
 }
 
-// The mapper that colors `data` as `color_by` says.
-vtkSmartPointer<vtkMapper> color_by_mapper(vtkDataSet* data, const MeshColorBy& c,
-                                           const std::string& file) {
+// The arrays of `data` that color_by would look in.
+vtkFieldData* color_by_arrays(vtkDataSet* data, const MeshColorBy& c) {
+  if (c.association == MeshColorBy::Association::Cell) return data->GetCellData();
+  return data->GetPointData();
+}
+
+// The mapper that colors every dataset of `leaves` that has the array
+// `color_by` names as it says: one lookup table over the range of the array
+// in all of them (or the range given). `lacking` gets the leaves without it.
+vtkSmartPointer<vtkMapper> color_by_mapper(const std::vector<DatasetLeaf>& leaves,
+                                           const MeshColorBy& c, const std::string& file,
+                                           std::vector<const DatasetLeaf*>& lacking) {
   const bool cell = c.association == MeshColorBy::Association::Cell;
-  vtkFieldData* fd = cell ? static_cast<vtkFieldData*>(data->GetCellData())
-                          : static_cast<vtkFieldData*>(data->GetPointData());
   const char* kind = cell ? "cell" : "point";
-  vtkAbstractArray* a = fd->GetAbstractArray(c.array.c_str());
-  if (!a) {
-    const std::string names = array_names(fd);
+  int component = 0;  // -1: magnitude
+  double range[2] = {std::numeric_limits<double>::infinity(),
+                     -std::numeric_limits<double>::infinity()};
+  bool found = false;
+  std::string names;
+  for (const DatasetLeaf& leaf : leaves) {
+    vtkFieldData* fd = color_by_arrays(leaf.data, c);
+    vtkAbstractArray* a = fd->GetAbstractArray(c.array.c_str());
+    if (!a) {
+      if (const std::string n = array_names(fd); !n.empty() && names.find(n) == std::string::npos)
+        names += (names.empty() ? "" : ", ") + n;
+      lacking.push_back(&leaf);
+      continue;
+    }
+    auto* values = vtkDataArray::SafeDownCast(a);
+    if (!values)
+      throw rayscope::MeshOptionError("color_by.array: " + std::string(kind) + " array '" +
+                                      c.array + "' of " + file + " is not numeric");
+    if (!found) component = values->GetNumberOfComponents() == 1 ? 0 : -1;
+    found = true;
+    double r[2];
+    values->GetRange(r, component);
+    range[0] = std::min(range[0], r[0]);
+    range[1] = std::max(range[1], r[1]);
+  }
+  if (!found)
     throw rayscope::MeshOptionError("color_by.array: " + file + " has no " + kind + " array '" +
                                     c.array + "' (" +
                                     (names.empty() ? std::string("it has no ") + kind + " arrays"
                                                    : std::string(kind) + " arrays: " + names) +
                                     ")");
-  }
-  auto* values = vtkDataArray::SafeDownCast(a);
-  if (!values)
-    throw rayscope::MeshOptionError("color_by.array: " + std::string(kind) + " array '" + c.array +
-                                    "' of " + file + " is not numeric");
-  const int component = values->GetNumberOfComponents() == 1 ? 0 : -1;  // -1: magnitude
-  double range[2];
   if (c.range) {
     range[0] = (*c.range)[0];
     range[1] = (*c.range)[1];
-  } else {
-    values->GetRange(range, component);
   }
   vtkSmartPointer<vtkScalarsToColors> lut = color_map(c.map, range[0], range[1]);
   if (component < 0) lut->SetVectorModeToMagnitude();
@@ -179,52 +210,109 @@ class CaptureMessages {
   vtkNew<CapturedMessages> captured_;
 };
 
-// Updates `reader` (reading `file`) and returns its dataset, or throws
+// Updates `reader` (reading `file`) and returns its output, or throws
 // "FILE: VTK's first error".
-vtkSmartPointer<vtkDataSet> read_with(vtkAlgorithm* reader, const std::string& file) {
+vtkSmartPointer<vtkDataObject> read_with(vtkAlgorithm* reader, const std::string& file) {
   CaptureMessages messages;
   reader->Update();
   messages.Check(file);
-  return vtkDataSet::SafeDownCast(reader->GetOutputDataObject(0));
+  return reader->GetOutputDataObject(0);
 }
 
-rayscope::TriangleMesh convert(vtkDataSet* data, const std::filesystem::path& path,
+// The label of a composite file's leaf: "block N" or "block N (NAME)".
+std::string leaf_label(const DatasetLeaf& leaf) {
+  std::string label = "block " + std::to_string(leaf.flat_index);
+  if (!leaf.name.empty())
+    label += " (" + rayscope::printable_text(leaf.name, rayscope::kMaxQuotedBytes) + ")";
+  return label;
+}
+
+// `data`'s triangles, or none; "FILE: [LABEL: ]problem" for data the
+// conversion refuses or with non-finite vertices. A file is refused whole
+// for those: the tracer would leave such triangles out (as the VTK module
+// does, with a warning), and a picture with holes is wrong.
+rayscope::TriangleMesh convert(vtkDataSet* data, const std::string& where,
                                const SurfaceOptions& surface, vtkMapper* coloring,
                                const glm::dmat4& to_scene = glm::dmat4(1.0)) {
   vtkNew<vtkPolyData> converted;
   try {
     convert_dataset(data, surface, coloring, converted);
   } catch (const std::invalid_argument& e) {  // data convert_dataset() refuses
-    throw std::runtime_error(path.string() + ": " + e.what());
+    throw std::runtime_error(where + ": " + e.what());
   }
   rayscope::TriangleMesh m;
   mesh_from_converted(converted, m, to_scene);
-  m.name = path.filename().string();
-  if (m.triangles.empty())
-    throw std::runtime_error(path.string() + ": contains no surface triangles");
-  // A file is refused whole: the tracer would leave these triangles out (as
-  // the VTK module does, with a warning), and a picture with holes is wrong.
   if (const size_t bad = m.nonfinite_triangles())
-    throw std::runtime_error(path.string() + ": " + std::to_string(bad) + " of " +
+    throw std::runtime_error(where + ": " + std::to_string(bad) + " of " +
                              std::to_string(m.triangles.size()) +
                              " triangles have non-finite (NaN or infinite) vertex coordinates");
   return m;
 }
 
+// The format of `path` in kMeshFileFormats, or null.
+const MeshFileFormat* format_of(const std::filesystem::path& path) {
+  const std::string ext = rayscope::lower_extension(path);
+  for (const MeshFileFormat& f : kMeshFileFormats)
+    if (f.extension == ext) return &f;
+  return nullptr;
+}
+
+[[noreturn]] void unsupported(const std::filesystem::path& path, bool composite_too) {
+  throw std::runtime_error(path.string() + ": unsupported mesh format '" +
+                           rayscope::lower_extension(path) + "' (use " +
+                           mesh_file_extensions(composite_too) + ")");
+}
+
+// A composite file read by `reader` (its checks passed), as a composite dataset.
+vtkSmartPointer<vtkDataObject> read_composite(vtkAlgorithm* reader, const std::string& f) {
+  vtkSmartPointer<vtkDataObject> data = read_with(reader, f);
+  if (!data || !data->IsA("vtkCompositeDataSet"))
+    throw std::runtime_error(f + ": could not read a composite dataset");
+  return data;
+}
+
+// Exodus II: every element block (VTK's default too, made explicit), no sets,
+// at the first time step.
+vtkSmartPointer<vtkDataObject> read_exodus(const std::filesystem::path& path) {
+  const std::string f = path.string();
+  check_exodus_file(path);
+  vtkNew<vtkExodusIIReader> r;
+  r->SetFileName(f.c_str());
+  {
+    CaptureMessages messages;
+    r->UpdateInformation();
+    messages.Check(f);
+  }
+  r->SetAllArrayStatus(vtkExodusIIReader::ELEM_BLOCK, 1);
+  r->SetTimeStep(0);
+  return read_composite(r, f);
+}
+
 }  // namespace
 
 bool has_dataset_file_extension(const std::filesystem::path& path) {
-  const std::string ext = rayscope::lower_extension(path);
-  return std::find(kDatasetFileExtensions.begin(), kDatasetFileExtensions.end(), ext) !=
-         kDatasetFileExtensions.end();
+  const MeshFileFormat* f = format_of(path);
+  return f && !f->composite;
+}
+
+std::string mesh_file_extensions(bool composite_too) {
+  std::string known;
+  for (const MeshFileFormat& f : kMeshFileFormats) {
+    if (!composite_too && f.composite) continue;
+    if (!known.empty()) known += ' ';
+    known += f.extension;
+  }
+  return known;
 }
 
 vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path) {
   const std::string f = path.string();
   if (const std::string problem = rayscope::input_file_problem(path); !problem.empty())
     throw std::runtime_error(f + ": " + problem);
-  const std::string ext = rayscope::lower_extension(path);
-  vtkSmartPointer<vtkDataSet> data;
+  const MeshFileFormat* format = format_of(path);
+  if (!format || format->composite) unsupported(path, false);
+  const std::string_view ext = format->extension;
+  vtkSmartPointer<vtkDataObject> data;
   if (ext == ".stl") {
     check_stl_file(path);
     vtkNew<vtkSTLReader> r;
@@ -249,56 +337,132 @@ vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path)
     vtkNew<vtkDataSetReader> r;
     r->SetFileName(f.c_str());
     data = read_with(r, f);
-  } else if (ext == ".vtp" || ext == ".vtu") {
+  } else {
     // The format-specific XML readers: vtkXMLGenericDataObjectReader::CanReadFile
     // rejects every file in VTK 9.1.
+    const bool parallel = ext.substr(0, 2) == ".p";
+    const std::string_view kind = ext.substr(parallel ? 2 : 1);  // vtp, vtu, vti
+    const char* type = kind == "vtp"   ? "PolyData"
+                       : kind == "vtu" ? "UnstructuredGrid"
+                                       : "ImageData";
     vtkSmartPointer<vtkXMLReader> r;
-    if (ext == ".vtp")
-      r = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+    if (kind == "vtp")
+      r = parallel ? vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLPPolyDataReader>::New())
+                   : vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLPolyDataReader>::New());
+    else if (kind == "vtu")
+      r = parallel
+              ? vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLPUnstructuredGridReader>::New())
+              : vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLUnstructuredGridReader>::New());
     else
-      r = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+      r = parallel ? vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLPImageDataReader>::New())
+                   : vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLImageDataReader>::New());
     if (!r->CanReadFile(f.c_str()))
-      throw std::runtime_error(f + ": not a VTK XML " + ext + " file");
-    check_vtk_xml_file(path, ext == ".vtp" ? "PolyData" : "UnstructuredGrid");
+      throw std::runtime_error(f + ": not a VTK XML " + std::string(ext) + " file");
+    if (parallel)
+      check_vtk_xml_parallel_file(path, type);
+    else
+      check_vtk_xml_file(path, type);
     r->SetFileName(f.c_str());
     data = read_with(r, f);
-  } else {
-    std::string known;
-    for (std::string_view e : kDatasetFileExtensions)
-      known += (known.empty()                        ? ""
-                : e == kDatasetFileExtensions.back() ? " or "
-                                                     : ", ") +
-               std::string(e);
-    throw std::runtime_error(f + ": unsupported mesh format '" + ext + "' (use " + known + ")");
   }
-  if (!data) throw std::runtime_error(f + ": could not read a dataset");
+  vtkSmartPointer<vtkDataSet> dataset = vtkDataSet::SafeDownCast(data);
+  if (!dataset) throw std::runtime_error(f + ": could not read a dataset");
   // VTK's readers copy the files' point ids unchecked, and VTK's filters
   // index the points with them (a legacy file naming point 7 of 3).
-  if (std::string e = check_cell_point_ids(data); !e.empty())
+  if (std::string e = check_cell_point_ids(dataset); !e.empty())
     throw std::runtime_error(f + ": " + e);
+  return dataset;
+}
+
+vtkSmartPointer<vtkDataObject> read_mesh_data_file(const std::filesystem::path& path) {
+  const std::string f = path.string();
+  const MeshFileFormat* format = format_of(path);
+  if (!format || !format->composite) return read_dataset_file(path);
+  if (const std::string problem = rayscope::input_file_problem(path); !problem.empty())
+    throw std::runtime_error(f + ": " + problem);
+  vtkSmartPointer<vtkDataObject> data;
+  if (format->extension == ".vtm" || format->extension == ".vtpc") {
+    const bool vtm = format->extension == ".vtm";
+    vtkSmartPointer<vtkXMLReader> r;
+    if (vtm)
+      r = vtkSmartPointer<vtkXMLMultiBlockDataReader>::New();
+    else
+      r = vtkSmartPointer<vtkXMLPartitionedDataSetCollectionReader>::New();
+    if (!r->CanReadFile(f.c_str()))
+      throw std::runtime_error(f + ": not a VTK XML " + std::string(format->extension) + " file");
+    check_vtk_xml_composite_file(path,
+                                 vtm ? "vtkMultiBlockDataSet" : "vtkPartitionedDataSetCollection");
+    r->SetFileName(f.c_str());
+    data = read_composite(r, f);
+  } else {
+    data = read_exodus(path);
+  }
+  for (const DatasetLeaf& leaf : dataset_leaves(data).leaves)
+    if (std::string e = check_cell_point_ids(leaf.data); !e.empty())
+      throw std::runtime_error(f + ": " + leaf_label(leaf) + ": " + e);
   return data;
 }
 
-rayscope::TriangleMesh load_mesh(const rayscope::MeshOptions& options) {
-  return load_mesh_from(options, read_dataset_file(options.file));
+rayscope::LoadedMeshFile load_meshes(const rayscope::MeshOptions& options) {
+  return load_meshes_from(options, read_mesh_data_file(options.file));
 }
 
-rayscope::TriangleMesh load_mesh_from(const rayscope::MeshOptions& options, vtkDataSet* data) {
+rayscope::LoadedMeshFile load_meshes_from(const rayscope::MeshOptions& options,
+                                          vtkDataObject* data) {
+  const std::string file = options.file.string();
+  const bool composite = !vtkDataSet::SafeDownCast(data);
+  const DatasetLeaves found = dataset_leaves(data);
+  rayscope::LoadedMeshFile loaded;
+  for (const std::string& skipped : found.skipped)
+    loaded.warnings.push_back(file + ": " + skipped + ": not a dataset, left out");
   SurfaceOptions surface;
   surface.compute_normals = options.smooth;
-  vtkSmartPointer<vtkMapper> coloring =
-      options.color_by ? color_by_mapper(data, *options.color_by, options.file.string())
-                       : direct_color_mapper(data);
-  rayscope::TriangleMesh m = convert(data, options.file, surface, coloring, options.to_scene);
-  if (!options.smooth) m.normals.clear();  // the file's own normals too
-  return m;
+  std::vector<const DatasetLeaf*> lacking;
+  vtkSmartPointer<vtkMapper> color_by;
+  if (options.color_by) color_by = color_by_mapper(found.leaves, *options.color_by, file, lacking);
+  for (const DatasetLeaf& leaf : found.leaves) {
+    const std::string label = composite ? leaf_label(leaf) : std::string();
+    const std::string where = composite ? file + ": " + label : file;
+    const bool uncolored = std::find(lacking.begin(), lacking.end(), &leaf) != lacking.end();
+    if (uncolored)
+      loaded.warnings.push_back(
+          where + ": has no " +
+          (options.color_by->association == MeshColorBy::Association::Cell ? "cell" : "point") +
+          " array '" + options.color_by->array + "', drawn in the material's color");
+    vtkSmartPointer<vtkMapper> coloring =
+        options.color_by && !uncolored ? color_by : direct_color_mapper(leaf.data);
+    rayscope::TriangleMesh m = convert(leaf.data, where, surface, coloring, options.to_scene);
+    if (m.triangles.empty()) {
+      if (composite) loaded.warnings.push_back(where + ": no surface triangles, left out");
+      continue;
+    }
+    if (!options.smooth) m.normals.clear();  // the file's own normals too
+    m.name = label;
+    loaded.meshes.push_back(std::move(m));
+  }
+  if (loaded.meshes.empty()) throw std::runtime_error(file + ": contains no surface triangles");
+  return loaded;
+}
+
+rayscope::TriangleMesh load_mesh(const rayscope::MeshOptions& options) {
+  const std::string file = options.file.string();
+  rayscope::LoadedMeshFile loaded = load_meshes(options);
+  if (loaded.meshes.size() != 1)
+    throw std::runtime_error(file + ": holds " + std::to_string(loaded.meshes.size()) +
+                             " meshes (a composite file), not one");
+  loaded.meshes[0].name = options.file.filename().string();
+  return std::move(loaded.meshes[0]);
 }
 
 rayscope::TriangleMesh read_mesh_file(const std::filesystem::path& path) {
   vtkSmartPointer<vtkDataSet> data = read_dataset_file(path);
   SurfaceOptions surface;
   surface.compute_normals = false;
-  return convert(data, path, surface, direct_color_mapper(data));
+  rayscope::TriangleMesh m = convert(data, path.string(), surface, direct_color_mapper(data));
+  if (m.triangles.empty())
+    throw std::runtime_error(path.string() + ": contains no surface triangles");
+  m.name = path.filename().string();
+  return m;
 }
 
 }  // namespace rayscope_vtkio

@@ -38,11 +38,11 @@
 
 #include "check_util.h"
 #include "rayscope_vtkio/mesh_checks.h"
+#include "vtk_xml_check_parts.h"
 
-namespace rayscope_vtkio {
+namespace rayscope_vtkio::checks {
 namespace {
 
-using namespace checks;
 using u64 = std::uint64_t;
 
 /// The most a compressed block may expand. zlib's format cannot exceed
@@ -142,6 +142,9 @@ class BinarySource {
   u64 size_ = 0;
 };
 
+}  // namespace
+
+/// A VTK XML file as the checks read it.
 struct XmlFile {
   const fs::path& path;
   std::ifstream& in;
@@ -152,6 +155,8 @@ struct XmlFile {
   u64 appended_start = 0;  // 0: no appended data
   bool appended_base64 = false;
 };
+
+namespace {
 
 u64 header_word(const XmlFile& f, const std::vector<unsigned char>& b, size_t index) {
   u64 v = 0;
@@ -401,20 +406,97 @@ void check_cell_section(vtkXMLDataParser* parser, const XmlFile& f, vtkXMLDataEl
   check_polyhedra(parser, f, section, cells);
 }
 
+/// An Extent or WholeExtent attribute: six integers, each axis's end not
+/// below its start by more than one (one below: empty).
+std::array<long long, 6> extent_attribute(const fs::path& path, vtkXMLDataElement* e,
+                                          const char* name) {
+  std::array<long long, 6> x{};
+  const char* text = e->GetAttribute(name);
+  if (!text) fail(path, std::string(e->GetName()) + " has no " + name);
+  const std::vector<std::string_view> w = words(text, Blanks::CSpace);
+  bool ok = w.size() == 6;
+  for (size_t i = 0; ok && i < 6; ++i) {
+    const std::optional<long long> v = integer(w[i]);
+    ok = v && *v > -(1ll << 40) && *v < (1ll << 40);
+    if (ok) x[i] = *v;
+  }
+  for (int a = 0; ok && a < 3; ++a) ok = x[2 * a + 1] >= x[2 * a] - 1;
+  if (!ok)
+    fail(path, std::string(e->GetName()) + " has an invalid " + name + " '" +
+                   rayscope::printable_text(text, rayscope::kMaxQuotedBytes) + "'");
+  return x;
+}
+
+/// Cells of an image's extent: VTK counts an axis of one point as one cell
+/// layer (a 2D image has cells), an empty axis as none.
+u64 extent_cells(const std::array<long long, 6>& e) {
+  u64 cells = 1;
+  for (int a = 0; a < 3; ++a) {
+    const long long d = e[2 * a + 1] - e[2 * a];
+    cells *= d < 0 ? 0 : d == 0 ? 1 : u64(d);
+  }
+  return cells;
+}
+
+void note_arrays(vtkXMLDataElement* section, const char* name, std::vector<XmlArray>& out) {
+  if (!section) return;
+  for (int i = 0; i < section->GetNumberOfNestedElements(); ++i) {
+    vtkXMLDataElement* a = section->GetNestedElement(i);
+    if (std::string_view(a->GetName()) != "DataArray") continue;
+    XmlArray x;
+    x.section = name;
+    x.name = a->GetAttribute("Name") ? a->GetAttribute("Name") : "";
+    x.type = a->GetAttribute("type") ? a->GetAttribute("type") : "";
+    a->GetScalarAttribute("NumberOfComponents", x.components);
+    out.push_back(x);
+  }
+}
+
 }  // namespace
 
-void check_vtk_xml_file(const fs::path& path, const char* dataset_type) {
+struct XmlDocument {
+  explicit XmlDocument(const fs::path& p)
+      : path(p), in(p, std::ios::binary), data(p, std::ios::binary), f{path, data} {}
+  fs::path path;
   // Two streams: one for VTK's parser, one for the checks' own reads.
-  std::ifstream in(path, std::ios::binary), data(path, std::ios::binary);
-  if (!in || !data) fail(path, "cannot open the file");
-  XmlFile f{path, data};
+  std::ifstream in, data;
+  XmlFile f;
+  vtkNew<vtkXMLDataParser> parser;
+  vtkXMLDataElement* root = nullptr;
+  // The parser's first error or warning (its later ones, e.g. while the
+  // checks read values, are kept from VTK's output window too).
+  std::string parse_error;
+  vtkNew<vtkCallbackCommand> on_error;
+};
+
+void XmlDocumentDeleter::operator()(XmlDocument* d) const {
+  delete d;
+}
+
+vtkXMLDataElement* root_of(const XmlDocument& doc) {
+  return doc.root;
+}
+
+unsigned long long extent_points(const std::array<long long, 6>& e) {
+  u64 points = 1;
+  for (int a = 0; a < 3; ++a) {
+    const long long d = e[2 * a + 1] - e[2 * a] + 1;
+    points *= d <= 0 ? 0 : u64(d);
+  }
+  return points;
+}
+
+XmlDocumentPtr parse_vtk_xml(const fs::path& path, std::string_view type) {
+  XmlDocumentPtr doc(new XmlDocument(path));
+  if (!doc->in || !doc->data) fail(path, "cannot open the file");
+  XmlFile& f = doc->f;
   f.file_size = size_of(path);
 
   // VTK's parser: the first error it reports is the message.
-  vtkNew<vtkXMLDataParser> parser;
-  parser->SetStream(&in);
-  std::string parse_error;
-  vtkNew<vtkCallbackCommand> on_error;
+  vtkXMLDataParser* parser = doc->parser;
+  parser->SetStream(&doc->in);
+  std::string& parse_error = doc->parse_error;
+  vtkCallbackCommand* on_error = doc->on_error;
   on_error->SetClientData(&parse_error);
   on_error->SetCallback([](vtkObject*, unsigned long, void* client, void* call) {
     auto* message = static_cast<std::string*>(client);
@@ -431,12 +513,13 @@ void check_vtk_xml_file(const fs::path& path, const char* dataset_type) {
     while (!parse_error.empty() && parse_error.back() == ' ') parse_error.pop_back();
     fail(path, "not a valid VTK XML file" + (parse_error.empty() ? "" : ": " + parse_error));
   }
-  vtkXMLDataElement* root = parser->GetRootElement();
+  vtkXMLDataElement* root = doc->root = parser->GetRootElement();
   if (std::string_view(root->GetName()) != "VTKFile")
     fail(path, "not a VTK XML file (its root element is not VTKFile)");
-  const char* type = root->GetAttribute("type");
-  if (!type || std::string_view(type) != dataset_type)
-    fail(path, std::string("not a VTK XML ") + dataset_type + " file (type '" + (type ? type : "") +
+  const char* root_type = root->GetAttribute("type");
+  if (!root_type || std::string_view(root_type) != type)
+    fail(path, "not a VTK XML " + std::string(type) + " file (type '" +
+                   rayscope::printable_text(root_type ? root_type : "", rayscope::kMaxQuotedBytes) +
                    "')");
   if (const char* h = root->GetAttribute("header_type")) {
     if (std::string_view(h) == "UInt64")
@@ -470,34 +553,89 @@ void check_vtk_xml_file(const fs::path& path, const char* dataset_type) {
     if (f.appended_start == 0 || f.appended_start > f.file_size)
       fail(path, "AppendedData has no data");
   }
+  return doc;
+}
 
-  vtkXMLDataElement* dataset = root->FindNestedElementWithName(dataset_type);
-  if (!dataset) fail(path, std::string("no ") + dataset_type + " element");
-  const bool poly = std::string_view(dataset_type) == "PolyData";
+void check_field_data(const XmlDocument& doc, vtkXMLDataElement* field_data) {
+  check_attribute_arrays(doc.f, field_data, 0, nullptr);
+}
+
+XmlDatasetSummary check_vtk_xml_dataset(const fs::path& path, std::string_view dataset_type) {
+  XmlDocumentPtr doc = parse_vtk_xml(path, dataset_type);
+  const XmlFile& f = doc->f;
+  vtkXMLDataParser* parser = doc->parser;
+  XmlDatasetSummary summary;
+  const std::string type(dataset_type);
+  vtkXMLDataElement* dataset = doc->root->FindNestedElementWithName(type.c_str());
+  if (!dataset) fail(path, "no " + type + " element");
+  const bool poly = dataset_type == "PolyData";
+  const bool image = dataset_type == "ImageData";
+  // An image's pieces are parts of its whole extent, which the reader
+  // allocates every array for: the whole must be within what the pieces hold
+  // and within what the surface filter is given (kMaxStructuredPoints).
+  u64 whole_points = 0, piece_points = 0;
+  if (image) {
+    summary.whole_extent = extent_attribute(path, dataset, "WholeExtent");
+    whole_points = extent_points(summary.whole_extent);
+    if (whole_points > kMaxStructuredPoints)
+      fail(path, "ImageData's WholeExtent has more than " + std::to_string(kMaxStructuredPoints) +
+                     " points");
+  }
   check_attribute_arrays(f, dataset->FindNestedElementWithName("FieldData"), 0, nullptr);
+  bool first_piece = true;
   for (int i = 0; i < dataset->GetNumberOfNestedElements(); ++i) {
     vtkXMLDataElement* piece = dataset->GetNestedElement(i);
     if (std::string_view(piece->GetName()) != "Piece") continue;
-    const u64 points = count(f, piece, "NumberOfPoints");
-    u64 cells = 0;
-    if (points > 0) {
-      vtkXMLDataElement* coords = data_array(piece->FindNestedElementWithName("Points"), nullptr);
-      if (!coords) fail(path, "Piece declares points but has no Points array");
-      check_attribute_arrays(f, piece->FindNestedElementWithName("Points"), points, "points");
-    }
-    if (poly) {
-      for (const char* section : {"Verts", "Lines", "Strips", "Polys"}) {
-        const u64 n = count(f, piece, (std::string("NumberOf") + section).c_str());
-        check_cell_section(parser, f, piece->FindNestedElementWithName(section), n, section);
-        cells += n;
-      }
+    u64 points = 0, cells = 0;
+    if (image) {
+      const std::array<long long, 6> e = extent_attribute(path, piece, "Extent");
+      for (int a = 0; a < 3; ++a)
+        if (extent_points(e) > 0 && (e[2 * a] < summary.whole_extent[2 * a] ||
+                                     e[2 * a + 1] > summary.whole_extent[2 * a + 1]))
+          fail(path, "a Piece's Extent lies outside the WholeExtent");
+      summary.extents.push_back(e);
+      points = extent_points(e);
+      cells = points ? extent_cells(e) : 0;
+      piece_points += points;
     } else {
-      cells = count(f, piece, "NumberOfCells");
-      check_cell_section(parser, f, piece->FindNestedElementWithName("Cells"), cells, "Cells");
+      points = count(f, piece, "NumberOfPoints");
+      if (points > 0) {
+        vtkXMLDataElement* coords = data_array(piece->FindNestedElementWithName("Points"), nullptr);
+        if (!coords) fail(path, "Piece declares points but has no Points array");
+        check_attribute_arrays(f, piece->FindNestedElementWithName("Points"), points, "points");
+      }
+      if (poly) {
+        for (const char* section : {"Verts", "Lines", "Strips", "Polys"}) {
+          const u64 n = count(f, piece, (std::string("NumberOf") + section).c_str());
+          check_cell_section(parser, f, piece->FindNestedElementWithName(section), n, section);
+          cells += n;
+        }
+      } else {
+        cells = count(f, piece, "NumberOfCells");
+        check_cell_section(parser, f, piece->FindNestedElementWithName("Cells"), cells, "Cells");
+      }
     }
     check_attribute_arrays(f, piece->FindNestedElementWithName("PointData"), points, "points");
     check_attribute_arrays(f, piece->FindNestedElementWithName("CellData"), cells, "cells");
+    if (first_piece) {
+      note_arrays(piece->FindNestedElementWithName("Points"), "Points", summary.arrays);
+      note_arrays(piece->FindNestedElementWithName("PointData"), "PointData", summary.arrays);
+      note_arrays(piece->FindNestedElementWithName("CellData"), "CellData", summary.arrays);
+      first_piece = false;
+    }
   }
+  if (image && piece_points < whole_points)
+    fail(path, "ImageData's pieces hold " + std::to_string(piece_points) +
+                   " points but its WholeExtent has " + std::to_string(whole_points));
+  return summary;
+}
+
+}  // namespace rayscope_vtkio::checks
+
+namespace rayscope_vtkio {
+
+void check_vtk_xml_file(const std::filesystem::path& path, const char* dataset_type) {
+  checks::check_vtk_xml_dataset(path, dataset_type);
 }
 
 }  // namespace rayscope_vtkio

@@ -7,6 +7,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -62,16 +63,32 @@ class MeshOptionError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Reads the mesh a scene object describes into a TriangleMesh (positions,
-/// triangles, optional normals and colors). The core has no mesh readers of
-/// its own; rayscope_vtkio::load_mesh (vtkplugin/vtkio) is the one the rayscope
+/// What a MeshLoader read from one mesh object's file: the scene objects it
+/// gives (one member per kind of object a file can hold).
+struct LoadedMeshFile {
+  /// One mesh per dataset of the file, in the file's order: one for a file of
+  /// one dataset, one per leaf for a composite file (blocks, partitions,
+  /// element blocks). Each mesh's name is its place in the file: empty for a
+  /// file of one dataset, e.g. "block 3 (wall)" for a leaf; the scene parser
+  /// puts the object's name before it.
+  std::vector<TriangleMesh> meshes;
+  /// What was left out, one line each ("FILE: block 3 (wall): no surface
+  /// triangles, left out"); front ends print each as a warning.
+  std::vector<std::string> warnings;
+};
+
+/// Reads the meshes a scene object describes (positions, triangles, optional
+/// normals and colors). The core has no mesh readers of its own;
+/// rayscope_vtkio::load_meshes (vtkplugin/vtkio) is the one the rayscope
 /// command uses. Throws MeshOptionError for an option that does not fit the
 /// file, another std::exception ("FILE: problem") for a file it cannot read.
-using MeshLoader = std::function<TriangleMesh(const MeshOptions&)>;
+using MeshLoader = std::function<LoadedMeshFile(const MeshOptions&)>;
 
 struct LoadedScene {
   Scene scene;
   RenderSettings settings;  ///< From the file's "render" block, defaults otherwise.
+  /// The mesh loader's warnings, each "SCENE: objects[I].file: WARNING".
+  std::vector<std::string> warnings;
 };
 
 /// Parses a scene file. Relative mesh paths are resolved against the scene's

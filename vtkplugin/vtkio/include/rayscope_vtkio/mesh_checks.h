@@ -21,6 +21,12 @@ inline constexpr std::uintmax_t kStlHeaderBytes = 84;
 /// a uint16 attribute byte count.
 inline constexpr std::uintmax_t kStlTriangleBytes = 50;
 
+/// Structured datasets (legacy STRUCTURED_POINTS, STRUCTURED_GRID and
+/// RECTILINEAR_GRID, XML ImageData) declare their size by their dimensions or
+/// extent alone; VTK's surface filter then makes their outer faces. More
+/// points than this (a 512^3 volume) are refused rather than handed to it.
+inline constexpr std::uint64_t kMaxStructuredPoints = std::uint64_t(1) << 27;
+
 /**
  * An STL file VTK's reader can read in full. A file VTK's reader takes for
  * text (vtksys::SystemTools::DetectFileType, as the reader decides) is ASCII
@@ -71,20 +77,66 @@ void check_legacy_vtk_file(const std::filesystem::path& path);
 void check_obj_file(const std::filesystem::path& path);
 
 /**
- * A VTK XML file (.vtp: `dataset_type` "PolyData", .vtu: "UnstructuredGrid")
- * whose sizes VTK's XML reader can trust: the reader allocates by numbers in
- * the file before it reads what they describe (each piece's point and cell
- * counts, each binary array's header: its byte count or its compression
- * blocks, and the last cell offset, which sizes the connectivity), so a few
- * damaged bytes make it allocate gigabytes. Each is held against the bytes
- * the file has: counts against the values their arrays hold, a header against
- * the bytes after it (a compressed block may expand at most
- * kMaxCompressionRatio times), the offsets' last value against the
- * connectivity, polyhedron face streams against their offsets. The XML
- * structure is read by VTK's own parser (vtkXMLDataParser). Throws
- * std::runtime_error "FILE: problem" naming the array or piece.
+ * A VTK XML file (.vtp: `dataset_type` "PolyData", .vtu: "UnstructuredGrid",
+ * .vti: "ImageData") whose sizes VTK's XML reader can trust: the reader
+ * allocates by numbers in the file before it reads what they describe (each
+ * piece's point and cell counts, an image's whole extent, each binary array's
+ * header: its byte count or its compression blocks, and the last cell offset,
+ * which sizes the connectivity), so a few damaged bytes make it allocate
+ * gigabytes. Each is held against the bytes the file has: counts against the
+ * values their arrays hold, a header against the bytes after it (a compressed
+ * block may expand at most kMaxCompressionRatio times), the offsets' last
+ * value against the connectivity, polyhedron face streams against their
+ * offsets, an image's whole extent against its pieces' extents (within it, and
+ * holding as many points) and kMaxStructuredPoints. The XML structure is read
+ * by VTK's own parser (vtkXMLDataParser). Throws std::runtime_error "FILE:
+ * problem" naming the array or piece.
  */
 void check_vtk_xml_file(const std::filesystem::path& path, const char* dataset_type);
+
+/**
+ * A parallel VTK XML file (.pvtp: `dataset_type` "PolyData", .pvtu:
+ * "UnstructuredGrid", .pvti: "ImageData") and every piece file it names,
+ * before VTK's parallel reader joins them: each piece named once, present
+ * (a missing one is the error, naming it) and passing check_vtk_xml_file()
+ * as a file of `dataset_type`; the arrays the parallel file declares
+ * (PPoints, PPointData, PCellData), which the reader allocates for all
+ * pieces and copies each piece's into, present in every piece with the same
+ * type and components; for images, each piece's extent as the parallel file
+ * says, within its whole extent, the pieces holding every point of it.
+ * Throws std::runtime_error "FILE: problem", FILE the file at fault.
+ */
+void check_vtk_xml_parallel_file(const std::filesystem::path& path, const char* dataset_type);
+
+/**
+ * A composite VTK XML file (.vtm: `composite_type` "vtkMultiBlockDataSet",
+ * .vtpc: "vtkPartitionedDataSetCollection") and every block file it names,
+ * before VTK's reader reads them: a file format version 1 or later, only the
+ * elements the reader knows where it knows them (a .vtpc DataSet outside
+ * Partitions crashes VTK 9.1's reader), every "index" within its siblings'
+ * count (the reader sizes its block lists by it), at most
+ * kMaxCompositeDepth levels, field data holding what it declares, and each
+ * block file named once, present (a missing one is the error, naming it),
+ * with an extension VTK reads it by that RayScope checks (.vtp, .vtu, .vti)
+ * and passing check_vtk_xml_file(). Throws std::runtime_error "FILE:
+ * problem", FILE the file at fault.
+ */
+void check_vtk_xml_composite_file(const std::filesystem::path& path, const char* composite_type);
+
+/// How deep the blocks of a composite file may nest.
+inline constexpr int kMaxCompositeDepth = 32;
+
+/**
+ * An Exodus II file vtkExodusIIReader can read: netCDF's classic formats
+ * (CDF1, CDF2, CDF5 magic), whose header (dimensions, attributes, variables)
+ * is read in full and every variable's data held against the file's length,
+ * and whose element blocks' connectivity ("connect1"...) names only nodes
+ * 1..num_nodes (the reader indexes its node maps with them unchecked); or an
+ * HDF5-based (netCDF-4) file, recognised by its signature and left to the
+ * HDF5 library's own checks. Anything else is refused. Throws
+ * std::runtime_error "FILE: Exodus: problem".
+ */
+void check_exodus_file(const std::filesystem::path& path);
 
 /// Empty when every cell of `data` names existing points (ids in
 /// 0..points-1), else the first offending cell and id, e.g. "cell 0 refers to
