@@ -18,7 +18,8 @@ Usage: write_mesh_formats.py OUT_DIR
   exist, bad_piece.pvtp names a truncated piece, bad_index.vtm gives a block
   index beyond its blocks, loose_dataset.vtpc has a DataSet outside any
   Partitions (VTK 9.1's reader crashes on it), truncated.ex2 is half of
-  two.ex2, not_netcdf.ex2 is text.
+  two.ex2, bad_node.ex2 is two.ex2 with a hexahedron naming node 999 of 16,
+  not_netcdf.ex2 is text.
 """
 import os
 import sys
@@ -144,6 +145,12 @@ with open(path("two.ex2"), "rb") as f:
     exodus_bytes = f.read()
 with open(path("truncated.ex2"), "wb") as f:
     f.write(exodus_bytes[: len(exodus_bytes) // 2])
+# Block 1's connectivity, nodes 1..8 as big-endian 32-bit integers, with its
+# last node made 999 of the 16 the file has.
+nodes = b"".join(i.to_bytes(4, "big") for i in range(1, 9))
+assert exodus_bytes.count(nodes) == 1, "block 1's connectivity not found"
+with open(path("bad_node.ex2"), "wb") as f:
+    f.write(exodus_bytes.replace(nodes, nodes[:-4] + (999).to_bytes(4, "big")))
 with open(path("not_netcdf.ex2"), "w") as f:
     f.write("This is not an Exodus file.\n")
 

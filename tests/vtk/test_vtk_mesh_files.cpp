@@ -1,9 +1,10 @@
-// The rayscope command's mesh files (rayscope_vtkio::load_mesh, vtkplugin/vtkio)
-// against the VTK module's converter: the same file gives the same triangles,
-// normals and colors, normals are computed smooth when the file has none, and
-// a scene file's color_by reaches the loader and colors the mesh; STL, OBJ
-// and legacy VTK files read as triangles (counts, closed meshes, "FILE:
-// problem" errors), in scene files too.
+// The rayscope command's mesh files (rayscope_vtkio::load_meshes,
+// vtkplugin/vtkio) against the VTK module's converter: the same file gives the
+// same triangles, normals and colors, normals are computed smooth when the
+// file has none, and a scene file's color_by reaches the loader and colors the
+// mesh, one lookup table over every block of a composite file; STL, OBJ and
+// legacy VTK files read as triangles (counts, closed meshes, "FILE: problem"
+// errors), in scene files too.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -16,18 +17,24 @@
 #include <string>
 
 #include <vtkCellData.h>
+#include <vtkCompositeDataSet.h>
 #include <vtkCubeSource.h>
 #include <vtkDataSetMapper.h>
 #include <vtkFloatArray.h>
+#include <vtkInformation.h>
+#include <vtkLineSource.h>
 #include <vtkLookupTable.h>
+#include <vtkMultiBlockDataSet.h>
 #include <vtkNew.h>
 #include <vtkPlaneSource.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkSTLReader.h>
 #include <vtkSTLWriter.h>
+#include <vtkSmartPointer.h>
 #include <vtkSphereSource.h>
 #include <vtkTriangleFilter.h>
+#include <vtkXMLMultiBlockDataWriter.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
 
@@ -326,6 +333,73 @@ TEST_F(VtkMeshFiles, ColorByMatchesTheModuleMapper) {
   for (const glm::uvec3& t : cli.triangles) {
     const float x = (cli.positions[t.x].x + cli.positions[t.y].x + cli.positions[t.z].x) / 3.0f;
     for (int k = 0; k < 3; ++k) EXPECT_EQ(cli.colors[t[k]], glm::vec3(x < 0.0f ? 0.0f : 1.0f));
+  }
+}
+
+// A composite file gives one mesh per block with triangles, named by flat
+// index and name; color_by maps every block through one table over the
+// array's range in all of them (a block of T = 0 black, one of T = 2 white,
+// where each block's own range would make both black); a block without the array
+// keeps the material's color and one without triangles is left out, each
+// with a warning naming it. load_mesh() wants a file of one mesh.
+TEST_F(VtkMeshFiles, CompositeFileBlocksShareOneColorRange) {
+  auto plane = [](double x, float t) {
+    vtkNew<vtkPlaneSource> p;
+    p->SetCenter(x, 0.0, 0.0);
+    p->Update();
+    vtkSmartPointer<vtkPolyData> pd = vtkSmartPointer<vtkPolyData>::New();
+    pd->DeepCopy(p->GetOutput());
+    if (t >= 0.0f) {
+      vtkNew<vtkFloatArray> a;
+      a->SetName("T");
+      a->InsertNextValue(t);
+      pd->GetCellData()->AddArray(a);
+    }
+    return pd;
+  };
+  vtkNew<vtkLineSource> line;
+  line->Update();
+  vtkNew<vtkMultiBlockDataSet> blocks;
+  blocks->SetNumberOfBlocks(4);
+  blocks->SetBlock(0, plane(0.0, 0.0f));
+  blocks->SetBlock(1, plane(2.0, 2.0f));
+  blocks->SetBlock(2, plane(4.0, -1.0f));  // no array T
+  blocks->SetBlock(3, line->GetOutput());
+  blocks->GetMetaData(1u)->Set(vtkCompositeDataSet::NAME(), "hot");
+  blocks->GetMetaData(3u)->Set(vtkCompositeDataSet::NAME(), "wire");
+  const fs::path file = dir_ / "blocks.vtm";
+  vtkNew<vtkXMLMultiBlockDataWriter> w;
+  w->SetFileName(file.c_str());
+  w->SetInputData(blocks);
+  ASSERT_EQ(w->Write(), 1);
+
+  MeshOptions o = file_options(file);
+  o.color_by = MeshColorBy{};
+  o.color_by->array = "T";
+  o.color_by->association = MeshColorBy::Association::Cell;
+  o.color_by->map = rayscope::ColorMap::Grayscale;
+  const rayscope::LoadedMeshFile loaded = rayscope_vtkio::load_meshes(o);
+  ASSERT_EQ(loaded.meshes.size(), 3u);
+  EXPECT_EQ(loaded.meshes[0].name, "block 1");
+  EXPECT_EQ(loaded.meshes[1].name, "block 2 (hot)");
+  EXPECT_EQ(loaded.meshes[2].name, "block 3");
+  for (const TriangleMesh& m : loaded.meshes) EXPECT_EQ(m.triangles.size(), 2u);
+  ASSERT_EQ(loaded.meshes[0].colors.size(), loaded.meshes[0].positions.size());
+  for (const glm::vec3& c : loaded.meshes[0].colors) EXPECT_EQ(c, glm::vec3(0.0f));
+  ASSERT_EQ(loaded.meshes[1].colors.size(), loaded.meshes[1].positions.size());
+  for (const glm::vec3& c : loaded.meshes[1].colors) EXPECT_EQ(c, glm::vec3(1.0f));
+  EXPECT_TRUE(loaded.meshes[2].colors.empty());
+  ASSERT_EQ(loaded.warnings.size(), 2u);
+  EXPECT_EQ(loaded.warnings[0],
+            file.string() + ": block 3: has no cell array 'T', drawn in the material's color");
+  EXPECT_EQ(loaded.warnings[1], file.string() + ": block 4 (wire): no surface triangles, left out");
+
+  try {
+    rayscope_vtkio::load_mesh(file_options(file));
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              file.string() + ": holds 3 meshes (a composite file), not one");
   }
 }
 

@@ -52,7 +52,7 @@ int type_size(u64 type, int version) {
 
 struct Variable {
   std::string name;
-  std::vector<u64> dims;
+  std::vector<u64> dims, dim_ids;
   u64 type = 0, begin = 0;
 };
 
@@ -119,7 +119,7 @@ void check_exodus_file(const fs::path& path) {
 
   // Dimensions: their lengths; 0 is the record dimension.
   std::vector<u64> dims;
-  std::map<std::string, u64, std::less<>> dim_by_name;
+  std::map<std::string, u64, std::less<>> dim_by_name;  // name -> id
   auto list = [&](u64 tag, const char* what) -> u64 {
     const u64 t = header.read(4, what);
     const u64 n = header.read(count_bytes, what);
@@ -152,8 +152,8 @@ void check_exodus_file(const fs::path& path) {
       if (record_dim) header.error("two unlimited (record) dimensions");
       record_dim = true;
     }
+    dim_by_name.emplace(std::move(name), dims.size());
     dims.push_back(length);
-    dim_by_name.emplace(std::move(name), length);
   }
   attributes("global attributes");
   const u64 nvars = list(kVariableTag, "variables");
@@ -172,6 +172,7 @@ void check_exodus_file(const fs::path& path) {
         header.error("variable '" + rayscope::printable_text(v.name, rayscope::kMaxQuotedBytes) +
                      "' has the record dimension other than first");
       v.dims.push_back(dims[size_t(id)]);
+      v.dim_ids.push_back(id);
     }
     attributes("variable attributes");
     v.type = header.read(4, "the variables");
@@ -211,9 +212,44 @@ void check_exodus_file(const fs::path& path) {
                      "' runs past the end of the file (a truncated or damaged file)");
   }
 
+  // The element blocks, as Exodus lays them out: "num_el_blk" blocks, their
+  // ids in "eb_prop1", block I's elements and nodes per element in the
+  // dimensions "num_el_in_blkI" and "num_nod_per_elI" and its connectivity in
+  // "connectI" of those two dimensions; an empty block has none of the three.
+  // The reader lists a block lacking some of them in one place but not in
+  // another and crashes (a damaged dimension name made a NULL dereference in
+  // vtkExodusIIReaderPrivate::GetSortedObjectInfo).
+  auto dim = [&](const std::string& name) -> std::optional<u64> {
+    const auto it = dim_by_name.find(name);
+    if (it == dim_by_name.end()) return std::nullopt;
+    return it->second;
+  };
+  auto var = [&](const std::string& name) -> const Variable* {
+    for (const Variable& v : vars)
+      if (v.name == name) return &v;
+    return nullptr;
+  };
+  if (const std::optional<u64> blocks = dim("num_el_blk")) {
+    const Variable* ids = var("eb_prop1");
+    if (!ids || ids->dim_ids != std::vector<u64>{*blocks})
+      fail(path, "Exodus: the element block ids 'eb_prop1' do not match 'num_el_blk'");
+    for (u64 b = 1; b <= dims[size_t(*blocks)]; ++b) {
+      const std::string n = std::to_string(b);
+      const std::optional<u64> elements = dim("num_el_in_blk" + n);
+      const std::optional<u64> per_element = dim("num_nod_per_el" + n);
+      const Variable* connect = var("connect" + n);
+      if (!elements && !per_element && !connect) continue;  // an empty block
+      if (!elements || !per_element || !connect ||
+          connect->dim_ids != std::vector<u64>{*elements, *per_element})
+        fail(path, "Exodus: element block " + n +
+                       " lacks or mismatches its dimensions num_el_in_blk" + n +
+                       ", num_nod_per_el" + n + " or its variable connect" + n);
+    }
+  }
+
   // The element blocks' connectivity: node numbers 1..num_nodes.
-  const auto nodes_it = dim_by_name.find("num_nodes");
-  const u64 nodes = nodes_it == dim_by_name.end() ? 0 : nodes_it->second;
+  const std::optional<u64> nodes_dim = dim("num_nodes");
+  const u64 nodes = nodes_dim ? dims[size_t(*nodes_dim)] : 0;
   for (const Variable& v : vars) {
     if (v.name.rfind("connect", 0) != 0 || is_record(v)) continue;
     const int bytes = type_size(v.type, version);

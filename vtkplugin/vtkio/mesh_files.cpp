@@ -32,6 +32,7 @@
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
+#include <vtk_exodusII.h>
 
 #include "rayscope/input_file.h"
 #include "rayscope/printable_text.h"
@@ -263,6 +264,39 @@ const MeshFileFormat* format_of(const std::filesystem::path& path) {
                            mesh_file_extensions(composite_too) + ")");
 }
 
+// The dataset type of VTK's XML files "vtp", "vtu", "vti".
+const char* xml_type(std::string_view kind) {
+  return kind == "vtp" ? "PolyData" : kind == "vtu" ? "UnstructuredGrid" : "ImageData";
+}
+
+// VTK's reader of XML files "vtp", "vtu" or "vti", or of their parallel files.
+// (The format-specific readers: vtkXMLGenericDataObjectReader::CanReadFile
+// rejects every file in VTK 9.1.)
+vtkSmartPointer<vtkXMLReader> xml_reader(std::string_view kind, bool parallel) {
+  if (kind == "vtp")
+    return parallel ? vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLPPolyDataReader>::New())
+                    : vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLPolyDataReader>::New());
+  if (kind == "vtu")
+    return parallel ? vtkSmartPointer<vtkXMLReader>(
+                          vtkSmartPointer<vtkXMLPUnstructuredGridReader>::New())
+                    : vtkSmartPointer<vtkXMLReader>(
+                          vtkSmartPointer<vtkXMLUnstructuredGridReader>::New());
+  return parallel ? vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLPImageDataReader>::New())
+                  : vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLImageDataReader>::New());
+}
+
+// A serial VTK XML file of `kind` ("vtp", "vtu", "vti"), checked, then read.
+vtkSmartPointer<vtkDataObject> read_xml_file(const std::filesystem::path& path,
+                                             std::string_view kind) {
+  const std::string f = path.string();
+  vtkSmartPointer<vtkXMLReader> r = xml_reader(kind, false);
+  if (!r->CanReadFile(f.c_str()))
+    throw std::runtime_error(f + ": not a VTK XML ." + std::string(kind) + " file");
+  check_vtk_xml_file(path, xml_type(kind));
+  r->SetFileName(f.c_str());
+  return read_with(r, f);
+}
+
 // A composite file read by `reader` (its checks passed), as a composite dataset.
 vtkSmartPointer<vtkDataObject> read_composite(vtkAlgorithm* reader, const std::string& f) {
   vtkSmartPointer<vtkDataObject> data = read_with(reader, f);
@@ -277,6 +311,9 @@ vtkSmartPointer<vtkDataObject> read_exodus(const std::filesystem::path& path) {
   const std::string f = path.string();
   check_exodus_file(path);
   vtkNew<vtkExodusIIReader> r;
+  // The Exodus library prints its errors to stderr in verbose mode: quiet,
+  // so that VTK's error (captured) is the one line.
+  ex_opts(EX_DEFAULT);
   r->SetFileName(f.c_str());
   {
     CaptureMessages messages;
@@ -338,32 +375,32 @@ vtkSmartPointer<vtkDataSet> read_dataset_file(const std::filesystem::path& path)
     r->SetFileName(f.c_str());
     data = read_with(r, f);
   } else {
-    // The format-specific XML readers: vtkXMLGenericDataObjectReader::CanReadFile
-    // rejects every file in VTK 9.1.
     const bool parallel = ext.substr(0, 2) == ".p";
     const std::string_view kind = ext.substr(parallel ? 2 : 1);  // vtp, vtu, vti
-    const char* type = kind == "vtp"   ? "PolyData"
-                       : kind == "vtu" ? "UnstructuredGrid"
-                                       : "ImageData";
-    vtkSmartPointer<vtkXMLReader> r;
-    if (kind == "vtp")
-      r = parallel ? vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLPPolyDataReader>::New())
-                   : vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLPolyDataReader>::New());
-    else if (kind == "vtu")
-      r = parallel
-              ? vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLPUnstructuredGridReader>::New())
-              : vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLUnstructuredGridReader>::New());
-    else
-      r = parallel ? vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLPImageDataReader>::New())
-                   : vtkSmartPointer<vtkXMLReader>(vtkSmartPointer<vtkXMLImageDataReader>::New());
-    if (!r->CanReadFile(f.c_str()))
-      throw std::runtime_error(f + ": not a VTK XML " + std::string(ext) + " file");
-    if (parallel)
-      check_vtk_xml_parallel_file(path, type);
-    else
-      check_vtk_xml_file(path, type);
-    r->SetFileName(f.c_str());
-    data = read_with(r, f);
+    if (!parallel) {
+      data = read_xml_file(path, kind);
+    } else {
+      vtkSmartPointer<vtkXMLReader> r = xml_reader(kind, true);
+      if (!r->CanReadFile(f.c_str()))
+        throw std::runtime_error(f + ": not a VTK XML " + std::string(ext) + " file");
+      // VTK's parallel reader goes on joining the pieces after one's reader
+      // failed (a .pvtu whose piece lacks NumberOfPoints crashed it): every
+      // piece is read on its own first, the way it reads them, and refused
+      // with the owner's name.
+      for (const std::filesystem::path& piece : check_vtk_xml_parallel_file(path, xml_type(kind))) {
+        try {
+          vtkSmartPointer<vtkDataSet> d = vtkDataSet::SafeDownCast(read_xml_file(piece, kind));
+          if (!d) throw std::runtime_error(piece.string() + ": could not read a dataset");
+          if (std::string e = check_cell_point_ids(d); !e.empty())
+            throw std::runtime_error(piece.string() + ": " + e);
+        } catch (const std::runtime_error& e) {
+          throw std::runtime_error(f + ": piece file '" + piece.filename().string() +
+                                   "': " + e.what());
+        }
+      }
+      r->SetFileName(f.c_str());
+      data = read_with(r, f);
+    }
   }
   vtkSmartPointer<vtkDataSet> dataset = vtkDataSet::SafeDownCast(data);
   if (!dataset) throw std::runtime_error(f + ": could not read a dataset");
@@ -424,11 +461,6 @@ rayscope::LoadedMeshFile load_meshes_from(const rayscope::MeshOptions& options,
     const std::string label = composite ? leaf_label(leaf) : std::string();
     const std::string where = composite ? file + ": " + label : file;
     const bool uncolored = std::find(lacking.begin(), lacking.end(), &leaf) != lacking.end();
-    if (uncolored)
-      loaded.warnings.push_back(
-          where + ": has no " +
-          (options.color_by->association == MeshColorBy::Association::Cell ? "cell" : "point") +
-          " array '" + options.color_by->array + "', drawn in the material's color");
     vtkSmartPointer<vtkMapper> coloring =
         options.color_by && !uncolored ? color_by : direct_color_mapper(leaf.data);
     rayscope::TriangleMesh m = convert(leaf.data, where, surface, coloring, options.to_scene);
@@ -436,6 +468,11 @@ rayscope::LoadedMeshFile load_meshes_from(const rayscope::MeshOptions& options,
       if (composite) loaded.warnings.push_back(where + ": no surface triangles, left out");
       continue;
     }
+    if (uncolored)
+      loaded.warnings.push_back(
+          where + ": has no " +
+          (options.color_by->association == MeshColorBy::Association::Cell ? "cell" : "point") +
+          " array '" + options.color_by->array + "', drawn in the material's color");
     if (!options.smooth) m.normals.clear();  // the file's own normals too
     m.name = label;
     loaded.meshes.push_back(std::move(m));

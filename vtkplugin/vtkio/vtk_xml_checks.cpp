@@ -308,9 +308,13 @@ std::vector<long long> read_values(vtkXMLDataParser* parser, const XmlFile& f, v
   return values;
 }
 
-/// A count attribute of a Piece ("NumberOfPoints"...): absent is 0.
-u64 count(const XmlFile& f, vtkXMLDataElement* piece, const char* name) {
-  if (!piece->GetAttribute(name)) return 0;
+/// A count attribute of a Piece ("NumberOfPoints"...): absent is 0, or an
+/// error where the reader requires it (and would fail part-way).
+u64 count(const XmlFile& f, vtkXMLDataElement* piece, const char* name, bool required = false) {
+  if (!piece->GetAttribute(name)) {
+    if (required) fail(f.path, std::string("Piece has no ") + name);
+    return 0;
+  }
   long long n = -1;
   if (!piece->GetScalarAttribute(name, n) || n < 0)
     fail(f.path,
@@ -598,7 +602,7 @@ XmlDatasetSummary check_vtk_xml_dataset(const fs::path& path, std::string_view d
       cells = points ? extent_cells(e) : 0;
       piece_points += points;
     } else {
-      points = count(f, piece, "NumberOfPoints");
+      points = count(f, piece, "NumberOfPoints", true);
       if (points > 0) {
         vtkXMLDataElement* coords = data_array(piece->FindNestedElementWithName("Points"), nullptr);
         if (!coords) fail(path, "Piece declares points but has no Points array");
@@ -611,7 +615,7 @@ XmlDatasetSummary check_vtk_xml_dataset(const fs::path& path, std::string_view d
           cells += n;
         }
       } else {
-        cells = count(f, piece, "NumberOfCells");
+        cells = count(f, piece, "NumberOfCells", true);
         check_cell_section(parser, f, piece->FindNestedElementWithName("Cells"), cells, "Cells");
       }
     }

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -28,7 +29,10 @@ namespace {
 using namespace checks;
 
 std::string quoted(const char* text) {
-  return "'" + rayscope::printable_text(text ? text : "", rayscope::kMaxQuotedBytes) + "'";
+  std::string q = "'";
+  q += rayscope::printable_text(text ? text : "", rayscope::kMaxQuotedBytes);
+  q += '\'';
+  return q;
 }
 
 /// The file a piece's Source or a block's file attribute names, as VTK's
@@ -54,6 +58,17 @@ fs::path member_file(const fs::path& owner, const char* name, const char* what, 
   if (!seen.insert(ec ? file : canonical).second)
     fail(owner, std::string(what) + " file " + quoted(name) + " is named more than once");
   return file;
+}
+
+/// Runs `check` of a named file; its error ("FILE: problem") comes after the
+/// owner's name and what names it, so that the line names both files.
+template <class Check>
+auto check_member(const fs::path& owner, const char* what, const char* name, Check&& check) {
+  try {
+    return check();
+  } catch (const std::runtime_error& e) {
+    fail(owner, std::string(what) + " file " + quoted(name) + ": " + e.what());
+  }
 }
 
 /// The PDataArray declarations of a parallel file's section.
@@ -120,13 +135,13 @@ struct CompositeWalk {
     if (!type)
       fail(path, "block file " + quoted(name) +
                      ": not a .vtp, .vtu or .vti file (the block formats RayScope reads)");
-    check_vtk_xml_file(file, type);
+    check_member(path, "block", name, [&] { check_vtk_xml_file(file, type); });
   }
 };
 
 }  // namespace
 
-void check_vtk_xml_parallel_file(const fs::path& path, const char* dataset_type) {
+std::vector<fs::path> check_vtk_xml_parallel_file(const fs::path& path, const char* dataset_type) {
   const std::string type = std::string("P") + dataset_type;
   XmlDocumentPtr doc = parse_vtk_xml(path, type);
   vtkXMLDataElement* primary = root_of(*doc)->FindNestedElementWithName(type.c_str());
@@ -151,14 +166,15 @@ void check_vtk_xml_parallel_file(const fs::path& path, const char* dataset_type)
 
   std::set<fs::path> seen;
   unsigned long long points = 0;
-  int pieces = 0;
+  std::vector<fs::path> pieces;
   for (int i = 0; i < primary->GetNumberOfNestedElements(); ++i) {
     vtkXMLDataElement* piece = primary->GetNestedElement(i);
     if (std::string_view(piece->GetName()) != "Piece") continue;
-    ++pieces;
     const char* source = piece->GetAttribute("Source");
     const fs::path file = member_file(path, source, "piece", false, seen);
-    const XmlDatasetSummary summary = check_vtk_xml_dataset(file, dataset_type);
+    pieces.push_back(file);
+    const XmlDatasetSummary summary = check_member(
+        path, "piece", source, [&] { return check_vtk_xml_dataset(file, dataset_type); });
     for (const XmlArray& a : declared) {
       const auto it = std::find_if(
           summary.arrays.begin(), summary.arrays.end(),
@@ -183,10 +199,11 @@ void check_vtk_xml_parallel_file(const fs::path& path, const char* dataset_type)
       points += extent_points(extent);
     }
   }
-  if (pieces == 0) fail(path, "names no piece files");
+  if (pieces.empty()) fail(path, "names no piece files");
   if (image && points < extent_points(whole))
     fail(path, "its pieces hold " + std::to_string(points) + " points but its WholeExtent has " +
                    std::to_string(extent_points(whole)));
+  return pieces;
 }
 
 void check_vtk_xml_composite_file(const fs::path& path, const char* composite_type) {

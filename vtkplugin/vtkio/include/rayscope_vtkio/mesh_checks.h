@@ -104,9 +104,11 @@ void check_vtk_xml_file(const std::filesystem::path& path, const char* dataset_t
  * pieces and copies each piece's into, present in every piece with the same
  * type and components; for images, each piece's extent as the parallel file
  * says, within its whole extent, the pieces holding every point of it.
- * Throws std::runtime_error "FILE: problem", FILE the file at fault.
+ * Returns the piece files, in order. Throws std::runtime_error "FILE:
+ * problem" (for a piece: "FILE: piece file 'NAME': PIECE: problem").
  */
-void check_vtk_xml_parallel_file(const std::filesystem::path& path, const char* dataset_type);
+std::vector<std::filesystem::path> check_vtk_xml_parallel_file(const std::filesystem::path& path,
+                                                               const char* dataset_type);
 
 /**
  * A composite VTK XML file (.vtm: `composite_type` "vtkMultiBlockDataSet",
@@ -119,7 +121,7 @@ void check_vtk_xml_parallel_file(const std::filesystem::path& path, const char* 
  * block file named once, present (a missing one is the error, naming it),
  * with an extension VTK reads it by that RayScope checks (.vtp, .vtu, .vti)
  * and passing check_vtk_xml_file(). Throws std::runtime_error "FILE:
- * problem", FILE the file at fault.
+ * problem" (for a block: "FILE: block file 'NAME': BLOCK: problem").
  */
 void check_vtk_xml_composite_file(const std::filesystem::path& path, const char* composite_type);
 

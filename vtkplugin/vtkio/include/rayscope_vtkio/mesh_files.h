@@ -57,7 +57,9 @@ std::string mesh_file_extensions(bool composite_too = true);
 
 /// Reads a file of one dataset (the formats of kMeshFileFormats that are not
 /// composite) with VTK's reader of its format, after RayScope's checks of the
-/// file (mesh_checks.h; for a parallel file, of every piece it names too), and
+/// file (mesh_checks.h; for a parallel file, of every piece it names too,
+/// each also read on its own first: VTK's parallel reader joins a piece its
+/// serial reader failed on), and
 /// checks the cells of what VTK read (check_cell_point_ids()), so the dataset
 /// returned names only points it has. Throws std::runtime_error "FILE:
 /// problem" for a missing, unreadable, damaged or unsupported file (a
