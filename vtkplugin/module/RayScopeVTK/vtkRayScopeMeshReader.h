@@ -1,8 +1,10 @@
 /**
  * @class   vtkRayScopeMeshReader
- * @brief   Reads .vtp, .vtu, .vtk (legacy), .stl, .ply and .obj files with
- *          RayScope's checks before VTK's reader: the safe way to read a file
- *          you did not write.
+ * @brief   Reads the dataset files of rayscope_vtkio::kMeshFileFormats (.obj,
+ *          .stl, .ply, .vtp, .vtu, .vti, .vtk legacy, and the parallel
+ *          .pvtp, .pvtu, .pvti with their pieces) with RayScope's checks
+ *          before VTK's reader: the safe way to read a file you did not write.
+ *          Composite files (.vtm, .vtpc, Exodus) are the rayscope command's.
  *
  * VTK's own readers trust what a file declares: a truncated ASCII PLY aborts
  * the process inside vtkPLYReader, a PLY declaring 1e8 vertices in a few
@@ -20,7 +22,8 @@
  * from this reader always has points.
  *
  * Output: the dataset VTK's reader gave, as its own type (vtkPolyData for
- * .vtp, .stl, .ply and .obj; vtkUnstructuredGrid for .vtu; for legacy .vtk
+ * .vtp, .pvtp, .stl, .ply and .obj; vtkUnstructuredGrid for .vtu and .pvtu;
+ * vtkImageData for .vti and .pvti; for legacy .vtk
  * whatever the file holds: polydata, an unstructured grid, image data
  * (vtkStructuredPoints), a structured or a rectilinear grid), unchanged but
  * for one thing: a point or cell array with fewer tuples than the dataset
@@ -68,7 +71,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeMeshReader : public vtkDataSetAlgorithm {
   ///@}
 
   /// 1 if `name` is a regular file with an extension this reader reads
-  /// (.vtp, .vtu, .vtk, .stl, .ply, .obj, any letter case), else 0. Only the
+  /// (the dataset formats above, any letter case), else 0. Only the
   /// name and the kind of file are looked at, not the contents: a damaged
   /// file is accepted here and refused with an error when it is read, so
   /// that ParaView offers this reader for it and the user sees why.
