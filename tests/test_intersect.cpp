@@ -18,6 +18,7 @@
 #include <cstdio>
 
 #include "rayscope/intersect.h"
+#include "rayscope/intersect_capsule.h"
 #include "test_util.h"
 
 namespace {
@@ -611,6 +612,236 @@ TEST(Sphere, RangeChecks) {
   EXPECT_EQ(t, 5.0f);
   EXPECT_FALSE(intersect_sphere(Ray{{next_float_up(1.0f), 0, 5}, {0, 0, -1}, kInfinity}, c, 1,
                                 kInfinity, t));
+}
+
+// ---------------------------------------------------------------------------
+// Capsules (tube segments)
+
+using rstest::LDVec3;
+using rstest::to_ld;
+
+struct CapsuleCase {
+  Vec3 p0, p1, o, d;
+  float r;
+};
+
+// A capsule around a center within `spread` of the origin, radius 0.1..10,
+// length 0 (every tenth case) or 0.01..20 radii, seen from 1.5..20 of its
+// half extent away, aimed at a point within 0.95 r of its segment (so the
+// line meets the solid).
+CapsuleCase make_capsule_case(Rng& rng, double spread, int i) {
+  CapsuleCase k;
+  const DVec3 c(rng.uniform(-spread, spread), rng.uniform(-spread, spread),
+                rng.uniform(-spread, spread));
+  k.r = rstest::round_f(rng.log_uniform(0.1, 10));
+  const double len = i % 10 == 0 ? 0.0 : double(k.r) * rng.log_uniform(0.01, 20);
+  const DVec3 axis = rng.unit_vector();
+  k.p0 = to_f(c - 0.5 * len * axis);
+  k.p1 = to_f(c + 0.5 * len * axis);
+  const double extent = 0.5 * len + double(k.r);
+  k.o = to_f(c + extent * rng.log_uniform(1.5, 20) * rng.unit_vector());
+  const DVec3 aim = to_d(k.p0) + rng.uniform() * (to_d(k.p1) - to_d(k.p0)) +
+                    0.95 * double(k.r) * rng.in_unit_ball();
+  k.d = to_f((aim - to_d(k.o)) * rng.log_uniform(0.1, 10));
+  return k;
+}
+
+// Checks a capsule hit at t against the long double reference root `ref`:
+// the distance along the ray within 16 eps * scale / |cos|, where |cos| is
+// the angle between the ray and the exact normal there (the root's
+// condition), and the hit point within its bound of the surface along the
+// normal. Returns the error in units of eps * scale / |cos|.
+double check_capsule_hit(const CapsuleCase& k, float t, long double ref, int i) {
+  const LDVec3 o = to_ld(k.o), d = to_ld(k.d), a = to_ld(k.p0), b = to_ld(k.p1);
+  const LDVec3 q = o + ref * d;
+  const LDVec3 e = b - a;
+  const long double ee = glm::dot(e, e);
+  const long double s = ee > 0 ? std::clamp(glm::dot(q - a, e) / ee, 0.0L, 1.0L) : 0.0L;
+  const LDVec3 n = glm::normalize(q - (a + s * e));
+  const double cosine = double(std::abs(glm::dot(n, d)) / glm::length(d));
+  const double scale = std::max(rstest::max_abs(to_d(k.p0)), rstest::max_abs(to_d(k.p1))) +
+                       rstest::max_abs(to_d(k.o)) + glm::length(to_d(k.o) - to_d(k.p0)) +
+                       glm::length(to_d(k.p1) - to_d(k.p0)) + double(k.r);
+  const double err = double(std::abs((long double)t - ref) * glm::length(d));
+  EXPECT_LE(err, 16 * kEps * scale / cosine) << "case " << i << " t=" << t;
+  Vec3 perr, ng;
+  float along;
+  const Vec3 p = capsule_point(Ray{k.o, k.d, kInfinity}, t, k.p0, k.p1, k.r, perr, ng, along);
+  const long double off = rstest::ref_segment_distance(to_ld(p), a, b) - k.r;
+  EXPECT_LE(std::abs(off), glm::dot(glm::abs(to_ld(ng)), to_ld(perr))) << "case " << i;
+  EXPECT_NEAR(glm::length(to_d(ng)), 1.0, 4 * kEps) << "case " << i;
+  EXPECT_TRUE(along >= 0.0f && along <= 1.0f) << "case " << i;
+  return err / (kEps * scale / cosine);
+}
+
+TEST(Capsule, RandomHitsMatchLongDoubleReference) {
+  // Entry roots: t within 16 eps * scale / |cos| of the exact root (the
+  // offsets o - p0, o - p1, p1 - p0 are exact or within eps of their size;
+  // the projections and the closest approach add a few roundings in double),
+  // hit points on the surface within their bound.
+  Rng rng(71);
+  double worst = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const CapsuleCase k = make_capsule_case(rng, 10, i);
+    long double t_in, t_out;
+    ASSERT_TRUE(rstest::ref_capsule_interval(to_ld(k.o), to_ld(k.d), to_ld(k.p0), to_ld(k.p1), k.r,
+                                             t_in, t_out));
+    float t;
+    ASSERT_TRUE(intersect_capsule(Ray{k.o, k.d, kInfinity}, k.p0, k.p1, k.r, kInfinity, t))
+        << "case " << i;
+    ASSERT_GT(t_in, 0.0L);
+    worst = std::max(worst, check_capsule_hit(k, t, t_in, i));
+    if (HasFailure()) return;
+  }
+  std::printf("capsule: worst t error %.2f eps*scale/|cos| (limit 16)\n", worst);
+}
+
+TEST(Capsule, RaysFromInsideHitTheFarSide) {
+  Rng rng(72);
+  for (int i = 0; i < 5000; ++i) {
+    CapsuleCase k = make_capsule_case(rng, 10, i);
+    k.o = to_f(to_d(k.p0) + rng.uniform() * (to_d(k.p1) - to_d(k.p0)) +
+               0.9 * double(k.r) * rng.in_unit_ball());
+    k.d = to_f(rng.unit_vector() * rng.log_uniform(0.1, 10));
+    long double t_in, t_out;
+    ASSERT_TRUE(rstest::ref_capsule_interval(to_ld(k.o), to_ld(k.d), to_ld(k.p0), to_ld(k.p1), k.r,
+                                             t_in, t_out));
+    ASSERT_LT(t_in, 0.0L);
+    float t;
+    ASSERT_TRUE(intersect_capsule(Ray{k.o, k.d, kInfinity}, k.p0, k.p1, k.r, kInfinity, t))
+        << "case " << i;
+    check_capsule_hit(k, t, t_out, i);
+    if (HasFailure()) return;
+  }
+}
+
+TEST(Capsule, ZeroLengthIsTheSphereTestBitForBit) {
+  // A segment of length 0 is its end's ball, tested with the sphere's
+  // formulas: the same answer, the same t.
+  Rng rng(73);
+  int hits = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3 c = to_f(DVec3(rng.log_uniform_signed(1e-3, 1e3), rng.log_uniform_signed(1e-3, 1e3),
+                              rng.log_uniform_signed(1e-3, 1e3)));
+    const float r = rstest::round_f(rng.log_uniform(1e-3, 1e3));
+    const Vec3 o = to_f(to_d(c) + double(r) * rng.log_uniform(0.5, 100) * rng.unit_vector());
+    const Vec3 d = to_f(to_d(c) + 1.2 * double(r) * rng.in_unit_ball() - to_d(o));
+    const float tmax = i % 3 == 0 ? kInfinity : float(rng.uniform(0, 2));
+    float ts = -1, tc = -1;
+    const bool s = intersect_sphere(Ray{o, d, kInfinity}, c, r, tmax, ts);
+    ASSERT_EQ(intersect_capsule(Ray{o, d, kInfinity}, c, c, r, tmax, tc), s) << "case " << i;
+    if (s) {
+      EXPECT_EQ(tc, ts) << "case " << i;
+    }
+    hits += s;
+  }
+  EXPECT_GT(hits, 5000);
+}
+
+TEST(Capsule, SilhouetteHairMissesAndHits) {
+  // A ray in the tangent plane at a point of the surface (side or cap),
+  // moved off it by delta along the normal: outward it misses the solid by
+  // delta (the tangent plane supports the convex capsule), inward it passes
+  // delta deep. delta is 2..2000 times the band 32 eps * scale in which the
+  // rounding of the inputs and of the test may decide either way; outside it
+  // the exact answer must come out.
+  Rng rng(74);
+  int hits = 0, misses = 0;
+  for (int i = 0; i < 40000; ++i) {
+    const DVec3 c(rng.uniform(-10, 10), rng.uniform(-10, 10), rng.uniform(-10, 10));
+    const float r = rstest::round_f(rng.log_uniform(0.1, 10));
+    const double len = double(r) * rng.log_uniform(0.1, 10);
+    const DVec3 axis = rng.unit_vector();
+    const Vec3 p0 = to_f(c - 0.5 * len * axis), p1 = to_f(c + 0.5 * len * axis);
+    const DVec3 a = to_d(p0), e = to_d(p1) - a, u = glm::normalize(e);
+    // The surface point: on the side (s in [0, 1], normal across the axis)
+    // or on a cap (normal pointing away from the other end).
+    DVec3 nrm = rng.unit_vector(), base;
+    const int where = rng.integer(0, 2);
+    if (where == 0) {
+      nrm = glm::normalize(nrm - glm::dot(nrm, u) * u);
+      base = a + rng.uniform() * e;
+    } else {
+      if ((glm::dot(nrm, u) > 0) == (where == 1)) nrm = -nrm;
+      base = where == 1 ? a : to_d(p1);
+    }
+    const DVec3 q = base + double(r) * nrm;
+    const DVec3 tan = glm::normalize(glm::cross(nrm, rng.unit_vector()));
+    const double scale = rstest::max_abs(c) + len + 40.0 * double(r);
+    const double band = 32 * kEps * scale;
+    const double delta = band * rng.log_uniform(2, 2000);
+    if (delta > 0.5 * double(r)) continue;
+    const bool inward = rng.coin();
+    const DVec3 through = q + (inward ? -delta : delta) * nrm;
+    const Vec3 o = to_f(through - double(r) * rng.log_uniform(1.5, 20) * tan);
+    const Vec3 d = to_f((through - to_d(o)) * rng.log_uniform(0.1, 10));
+    float t;
+    const bool got = intersect_capsule(Ray{o, d, kInfinity}, p0, p1, r, kInfinity, t);
+    ASSERT_EQ(got, inward) << "case " << i << " (" << (where ? "cap" : "side")
+                           << "), delta/band=" << delta / band;
+    (got ? hits : misses)++;
+  }
+  std::printf("capsule silhouette: %d hits %d misses\n", hits, misses);
+  EXPECT_GT(hits, 10000);
+  EXPECT_GT(misses, 10000);
+}
+
+TEST(Capsule, RangeChecksAndExactConfigurations) {
+  // The capsule around (0,0,0)-(4,0,0), radius 1.
+  const Vec3 a(0, 0, 0), b(4, 0, 0);
+  float t;
+  // Across the side: t = 4 exactly; open at tmax like the sphere.
+  EXPECT_TRUE(intersect_capsule(Ray{{2, 0, 5}, {0, 0, -1}, kInfinity}, a, b, 1, kInfinity, t));
+  EXPECT_EQ(t, 4.0f);
+  EXPECT_FALSE(intersect_capsule(Ray{{2, 0, 5}, {0, 0, -1}, kInfinity}, a, b, 1, 4.0f, t));
+  EXPECT_TRUE(intersect_capsule(Ray{{2, 0, 5}, {0, 0, -1}, kInfinity}, a, b, 1, 4.5f, t));
+  EXPECT_FALSE(intersect_capsule(Ray{{2, 0, 5}, {0, 0, 1}, kInfinity}, a, b, 1, kInfinity, t));
+  // Along the axis into a cap (x = -1), and from inside out through the other (x = 5).
+  EXPECT_TRUE(intersect_capsule(Ray{{-5, 0, 0}, {1, 0, 0}, kInfinity}, a, b, 1, kInfinity, t));
+  EXPECT_EQ(t, 4.0f);
+  EXPECT_TRUE(intersect_capsule(Ray{{2, 0, 0}, {2, 0, 0}, kInfinity}, a, b, 1, kInfinity, t));
+  EXPECT_EQ(t, 1.5f);
+  // Through the circle where side and cap meet (x = 4, z = 1), head on and
+  // along the side: the pieces overlap there, no gap.
+  EXPECT_TRUE(intersect_capsule(Ray{{4, 0, 5}, {0, 0, -1}, kInfinity}, a, b, 1, kInfinity, t));
+  EXPECT_EQ(t, 4.0f);
+  EXPECT_TRUE(intersect_capsule(Ray{{next_float_down(4.0f), 0, 5}, {0, 0, -1}, kInfinity}, a, b, 1,
+                                kInfinity, t));
+  EXPECT_EQ(t, 4.0f);
+  EXPECT_TRUE(intersect_capsule(Ray{{next_float_up(4.0f), 0, 5}, {0, 0, -1}, kInfinity}, a, b, 1,
+                                kInfinity, t));
+  EXPECT_EQ(t, 4.0f);
+  // Tangent to the side (touching counts, as for the sphere), a hair beyond.
+  EXPECT_TRUE(intersect_capsule(Ray{{2, 1, 5}, {0, 0, -1}, kInfinity}, a, b, 1, kInfinity, t));
+  EXPECT_EQ(t, 5.0f);
+  EXPECT_FALSE(intersect_capsule(Ray{{2, next_float_up(1.0f), 5}, {0, 0, -1}, kInfinity}, a, b, 1,
+                                 kInfinity, t));
+  // Along the side, in the tangent line: it touches the whole side and the
+  // first cap's rim; the first contact is at x = 0.
+  EXPECT_TRUE(intersect_capsule(Ray{{-5, 1, 0}, {1, 0, 0}, kInfinity}, a, b, 1, kInfinity, t));
+  EXPECT_EQ(t, 5.0f);
+  EXPECT_FALSE(intersect_capsule(Ray{{-5, next_float_up(1.0f), 0}, {1, 0, 0}, kInfinity}, a, b, 1,
+                                 kInfinity, t));
+  // Parallel to the end planes inside the slab, and outside it.
+  EXPECT_TRUE(intersect_capsule(Ray{{1, -5, 0}, {0, 1, 0}, kInfinity}, a, b, 1, kInfinity, t));
+  EXPECT_EQ(t, 4.0f);
+  EXPECT_TRUE(intersect_capsule(Ray{{-0.5f, -5, 0}, {0, 1, 0}, kInfinity}, a, b, 1, kInfinity, t));
+  EXPECT_FALSE(intersect_capsule(Ray{{-1.5f, -5, 0}, {0, 1, 0}, kInfinity}, a, b, 1, kInfinity, t));
+  // Non-finite rays and a zero direction never hit.
+  EXPECT_FALSE(intersect_capsule(Ray{{2, 0, 5}, {0, 0, 0}, kInfinity}, a, b, 1, kInfinity, t));
+  EXPECT_FALSE(intersect_capsule(Ray{{NAN, 0, 5}, {0, 0, -1}, kInfinity}, a, b, 1, kInfinity, t));
+  EXPECT_FALSE(
+      intersect_capsule(Ray{{2, 0, 5}, {0, kInfinity, -1}, kInfinity}, a, b, 1, kInfinity, t));
+  // The hit point's normal and place along the segment.
+  Vec3 perr, n;
+  float s;
+  const Vec3 p = capsule_point(Ray{{3, 0, 5}, {0, 0, -1}, kInfinity}, 4.0f, a, b, 1, perr, n, s);
+  EXPECT_EQ(p, Vec3(3, 0, 1));
+  EXPECT_EQ(n, Vec3(0, 0, 1));
+  EXPECT_EQ(s, 0.75f);
+  capsule_point(Ray{{-5, 0, 0}, {1, 0, 0}, kInfinity}, 4.0f, a, b, 1, perr, n, s);
+  EXPECT_EQ(n, Vec3(-1, 0, 0));
+  EXPECT_EQ(s, 0.0f);
 }
 
 // ---------------------------------------------------------------------------

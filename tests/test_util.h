@@ -158,6 +158,74 @@ inline bool ref_ray_sphere(const DVec3& o, const DVec3& d, const DVec3& c, doubl
   return true;
 }
 
+/// Long double vectors for the capsule references (64-bit significands: 40
+/// bits beyond float, room for the cancellations of the textbook formulas).
+using LDVec3 = glm::vec<3, long double>;
+inline LDVec3 to_ld(const Vec3& v) {
+  return LDVec3(v.x, v.y, v.z);
+}
+
+/// Distance from p to the segment a b, in long double.
+inline long double ref_segment_distance(const LDVec3& p, const LDVec3& a, const LDVec3& b) {
+  const LDVec3 e = b - a;
+  const long double ee = glm::dot(e, e);
+  const long double s = ee > 0 ? std::clamp(glm::dot(p - a, e) / ee, 0.0L, 1.0L) : 0.0L;
+  return glm::length(p - (a + s * e));
+}
+
+/// The interval [t_in, t_out] of the line o + t d in the capsule around the
+/// segment p0 p1 with radius r, in long double by the textbook formulas: the
+/// hull of the end balls' intervals and of the infinite cylinder's interval
+/// cut to the slab between the end planes. False when the line misses it.
+inline bool ref_capsule_interval(const LDVec3& o, const LDVec3& d, const LDVec3& p0,
+                                 const LDVec3& p1, long double r, long double& t_in,
+                                 long double& t_out) {
+  bool hit = false;
+  t_in = INFINITY;
+  t_out = -INFINITY;
+  auto take = [&](long double lo, long double hi) {
+    t_in = std::min(t_in, lo);
+    t_out = std::max(t_out, hi);
+    hit = true;
+  };
+  // Roots of |f + t v|^2 = r^2.
+  auto quadric = [&](const LDVec3& f, const LDVec3& v, long double& lo, long double& hi) {
+    const long double a = glm::dot(v, v), b = glm::dot(f, v), c = glm::dot(f, f) - r * r;
+    const long double disc = b * b - a * c;
+    if (!(a > 0) || disc < 0) return false;
+    lo = (-b - std::sqrt(disc)) / a;
+    hi = (-b + std::sqrt(disc)) / a;
+    return true;
+  };
+  long double lo, hi;
+  if (quadric(o - p0, d, lo, hi)) take(lo, hi);
+  if (quadric(o - p1, d, lo, hi)) take(lo, hi);
+  const LDVec3 e = p1 - p0;
+  const long double ee = glm::dot(e, e);
+  if (!(ee > 0)) return hit;
+  const LDVec3 f = o - p0;
+  const LDVec3 dp = d - (glm::dot(d, e) / ee) * e, fp = f - (glm::dot(f, e) / ee) * e;
+  long double c0 = -INFINITY, c1 = INFINITY;
+  if (glm::dot(dp, dp) > 0) {
+    if (!quadric(fp, dp, c0, c1)) return hit;
+  } else if (glm::dot(fp, fp) > r * r) {
+    return hit;
+  }
+  const long double de = glm::dot(d, e), fe = glm::dot(f, e);
+  long double s0 = -INFINITY, s1 = INFINITY;
+  if (de != 0) {
+    s0 = -fe / de;
+    s1 = (ee - fe) / de;
+    if (s0 > s1) std::swap(s0, s1);
+  } else if (fe < 0 || fe > ee) {
+    return hit;
+  }
+  lo = std::max(c0, s0);
+  hi = std::min(c1, s1);
+  if (lo <= hi) take(lo, hi);
+  return hit;
+}
+
 /// Componentwise |a - b| <= bound.
 inline bool within(const DVec3& a, const DVec3& b, const DVec3& bound) {
   DVec3 e = glm::abs(a - b);
