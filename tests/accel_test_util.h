@@ -128,13 +128,24 @@ struct BoxLeaves {
   }
 };
 
-/// The closest hit of a loop over every triangle, sphere and plane of a
-/// committed scene in order, with the tests' own range checks: a triangle at
-/// exactly the closest t so far replaces it (intersect_triangle accepts
-/// t == tmax), a sphere or plane does not. That loop defines the tie rule.
+/// Whether tube segment j of `ts` and point j of `ps` are traced (Scene::commit
+/// leaves the others out; test_invalid_input checks that rule).
+inline bool traced_segment(const rayscope::TubeSet& ts, size_t j) {
+  return ts.traced(j);
+}
+inline bool traced_point(const rayscope::PointSet& ps, size_t j) {
+  return ps.traced(j);
+}
+
+/// The closest hit of a loop over every triangle, tube segment, point, sphere
+/// and plane of a committed scene in order, with the tests' own range checks:
+/// a triangle at exactly the closest t so far replaces it (intersect_triangle
+/// accepts t == tmax), a segment, point, sphere or plane does not. That loop
+/// defines the tie rule.
 struct BruteHit {
   float t = rayscope::kInfinity;
-  uint32_t prim = ~0u;  ///< Global primitive index (triangles, then spheres).
+  /// Global primitive index (triangles, tube segments, points, spheres).
+  uint32_t prim = ~0u;
   int plane = -1;
   bool tie = false;  ///< Another primitive was hit at exactly the same t.
 };
@@ -157,9 +168,10 @@ inline BruteHit brute_force(const rayscope::Scene& s, const rayscope::Ray& ray) 
       }
       ++id;
     }
-  for (const rayscope::Sphere& sp : s.spheres) {
-    float ts;
-    if (intersect_sphere(ray, sp.center, sp.radius, next_float_up(tmax), ts)) {
+  // A segment, point or sphere hit at ts (tested up to tmax inclusive):
+  // closer, or a tie that the primitive found first keeps.
+  auto other = [&](bool hit, float ts) {
+    if (hit) {
       if (ts == tmax && best.prim != ~0u) {
         best.tie = true;
       } else if (ts < tmax) {
@@ -169,6 +181,28 @@ inline BruteHit brute_force(const rayscope::Scene& s, const rayscope::Ray& ray) 
       }
     }
     ++id;
+  };
+  for (const TubeSet& tubes : s.tubes)
+    for (size_t j = 0; j < tubes.segments.size(); ++j) {
+      float ts = 0.0f;
+      const bool hit = traced_segment(tubes, j) &&
+                       intersect_capsule(ray, tubes.positions[tubes.segments[j].x],
+                                         tubes.positions[tubes.segments[j].y],
+                                         tubes.segment_radius(j), next_float_up(tmax), ts);
+      other(hit, ts);
+    }
+  for (const PointSet& points : s.points)
+    for (size_t j = 0; j < points.positions.size(); ++j) {
+      float ts = 0.0f;
+      const bool hit = traced_point(points, j) &&
+                       intersect_sphere(ray, points.positions[j], points.point_radius(j),
+                                        next_float_up(tmax), ts);
+      other(hit, ts);
+    }
+  for (const rayscope::Sphere& sp : s.spheres) {
+    float ts = 0.0f;
+    const bool hit = intersect_sphere(ray, sp.center, sp.radius, next_float_up(tmax), ts);
+    other(hit, ts);
   }
   for (size_t k = 0; k < s.planes.size(); ++k) {
     float tp;
@@ -307,6 +341,74 @@ inline rayscope::Scene soup_scene(Rng& rng) {
   return scene;
 }
 
+/// Lines drawn as tubes and points drawn as spheres, with the ties they
+/// make: a helix polyline (radii per position, colors), a soup of 300 random
+/// segments of lengths 0 to 2 (some of length 0), two identical capsules (exact
+/// ties between them), a cloud of 300 points (radii per position), a point
+/// that is also a sphere and one at a capsule's end with its radius (exact
+/// ties between a point, a sphere and a capsule's cap), around a small mesh
+/// and a floor.
+inline rayscope::Scene tube_scene(Rng& rng) {
+  using namespace rayscope;
+  Scene scene;
+  scene.meshes.push_back(make_icosphere(Vec3(0.0f, 0.0f, 0.0f), 1.0f, 2));
+  TubeSet helix;
+  helix.name = "helix";
+  for (int i = 0; i <= 120; ++i) {
+    const double a = 0.15 * i;
+    helix.positions.push_back(to_f(DVec3(2.5 * std::cos(a), -3.0 + 0.05 * i, 2.5 * std::sin(a))));
+    helix.radii.push_back(float(0.1 + 0.1 * rng.uniform()));
+    helix.colors.push_back(Vec3(float(rng.uniform()), 0.5f, float(rng.uniform())));
+    if (i > 0) helix.segments.push_back({uint32_t(i - 1), uint32_t(i)});
+  }
+  scene.tubes.push_back(helix);
+  TubeSet soup;
+  soup.name = "segments";
+  soup.radius = 0.05f;
+  for (uint32_t i = 0; i < 300; ++i) {
+    const DVec3 c(rng.uniform(-6, 6), rng.uniform(-6, 6), rng.uniform(-6, 6));
+    const double len = i % 10 == 0 ? 0.0 : rng.log_uniform(0.01, 2);
+    soup.positions.push_back(to_f(c));
+    soup.positions.push_back(to_f(c + len * rng.unit_vector()));
+    soup.segments.push_back({2 * i, 2 * i + 1});
+  }
+  // The same capsule twice: every hit on it is an exact tie.
+  soup.positions.push_back(Vec3(-4, 4, -4));
+  soup.positions.push_back(Vec3(-2, 4.5f, -3));
+  soup.segments.push_back({600, 601});
+  soup.segments.push_back({600, 601});
+  scene.tubes.push_back(soup);
+  PointSet cloud;
+  cloud.name = "cloud";
+  for (int i = 0; i < 300; ++i) {
+    cloud.positions.push_back(
+        to_f(DVec3(rng.uniform(-6, 6), rng.uniform(-6, 6), rng.uniform(-6, 6))));
+    cloud.radii.push_back(rstest::round_f(rng.log_uniform(0.02, 0.3)));
+  }
+  // A point that is also a sphere, one at the twin capsules' end with their
+  // radius: ties between the kinds.
+  cloud.positions.push_back(Vec3(4, -4, 4));
+  cloud.radii.push_back(0.5f);
+  cloud.positions.push_back(Vec3(-4, 4, -4));
+  cloud.radii.push_back(0.05f);
+  scene.points.push_back(cloud);
+  scene.spheres.push_back(Sphere{"twin", Vec3(4, -4, 4), 0.5f, 0});
+  scene.planes.push_back(Plane{"floor", Vec3(0, -7, 0), Vec3(0, 1, 0), 0});
+  return scene;
+}
+
+/// Rays at the tube scene's ties: through the twin capsules, the point that
+/// is also a sphere and the point on the capsules' end, from all around.
+inline void add_tube_tie_rays(Rng& rng, std::vector<rayscope::Ray>& rays) {
+  using namespace rayscope;
+  const DVec3 targets[] = {{-3, 4.25, -3.5}, {4, -4, 4}, {-4, 4, -4}, {-2, 4.5, -3}};
+  for (const DVec3& t : targets)
+    for (int k = 0; k < 40; ++k) {
+      const Vec3 o = to_f(t + 6.0 * rng.unit_vector());
+      rays.push_back(Ray{o, to_f(t + 0.02 * rng.in_unit_ball() - to_d(o)), kInfinity});
+    }
+}
+
 // --- Adversarial rays shared by the structure tests ----------------------------
 
 /// A point uniformly inside `world`.
@@ -358,8 +460,9 @@ inline void add_plane_rays(Rng& rng, const rayscope::Bounds3& world, int axis, f
   rays.push_back(Ray{p, dp, kInfinity});
 }
 
-/// n rays starting inside `world`, every other one short (tmax below 2), and
-/// 20 rays tangent to each of the scene's spheres.
+/// n rays starting inside `world`, every other one short (tmax below 2), 20
+/// rays tangent to each of the scene's spheres, and 4 tangent to each of the
+/// first 200 traced tube segments (their sides and caps) and points.
 inline void add_inside_and_grazing_rays(Rng& rng, const rayscope::Scene& scene,
                                         const rayscope::Bounds3& world, int n,
                                         std::vector<rayscope::Ray>& rays) {
@@ -374,6 +477,44 @@ inline void add_inside_and_grazing_rays(Rng& rng, const rayscope::Scene& scene,
       const DVec3 t = glm::normalize(glm::cross(nrm, rng.unit_vector()));
       const DVec3 p = to_d(s.center) + double(s.radius) * nrm;
       rays.push_back(Ray{to_f(p - 5.0 * t), to_f(t), kInfinity});
+    }
+  // A ray in the tangent plane at a point of a capsule's surface (its
+  // normal there is nrm), through that point.
+  auto tangent_rays = [&](const DVec3& p, const DVec3& nrm, double r) {
+    const DVec3 t = glm::normalize(glm::cross(nrm, rng.unit_vector()));
+    rays.push_back(Ray{to_f(p - 5.0 * r * t), to_f(t), kInfinity});
+  };
+  int budget = 200;
+  for (const TubeSet& ts : scene.tubes)
+    for (size_t j = 0; j < ts.segments.size() && budget > 0; ++j) {
+      if (!traced_segment(ts, j)) continue;
+      --budget;
+      const DVec3 a = to_d(ts.positions[ts.segments[j].x]);
+      const DVec3 b = to_d(ts.positions[ts.segments[j].y]);
+      const double r = ts.segment_radius(j);
+      const DVec3 axis = b - a;
+      for (int k = 0; k < 4; ++k) {
+        DVec3 nrm = rng.unit_vector();
+        DVec3 base = k < 2 ? a : b;  // caps: the ends' balls beyond their planes
+        if (glm::dot(axis, axis) > 0.0) {
+          const DVec3 u = glm::normalize(axis);
+          if (k % 2 == 0) {  // the side: a normal across the axis, a point along it
+            nrm = glm::normalize(nrm - glm::dot(nrm, u) * u);
+            base = a + rng.uniform() * axis;
+          } else if ((glm::dot(nrm, u) > 0.0) == (k < 2)) {
+            nrm = -nrm;
+          }
+        }
+        tangent_rays(base + r * nrm, nrm, r);
+      }
+    }
+  for (const PointSet& ps : scene.points)
+    for (size_t j = 0; j < ps.positions.size() && budget > 0; ++j) {
+      if (!traced_point(ps, j)) continue;
+      --budget;
+      const DVec3 nrm = rng.unit_vector();
+      tangent_rays(to_d(ps.positions[j]) + double(ps.point_radius(j)) * nrm, nrm,
+                   ps.point_radius(j));
     }
 }
 
@@ -554,12 +695,24 @@ inline bool flat_view(const rayscope::AccelView& v) {
   return v.depth == 2 && !v.nodes.empty() && v.nodes.back().parent == -1;
 }
 
-/// The bounds of a scene's bounded primitives (finite triangle corners, spheres).
+/// The bounds of a scene's bounded primitives (finite triangle corners, traced
+/// tube segments and points, spheres).
 inline rayscope::Bounds3 scene_bounds(const rayscope::Scene& scene) {
   rayscope::Bounds3 b;
   for (const rayscope::TriangleMesh& m : scene.meshes)
     for (const rayscope::Vec3& p : m.positions)
       if (rayscope::all_finite(p)) b.extend(p);
+  for (const rayscope::TubeSet& ts : scene.tubes)
+    for (size_t j = 0; j < ts.segments.size(); ++j)
+      if (traced_segment(ts, j))
+        b.extend(rayscope::capsule_bounds(ts.positions[ts.segments[j].x],
+                                          ts.positions[ts.segments[j].y], ts.segment_radius(j)));
+  for (const rayscope::PointSet& ps : scene.points)
+    for (size_t j = 0; j < ps.positions.size(); ++j)
+      if (traced_point(ps, j)) {
+        b.extend(ps.positions[j] - rayscope::Vec3(ps.point_radius(j)));
+        b.extend(ps.positions[j] + rayscope::Vec3(ps.point_radius(j)));
+      }
   for (const rayscope::Sphere& s : scene.spheres) {
     b.extend(s.center - rayscope::Vec3(s.radius));
     b.extend(s.center + rayscope::Vec3(s.radius));
@@ -691,8 +844,9 @@ inline ::testing::AssertionResult same_image(const rayscope::Framebuffer& a,
 }
 
 // --- Range queries against brute force ----------------------------------------
-// Brute force: a loop over the scene's objects (triangles mesh by mesh, then
-// spheres: global primitive indices; then planes), with the exact tests.
+// Brute force: a loop over the scene's objects (triangles mesh by mesh, tube
+// segments, points, then spheres: global primitive indices; then planes),
+// with the exact tests.
 
 inline std::vector<rayscope::RangeHit> brute_box(const rayscope::Scene& s,
                                                  const rayscope::Bounds3& bx) {
@@ -705,6 +859,16 @@ inline std::vector<rayscope::RangeHit> brute_box(const rayscope::Scene& s,
         out.push_back({id, -1, 0.0f});
       ++id;
     }
+  for (const TubeSet& ts : s.tubes)
+    for (size_t j = 0; j < ts.segments.size(); ++j, ++id)
+      if (traced_segment(ts, j) &&
+          capsule_overlaps_box(ts.positions[ts.segments[j].x], ts.positions[ts.segments[j].y],
+                               ts.segment_radius(j), bx))
+        out.push_back({id, -1, 0.0f});
+  for (const PointSet& ps : s.points)
+    for (size_t j = 0; j < ps.positions.size(); ++j, ++id)
+      if (traced_point(ps, j) && sphere_overlaps_box(ps.positions[j], ps.point_radius(j), bx))
+        out.push_back({id, -1, 0.0f});
   for (const Sphere& sp : s.spheres) {
     if (sphere_overlaps_box(sp.center, sp.radius, bx)) out.push_back({id, -1, 0.0f});
     ++id;
@@ -727,6 +891,17 @@ inline std::vector<rayscope::RangeHit> brute_distances(const rayscope::Scene& s,
       out.push_back(
           {id++, -1,
            point_triangle_distance(p, m.positions[t.x], m.positions[t.y], m.positions[t.z])});
+  for (const TubeSet& ts : s.tubes)
+    for (size_t j = 0; j < ts.segments.size(); ++j, ++id)
+      if (traced_segment(ts, j))
+        out.push_back(
+            {id, -1,
+             point_capsule_distance(p, ts.positions[ts.segments[j].x],
+                                    ts.positions[ts.segments[j].y], ts.segment_radius(j))});
+  for (const PointSet& ps : s.points)
+    for (size_t j = 0; j < ps.positions.size(); ++j, ++id)
+      if (traced_point(ps, j))
+        out.push_back({id, -1, point_sphere_distance(p, ps.positions[j], ps.point_radius(j))});
   for (const Sphere& sp : s.spheres)
     out.push_back({id++, -1, point_sphere_distance(p, sp.center, sp.radius)});
   const std::vector<PlaneRecord>& planes = s.accel().plane_records();  // unit normals
@@ -780,6 +955,15 @@ inline RangeQueries make_range_queries(Rng& rng, const rayscope::Scene& scene, i
       world.extend(p);
       vertices.push_back(p);
     }
+  // Tube ends and points are the "vertices" of those sets: a box or range at
+  // one touches the primitives there.
+  for (const TubeSet& ts : scene.tubes)
+    for (const Vec3& p : ts.positions)
+      if (all_finite(p)) vertices.push_back(p);
+  for (const PointSet& ps : scene.points)
+    for (const Vec3& p : ps.positions)
+      if (all_finite(p)) vertices.push_back(p);
+  world.extend(scene_bounds(scene));
   for (const Sphere& s : scene.spheres) {
     world.extend(s.center - Vec3(s.radius));
     world.extend(s.center + Vec3(s.radius));

@@ -389,6 +389,50 @@ TEST_P(AccelConformance, RangeQueriesMatchBruteForce) {
   }
 }
 
+TEST_P(AccelConformance, TubesAndPointsMatchBruteForce) {
+  // Capsules (tube segments) and balls (points) beside triangles, spheres and
+  // a plane: every structure finds brute force's hit bit for bit, ties
+  // between capsules, points and spheres included, and the BVH's.
+  Rng rng(57);
+  Scene scene = rstest::tube_scene(rng);
+  commit(scene);
+  std::vector<Ray> rays = rstest::adversarial_rays(rng, scene);
+  rstest::add_tube_tie_rays(rng, rays);
+  rstest::add_random_rays(rng, scene, rstest::scene_bounds(scene),
+                          int(rstest::stress_scaled(10000)), rays);
+  const std::vector<PrimHit> hits =
+      rstest::check_queries(scene, rays, (name() + ": tubes and points").c_str(), 20);
+  if (HasFailure()) return;
+  // Some of the hits are on each kind.
+  size_t on_tubes = 0, on_points = 0;
+  for (const PrimHit& h : hits)
+    if (h.plane < 0 && h.prim != ~0u) {
+      const ObjectType type = scene.object_type(scene.prim_object(h.prim));
+      on_tubes += type == ObjectType::Tubes;
+      on_points += type == ObjectType::Points;
+    }
+  EXPECT_GT(on_tubes, rays.size() / 50) << name();
+  EXPECT_GT(on_points, rays.size() / 50) << name();
+  scene.commit();
+  for (size_t i = 0; i < rays.size(); ++i) {
+    PrimHit h;
+    scene.intersect(rays[i], h);
+    ASSERT_TRUE(rstest::same_bits(h, hits[i])) << name() << ": not the BVH's hit, ray " << i;
+  }
+}
+
+TEST_P(AccelConformance, RangeQueriesOnTubesAndPointsMatchBruteForce) {
+  Rng rng(58);
+  Scene scene = rstest::tube_scene(rng);
+  commit(scene);
+  rstest::RangeQueries q = rstest::make_range_queries(rng, scene, 20);
+  // At the twin capsules' shared end, which a point touches too.
+  q.knn.push_back({Vec3(-4, 4, -4), 4});
+  q.spheres.push_back({Vec3(-4, 4, -4), 0.0f});
+  q.boxes.push_back(Bounds3(Vec3(-4, 4.05f, -4)));
+  rstest::check_range_queries(scene, q, name() + ", tubes and points");
+}
+
 TEST_P(AccelConformance, RangeQueriesOnAMeshMatchBruteForce) {
   Scene scene = rstest::lumpy_scene();
   commit(scene);

@@ -55,7 +55,7 @@ double signed_distance(const BspNode& n, const DVec3& p) {
 
 // Lowest and highest signed distance of a whole primitive from a node's plane.
 void extent(const BspNode& n, const BspPrim& q, double& lo, double& hi) {
-  if (q.sphere) {
+  if (q.round) {
     const double c = signed_distance(n, to_d(q.a)),
                  r = double(q.radius) * glm::length(to_d(n.normal));
     lo = c - r;
@@ -138,7 +138,7 @@ void check_invariants(const BspTree& t, const std::vector<BspPrim>& prims) {
         const BspFragment& f = t.fragments[k];
         ASSERT_EQ(f.prim, p);
         pieces[p]++;
-        if (prims[p].sphere) {
+        if (prims[p].round) {
           EXPECT_EQ(f.count, 0u);
           continue;
         }
@@ -174,7 +174,7 @@ void check_invariants(const BspTree& t, const std::vector<BspPrim>& prims) {
           extent(n, prims[p], lo, hi);
           EXPECT_TRUE(lo <= tol && hi >= -tol) << "node " << i << " holds a non-straddler";
         }
-      } else if (t.storage() == PrimStorage::Split && prims[p].sphere && n.is_leaf()) {
+      } else if (t.storage() == PrimStorage::Split && prims[p].round && n.is_leaf()) {
         ASSERT_EQ(bool(here[p]), inside) << "leaf " << i << ", sphere " << p;
       }
     }
@@ -184,7 +184,7 @@ void check_invariants(const BspTree& t, const std::vector<BspPrim>& prims) {
       ASSERT_EQ(held[p], 1) << "prim " << p;
     }
     ASSERT_GE(held[p], 1) << "prim " << p;
-    if (t.storage() != PrimStorage::Split || prims[p].sphere) continue;
+    if (t.storage() != PrimStorage::Split || prims[p].round) continue;
     // Each fragment's area is off by at most its perimeter times the
     // rounding of its vertices; the fragments' perimeters add up to at most
     // the triangle's plus twice each cut (at most the triangle's diameter).

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -186,6 +187,103 @@ TEST(InvalidInput, NonFiniteSpheresPlanesLightsAndCameraAreErrors) {
   s = make_default_scene();
   s.camera.eye.z = kNaN;
   EXPECT_THROW(render_scene(s, 8, 8, 1), std::invalid_argument);
+}
+
+TEST(InvalidInput, TubesAndPointsSkipBadPositionsAndRadiiAndRefuseBadSets) {
+  // Per-position data (from files: one bad value should not cost the
+  // picture) is skipped and reported; what whoever built the scene got wrong
+  // (sizes, indices, the one radius, a set with nothing left) is an error
+  // naming the set.
+  Scene base = mesh_scene(make_icosphere(Vec3(0.0f), 0.5f, 2));
+  TubeSet tubes;
+  tubes.name = "lines";
+  for (int i = 0; i < 6; ++i) tubes.positions.push_back(Vec3(float(i) - 2.5f, 1.0f, 0.0f));
+  for (uint32_t i = 0; i + 1 < 6; ++i) tubes.segments.push_back({i, i + 1});
+  tubes.radii = {0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.1f};
+  tubes.colors.assign(6, Color(1.0f, 0.0f, 0.0f));
+  PointSet points;
+  points.name = "dots";
+  for (int i = 0; i < 5; ++i) points.positions.push_back(Vec3(float(i) - 2.0f, -1.0f, 0.0f));
+  points.radius = 0.2f;
+  points.colors.assign(5, Color(0.0f, 1.0f, 0.0f));
+
+  Scene s = base;
+  s.tubes = {tubes};
+  s.points = {points};
+  s.tubes[0].positions[1].y = kNaN;        // segments 0 and 1
+  s.tubes[0].radii[4] = -1.0f;             // segments 3 and 4 (a mean of 0.1 and -1 is < 0,
+  s.tubes[0].radii[5] = 3.0f;              // of -1 and 3 is 1, but -1 is no radius)
+  s.tubes[0].colors[3] = Color(kNaN);      // reported, the material color used
+  s.points[0].positions[2].z = kInfinity;  // point 2
+  s.commit();
+  EXPECT_EQ(s.summary().skipped_segments, 4u);  // 0, 1, 3, 4
+  EXPECT_EQ(s.summary().tube_segments, 1u);     // 2
+  EXPECT_EQ(s.summary().skipped_points, 1u);
+  EXPECT_EQ(s.summary().points, 4u);
+  EXPECT_EQ(s.summary().nonfinite_colors, 1u);
+  EXPECT_TRUE(any_warning_contains(s.summary(),
+                                   "tubes 'lines': 4 segments with a non-finite end "
+                                   "or an end's radius not finite and > 0 skipped"));
+  EXPECT_TRUE(any_warning_contains(s.summary(),
+                                   "points 'dots': 1 points with a non-finite "
+                                   "position or a radius not finite and > 0 skipped"));
+  EXPECT_TRUE(any_warning_contains(s.summary(), "tubes 'lines': 1 colors are not finite"));
+  // No hit on what was skipped, every hit finite.
+  Rng rng(32);
+  const Bounds3 world(Vec3(-4.0f), Vec3(4.0f));
+  int tube_hits = 0;
+  for (int i = 0; i < 20000; ++i) {
+    SurfaceHit h;
+    if (!s.intersect(rstest::random_ray(rng, world, {}), h)) continue;
+    ASSERT_TRUE(std::isfinite(h.t) && all_finite(h.p) && all_finite(h.ng));
+    if (s.object_type(h.object) == ObjectType::Tubes) {
+      ++tube_hits;
+      ASSERT_EQ(h.prim, 2u) << "hit a skipped segment";
+      if (h.has_vertex_color) {
+        ASSERT_TRUE(finite_color(h.vertex_color));
+      }
+    }
+    if (s.object_type(h.object) == ObjectType::Points) {
+      ASSERT_NE(h.prim, 2u);
+    }
+  }
+  EXPECT_GT(tube_hits, 0);
+  EXPECT_EQ(count_nonfinite(render_scene(s, 48, 32, 1)), 0u);
+
+  auto commit_error = [&](const std::function<void(Scene&)>& change) -> std::string {
+    Scene bad = base;
+    bad.tubes = {tubes};
+    bad.points = {points};
+    change(bad);
+    try {
+      bad.commit();
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(commit_error([](Scene& b) { b.tubes[0].segments[2].y = 6; }),
+            "tubes 'lines': position index out of range");
+  EXPECT_EQ(commit_error([](Scene& b) { b.tubes[0].radii.pop_back(); }),
+            "tubes 'lines': radii must match positions");
+  EXPECT_EQ(commit_error([](Scene& b) { b.points[0].colors.push_back(Color(0.0f)); }),
+            "points 'dots': colors must match positions");
+  EXPECT_EQ(commit_error([](Scene& b) { b.points[0].radius = 0.0f; }),
+            "points 'dots': radius must be finite and > 0");
+  EXPECT_EQ(commit_error([](Scene& b) {
+              b.tubes[0].radii.clear();
+              b.tubes[0].radius = kNaN;
+            }),
+            "tubes 'lines': radius must be finite and > 0");
+  EXPECT_EQ(commit_error([](Scene& b) { b.tubes[0].material = 9; }),
+            "tubes 'lines': material index 9 out of range");
+  EXPECT_EQ(
+      commit_error([](Scene& b) { b.points[0].radii.assign(5, kInfinity); }),
+      "points 'dots': all 5 points have a non-finite position or a radius not finite and > 0");
+  // The one radius is not checked when radii are given, nor is a set without
+  // segments an error (nothing to trace, nothing drawn).
+  EXPECT_EQ(commit_error([](Scene& b) { b.tubes[0].radius = kNaN; }), "");
+  EXPECT_EQ(commit_error([](Scene& b) { b.tubes[0].segments.clear(); }), "");
 }
 
 TEST(InvalidInput, RaysWithNaNInfiniteOrZeroComponentsNeverHit) {

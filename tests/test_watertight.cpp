@@ -25,6 +25,10 @@
 // WatertightUnwelded: an icosphere whose triangles each have their own
 // vertices (as STL files store them), with zero-area triangles inside: no ray
 // escapes, none hits a zero-area triangle.
+// WatertightTubes: polylines drawn as tubes (capsules) with bends up to
+// nearly back on themselves, equal and varying radii, near and far from the
+// origin: rays aimed at the joints and at the circles where a capsule's side
+// meets its caps never slip through, from outside or from inside.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -626,3 +630,125 @@ TEST(WatertightEdgeFunctions, ZeroInFloatIsDecidedExactly) {
       intersect_triangle(Ray{Vec3(0.0f), Vec3(0.0f, 0.0f, 1.0f), kInfinity}, p0, p1, p2, h))
       << "t=" << h.t;
 }
+
+// ---------------------------------------------------------------------------
+// Tubes
+
+namespace {
+
+struct TubeConfig {
+  double center;    ///< The polyline starts at (center, center, center).
+  double size;      ///< Segment lengths are 0.5..2 times this.
+  bool vary_radii;  ///< Radii per position (a step at every joint) or one radius.
+  AccelKind kind;
+};
+
+class WatertightTubes : public ::testing::TestWithParam<TubeConfig> {};
+
+// A polyline of 40 segments turning by 0..175 degrees at each joint, drawn
+// with radius 0.1..0.4 times the size. Targets, rounded to float and kept
+// when they lie inside some capsule by at least 1e-9 of its radius (in long
+// double): each joint (a float point on both segments' axes), points just
+// inside the joint's ball, and points just inside each end circle of each
+// capsule (its side meets its cap there). Every ray from outside aimed at a
+// target must hit at or before it (t <= 1 + 1e-4: a ray that slipped in at
+// the target's surface would exit on the far side, a chord later); every ray
+// from a target must hit (it starts inside the tube).
+TEST_P(WatertightTubes, RaysAtJointsAndSeamsNeverSlipThrough) {
+  const TubeConfig& c = GetParam();
+  Rng rng(uint32_t(81 + 7 * int(c.kind)) + (c.vary_radii ? 1000u : 0u));
+  TubeSet tubes;
+  tubes.name = "polyline";
+  tubes.radius = rstest::round_f(0.25 * c.size);
+  DVec3 p(c.center), dir = rng.unit_vector();
+  for (int i = 0; i <= 40; ++i) {
+    tubes.positions.push_back(to_f(p));
+    tubes.radii.push_back(rstest::round_f(c.size * rng.uniform(0.1, 0.4)));
+    if (i > 0) tubes.segments.push_back({uint32_t(i - 1), uint32_t(i)});
+    // Turn by up to 175 degrees: a random direction, not straight back.
+    DVec3 next;
+    do {
+      next = rng.unit_vector();
+    } while (glm::dot(next, dir) < std::cos(glm::radians(175.0)));
+    dir = next;
+    p = to_d(tubes.positions.back()) + c.size * rng.uniform(0.5, 2.0) * dir;
+  }
+  if (!c.vary_radii) tubes.radii.clear();
+  Scene scene;
+  scene.tubes = {tubes};
+  AccelConfig config;
+  config.kind = c.kind;
+  scene.commit(config);
+  ASSERT_EQ(scene.summary().tube_segments, 40u);
+  const TubeSet& t = scene.tubes[0];
+  using rstest::LDVec3;
+  using rstest::to_ld;
+  // How deep q lies inside the tube (> 0: inside), relative to the radius of
+  // the capsule it is deepest in.
+  auto depth = [&](const Vec3& q) {
+    long double best = -INFINITY;
+    for (size_t j = 0; j < t.segments.size(); ++j) {
+      const long double r = t.segment_radius(j);
+      const long double d = rstest::ref_segment_distance(
+          to_ld(q), to_ld(t.positions[t.segments[j].x]), to_ld(t.positions[t.segments[j].y]));
+      best = std::max(best, (r - d) / r);
+    }
+    return best;
+  };
+  std::vector<Vec3> targets;
+  auto add = [&](const DVec3& q) {
+    const Vec3 f = to_f(q);
+    if (depth(f) >= 1e-9L) targets.push_back(f);
+  };
+  for (size_t j = 0; j < t.segments.size(); ++j) {
+    const DVec3 a = to_d(t.positions[t.segments[j].x]), b = to_d(t.positions[t.segments[j].y]);
+    const double r = t.segment_radius(j);
+    const DVec3 u = glm::normalize(b - a);
+    targets.push_back(t.positions[t.segments[j].x]);  // the joint itself
+    for (int k = 0; k < 8; ++k) {
+      add(a + r * (1.0 - rng.log_uniform(1e-6, 1e-2)) * rng.unit_vector());  // the joint's ball
+      DVec3 across = rng.unit_vector();
+      across = glm::normalize(across - glm::dot(across, u) * u);
+      const double in = 1.0 - rng.log_uniform(1e-6, 1e-2);
+      add(a + r * in * across);  // the end circles
+      add(b + r * in * across);
+    }
+  }
+  size_t rays = 0, slipped = 0, escaped = 0;
+  std::string first;
+  for (const Vec3& q : targets)
+    for (int k = 0; k < 4; ++k) {
+      const Vec3 o = to_f(to_d(q) + c.size * rng.log_uniform(3, 30) * rng.unit_vector());
+      if (depth(o) > 0.0L) continue;
+      const Vec3 d = q - o;
+      SurfaceHit hit;
+      ++rays;
+      if (!scene.intersect(Ray{o, d, kInfinity}, hit) || !(hit.t <= 1.0f + 1e-4f) ||
+          !scene.occluded(Ray{o, d, kInfinity})) {
+        if (++slipped == 1)
+          first = "from outside through " + ::testing::PrintToString(q) + ", hit t " +
+                  std::to_string(hit.t);
+      }
+      const Vec3 w = to_f(rng.unit_vector());
+      if (!scene.intersect(Ray{q, w, kInfinity}, hit) || !scene.occluded(Ray{q, w, kInfinity})) {
+        if (++escaped == 1) first = "from inside at " + ::testing::PrintToString(q);
+      }
+    }
+  std::printf(
+      "%s, tubes at %g, size %g, %s: %zu targets, %zu rays, %zu slipped through, %zu escaped\n",
+      to_string(c.kind), c.center, c.size, c.vary_radii ? "radii per position" : "one radius",
+      targets.size(), rays, slipped, escaped);
+  EXPECT_GT(targets.size(), 40u * 12);
+  EXPECT_EQ(slipped, 0u) << first;
+  EXPECT_EQ(escaped, 0u) << first;
+}
+
+INSTANTIATE_TEST_SUITE_P(Tubes, WatertightTubes,
+                         ::testing::Values(TubeConfig{0.0, 1.0, false, AccelKind::Bvh},
+                                           TubeConfig{0.0, 1.0, true, AccelKind::Bvh},
+                                           TubeConfig{0.0, 1e-4, true, AccelKind::None},
+                                           TubeConfig{1e3, 1.0, true, AccelKind::Grid},
+                                           TubeConfig{1e5, 100.0, true, AccelKind::Bvh},
+                                           TubeConfig{1e5, 1.0, false, AccelKind::Bvh}));
+
+}  // namespace

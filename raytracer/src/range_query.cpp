@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "rayscope/intersect_capsule.h"
 #include "rayscope/render_settings.h"
 
 namespace rayscope {
@@ -85,6 +86,12 @@ float point_sphere_distance(const Vec3& p, const Vec3& center, float radius) {
   return std::max(exact, point_box_distance(p, sphere_bounds(center, radius)));
 }
 
+float point_capsule_distance(const Vec3& p, const Vec3& p0, const Vec3& p1, float radius) {
+  const double exact =
+      std::max(0.0, segment_distance(DVec3(p), DVec3(p0), DVec3(p1)) - double(radius));
+  return std::max(float(exact), point_box_distance(p, capsule_bounds(p0, p1, radius)));
+}
+
 float point_plane_distance(const Vec3& p, const Vec3& point, const Vec3& normal) {
   return float(std::abs(glm::dot(DVec3(p) - DVec3(point), DVec3(normal))));
 }
@@ -149,6 +156,60 @@ bool sphere_overlaps_box(const Vec3& center, float radius, const Bounds3& box) {
     d2 += gap * gap;
   }
   return d2 <= double(radius) * double(radius);
+}
+
+bool capsule_overlaps_box(const Vec3& p0f, const Vec3& p1f, float radius, const Bounds3& box) {
+  const Bounds3 b = capsule_bounds(p0f, p1f, radius);
+  for (int i = 0; i < 3; ++i)
+    if (b.hi[i] < box.lo[i] || b.lo[i] > box.hi[i]) return false;
+  // The squared distance from x(s) = p0 + s e to the box, s in [0, 1], is a
+  // sum of squared gaps, each 0 inside the box's slab and linear outside it:
+  // a convex quadratic between the s where a coordinate crosses a slab plane.
+  const DVec3 p0(p0f), e = DVec3(p1f) - p0;
+  const double r2 = double(radius) * double(radius);
+  double cuts[8] = {0.0, 1.0};
+  int n = 2;
+  for (int i = 0; i < 3; ++i) {
+    if (e[i] == 0.0) continue;
+    for (const float plane : {box.lo[i], box.hi[i]}) {
+      const double s = (double(plane) - p0[i]) / e[i];
+      if (s > 0.0 && s < 1.0) cuts[n++] = s;
+    }
+  }
+  std::sort(cuts, cuts + n);
+  auto gap = [&](int i, double x) {
+    return x < box.lo[i] ? double(box.lo[i]) - x : (x > box.hi[i] ? x - double(box.hi[i]) : 0.0);
+  };
+  auto dist2 = [&](double s) {
+    double d2 = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      // The ends exactly (x = p0 or p1 in float), the rest through e.
+      const double x = s == 0.0 ? p0[i] : (s == 1.0 ? double(p1f[i]) : p0[i] + s * e[i]);
+      const double g = gap(i, x);
+      d2 += g * g;
+    }
+    return d2;
+  };
+  for (int k = 0; k + 1 < n; ++k) {
+    const double s0 = cuts[k], s1 = cuts[k + 1];
+    // Which side of each slab the piece lies on (from its middle), then the
+    // quadratic's minimum sum (g_i + s h_i)^2 over the piece.
+    const double mid = 0.5 * (s0 + s1);
+    double num = 0.0, den = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const double x = p0[i] + mid * e[i];
+      if (x < box.lo[i]) {
+        num += (double(box.lo[i]) - p0[i]) * -e[i];
+        den += e[i] * e[i];
+      } else if (x > box.hi[i]) {
+        num += (p0[i] - double(box.hi[i])) * e[i];
+        den += e[i] * e[i];
+      }
+    }
+    const double s = den > 0.0 ? std::clamp(-num / den, s0, s1) : s0;
+    if (dist2(s) <= r2 || dist2(s0) <= r2 || dist2(s1) <= r2) return true;
+  }
+  return false;
 }
 
 bool plane_overlaps_box(const Vec3& point, const Vec3& normal, const Bounds3& box) {

@@ -39,6 +39,10 @@ const char* object_kind(const Scene& s, uint32_t o) {
   switch (s.object_type(o)) {
     case ObjectType::Mesh:
       return "mesh";
+    case ObjectType::Tubes:
+      return "tubes";
+    case ObjectType::Points:
+      return "points";
     case ObjectType::Sphere:
       return "sphere";
     case ObjectType::Plane:
@@ -69,8 +73,24 @@ void text_ray(const PixelRecord& rec, const Scene& s, int id, int indent, std::s
   } else if (r.skipped) {
     line += fmt("  skipped (%s)", to_string(r.skip_reason));
   } else if (r.hit) {
-    line += fmt("  hit \"%s\" (%s", s.object_name(r.object).c_str(), object_kind(s, r.object));
-    if (s.object_type(r.object) == ObjectType::Mesh) line += fmt(" triangle %u", r.prim);
+    // What was hit within its object: "mesh triangle 5", "tube segment 28"
+    // (of a tube set), "point 16" (of a point set), "sphere", "plane".
+    line += fmt("  hit \"%s\" (", s.object_name(r.object).c_str());
+    switch (s.object_type(r.object)) {
+      case ObjectType::Mesh:
+        line += fmt("mesh triangle %u", r.prim);
+        break;
+      case ObjectType::Tubes:
+        line += fmt("tube segment %u", r.prim);
+        break;
+      case ObjectType::Points:
+        line += fmt("point %u", r.prim);
+        break;
+      case ObjectType::Sphere:
+      case ObjectType::Plane:
+        line += object_kind(s, r.object);
+        break;
+    }
     line += fmt(", material \"%s\") t=%.5g", s.materials[r.material].name.c_str(), r.t);
     line += "\n" + pad + "   at " + world(s, r.point) + "  normal " + v3(r.ns);
     if (r.ns != r.ng) line += "  geometric " + v3(r.ng);
@@ -119,7 +139,7 @@ std::string walk_legend(const Scene& s) {
     legend +=
         "  nodes visited = nodes entered, in order; boxes tested = boxes tested against the "
         "ray,\n  hit or missed (the root's, then every child box of each node entered, so more "
-        "boxes\n  than nodes); primitives tested = triangles and spheres in the leaves entered;"
+        "boxes\n  than nodes); primitives tested = the primitives in the leaves entered;"
         "\n  culled = boxes hit but skipped because a closer hit was found first (early "
         "termination);\n  hit in leaf = the leaf holding the primitive hit\n";
   return legend + kLocalLegend;
@@ -191,6 +211,7 @@ std::string format_json(const PixelRecord& rec, const Scene& s, int indent) {
       if (r.occluded) {
         j["occluder"] = r.occluder;
         j["occluder_name"] = s.object_name(r.occluder);
+        j["occluder_type"] = object_kind(s, r.occluder);
       }
     } else {
       j["hit"] = r.hit;
@@ -201,6 +222,7 @@ std::string format_json(const PixelRecord& rec, const Scene& s, int indent) {
         j["shading_normal"] = jv(r.ns);
         j["object"] = r.object;
         j["object_name"] = s.object_name(r.object);
+        j["object_type"] = object_kind(s, r.object);
         j["primitive"] = r.prim;
         j["material"] = s.materials[r.material].name;
         json lights = json::array();

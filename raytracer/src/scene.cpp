@@ -18,8 +18,15 @@ void Scene::commit(const AccelConfig& config) {
       throw std::invalid_argument(what + ": material index " + std::to_string(m) + " out of range");
   };
   summary_ = SceneSummary{};
-  tri_offsets_.clear();
-  uint32_t ntri = 0;
+  prim_offsets_.clear();
+  // Global primitive indices are 32-bit; the last one is ~0u's neighbour.
+  size_t count = 0;
+  auto add_prims = [&](size_t n) {
+    prim_offsets_.push_back(uint32_t(count));
+    count += n;
+    if (count > size_t(~0u) - 1)
+      throw std::invalid_argument("the scene has more than 2^32 - 2 primitives");
+  };
   for (const TriangleMesh& m : meshes) {
     check_material(m.material, "mesh '" + m.name + "'");
     if (!m.normals.empty() && m.normals.size() != m.positions.size())
@@ -29,11 +36,40 @@ void Scene::commit(const AccelConfig& config) {
     for (const glm::uvec3& t : m.triangles)
       if (t.x >= m.positions.size() || t.y >= m.positions.size() || t.z >= m.positions.size())
         throw std::invalid_argument("mesh '" + m.name + "': vertex index out of range");
-    tri_offsets_.push_back(ntri);
-    ntri += uint32_t(m.triangles.size());
+    add_prims(m.triangles.size());
   }
-  tri_offsets_.push_back(ntri);
+  const uint32_t ntri = uint32_t(count);
   num_triangles_ = ntri;
+  // Per-position arrays and the one radius of a set without radii: wrong
+  // sizes and a radius no segment could have are errors in whatever built
+  // the scene, not in the data.
+  auto check_set = [&](const std::string& what, size_t positions, size_t radii, float radius,
+                       size_t colors, uint32_t material) {
+    check_material(material, what);
+    if (radii != 0 && radii != positions)
+      throw std::invalid_argument(what + ": radii must match positions");
+    if (colors != 0 && colors != positions)
+      throw std::invalid_argument(what + ": colors must match positions");
+    if (radii == 0 && (!std::isfinite(radius) || !(radius > 0.0f)))
+      throw std::invalid_argument(what + ": radius must be finite and > 0");
+  };
+  for (const TubeSet& ts : tubes) {
+    const std::string what = "tubes '" + ts.name + "'";
+    check_set(what, ts.positions.size(), ts.radii.size(), ts.radius, ts.colors.size(), ts.material);
+    for (const glm::uvec2& sg : ts.segments)
+      if (sg.x >= ts.positions.size() || sg.y >= ts.positions.size())
+        throw std::invalid_argument(what + ": position index out of range");
+    add_prims(ts.segments.size());
+  }
+  for (const PointSet& ps : points) {
+    check_set("points '" + ps.name + "'", ps.positions.size(), ps.radii.size(), ps.radius,
+              ps.colors.size(), ps.material);
+    add_prims(ps.positions.size());
+  }
+  sphere_base_ = uint32_t(count);
+  prim_offsets_.push_back(sphere_base_);
+  if (count + spheres.size() > size_t(~0u) - 1)
+    throw std::invalid_argument("the scene has more than 2^32 - 2 primitives");
   for (const Sphere& s : spheres) {
     check_material(s.material, "sphere '" + s.name + "'");
     if (!all_finite(s.center) || !std::isfinite(s.radius) || !(s.radius > 0.0f))
@@ -55,11 +91,18 @@ void Scene::commit(const AccelConfig& config) {
   std::vector<Bounds3> bounds;
   std::vector<Vec3> centroids;
   std::vector<uint32_t> ids;
-  reserve_huge(bounds, ntri + spheres.size());
-  reserve_huge(centroids, ntri + spheres.size());
-  reserve_huge(ids, ntri + spheres.size());
+  reserve_huge(bounds, count + spheres.size());
+  reserve_huge(centroids, count + spheres.size());
+  reserve_huge(ids, count + spheres.size());
+  auto warn_about = [&](const std::string& object, size_t n, const std::string& what) {
+    if (n) summary_.warnings.push_back(object + ": " + std::to_string(n) + " " + what);
+  };
   auto warn = [&](const TriangleMesh& m, size_t n, const std::string& what) {
-    if (n) summary_.warnings.push_back("mesh '" + m.name + "': " + std::to_string(n) + " " + what);
+    warn_about("mesh '" + m.name + "'", n, what);
+  };
+  auto count_nonfinite = [](const std::vector<Color>& colors) {
+    return size_t(
+        std::count_if(colors.begin(), colors.end(), [](const Color& c) { return !all_finite(c); }));
   };
   for (size_t mi = 0; mi < meshes.size(); ++mi) {
     const TriangleMesh& m = meshes[mi];
@@ -77,12 +120,11 @@ void Scene::commit(const AccelConfig& config) {
       box.extend(c);
       bounds.push_back(box);
       centroids.push_back(box.center());
-      ids.push_back(tri_offsets_[mi] + uint32_t(ti));
+      ids.push_back(prim_offsets_[mi] + uint32_t(ti));
     }
     size_t bad_normals = size_t(std::count_if(m.normals.begin(), m.normals.end(),
                                               [](const Vec3& n) { return !all_finite(n); }));
-    size_t bad_colors = size_t(std::count_if(m.colors.begin(), m.colors.end(),
-                                             [](const Color& c) { return !all_finite(c); }));
+    size_t bad_colors = count_nonfinite(m.colors);
     // A mesh with nothing left to trace is an error, as a mesh without
     // triangles is in every front end: its picture would be blank.
     if (skipped > 0 && skipped == m.triangles.size())
@@ -98,28 +140,98 @@ void Scene::commit(const AccelConfig& config) {
     summary_.nonfinite_normals += bad_normals;
     summary_.nonfinite_colors += bad_colors;
   }
+  // A set with nothing left to trace is an error, as a mesh is (above).
+  auto all_left_out = [](const std::string& what, size_t skipped, size_t total, const char* items) {
+    if (skipped > 0 && skipped == total)
+      throw std::invalid_argument(what + ": all " + std::to_string(skipped) + " " + items +
+                                  " have a non-finite position or a radius not finite and > 0");
+  };
+  for (size_t k = 0; k < tubes.size(); ++k) {
+    const TubeSet& ts = tubes[k];
+    const std::string what = "tubes '" + ts.name + "'";
+    const uint32_t first = prim_offsets_[meshes.size() + k];
+    size_t skipped = 0;
+    for (size_t j = 0; j < ts.segments.size(); ++j) {
+      if (!ts.traced(j)) {
+        skipped++;
+        continue;
+      }
+      const Bounds3 box = capsule_bounds(ts.positions[ts.segments[j].x],
+                                         ts.positions[ts.segments[j].y], ts.segment_radius(j));
+      bounds.push_back(box);
+      centroids.push_back(box.center());
+      ids.push_back(first + uint32_t(j));
+    }
+    all_left_out(what, skipped, ts.segments.size(), "segments");
+    const size_t bad_colors = count_nonfinite(ts.colors);
+    warn_about(what, skipped,
+               "segments with a non-finite end or an end's radius not finite and > 0 skipped");
+    warn_about(what, bad_colors, "colors are not finite (their segments get the material color)");
+    summary_.skipped_segments += skipped;
+    summary_.tube_segments += ts.segments.size() - skipped;
+    summary_.nonfinite_colors += bad_colors;
+  }
+  for (size_t k = 0; k < points.size(); ++k) {
+    const PointSet& ps = points[k];
+    const std::string what = "points '" + ps.name + "'";
+    const uint32_t first = prim_offsets_[meshes.size() + tubes.size() + k];
+    size_t skipped = 0;
+    for (size_t j = 0; j < ps.positions.size(); ++j) {
+      if (!ps.traced(j)) {
+        skipped++;
+        continue;
+      }
+      const Vec3& c = ps.positions[j];
+      const float r = ps.point_radius(j);
+      bounds.emplace_back(c - Vec3(r), c + Vec3(r));
+      centroids.push_back(c);
+      ids.push_back(first + uint32_t(j));
+    }
+    all_left_out(what, skipped, ps.positions.size(), "points");
+    const size_t bad_colors = count_nonfinite(ps.colors);
+    warn_about(what, skipped,
+               "points with a non-finite position or a radius not finite and > 0 skipped");
+    warn_about(what, bad_colors, "colors are not finite (their points get the material color)");
+    summary_.skipped_points += skipped;
+    summary_.points += ps.positions.size() - skipped;
+    summary_.nonfinite_colors += bad_colors;
+  }
   for (size_t si = 0; si < spheres.size(); ++si) {
     const Sphere& s = spheres[si];
     bounds.emplace_back(s.center - Vec3(s.radius), s.center + Vec3(s.radius));
     centroids.push_back(s.center);
-    ids.push_back(ntri + uint32_t(si));
+    ids.push_back(sphere_base_ + uint32_t(si));
   }
   auto record_of = [&](size_t i) {
     const uint32_t id = ids[i];
     PrimRecord r;
     r.id = id;
-    r.pad = 0;
+    r.c = Vec3(0.0f);
+    const uint32_t object = prim_object(id);
+    const uint32_t index = prim_in_object(id);
     if (id < ntri) {
-      const uint32_t mi = prim_object(id);
-      const glm::uvec3& t = meshes[mi].triangles[id - tri_offsets_[mi]];
-      r.a = meshes[mi].positions[t.x];
-      r.b = meshes[mi].positions[t.y];
-      r.c = meshes[mi].positions[t.z];
+      const TriangleMesh& m = meshes[object];
+      const glm::uvec3& t = m.triangles[index];
+      r.shape = PrimShape::Triangle;
+      r.a = m.positions[t.x];
+      r.b = m.positions[t.y];
+      r.c = m.positions[t.z];
+    } else if (object < meshes.size() + tubes.size()) {
+      const TubeSet& ts = tubes[object - meshes.size()];
+      r.shape = PrimShape::Capsule;
+      r.a = ts.positions[ts.segments[index].x];
+      r.b = ts.positions[ts.segments[index].y];
+      r.c = Vec3(ts.segment_radius(index), 0.0f, 0.0f);
+    } else if (id < sphere_base_) {
+      const PointSet& ps = points[object - meshes.size() - tubes.size()];
+      r.shape = PrimShape::Sphere;
+      r.a = ps.positions[index];
+      r.b = Vec3(ps.point_radius(index), 0.0f, 0.0f);
     } else {
-      const Sphere& s = spheres[id - ntri];
+      const Sphere& s = spheres[id - sphere_base_];
+      r.shape = PrimShape::Sphere;
       r.a = s.center;
       r.b = Vec3(s.radius, 0.0f, 0.0f);
-      r.c = Vec3(0.0f);
     }
     return r;
   };
@@ -132,6 +244,8 @@ void Scene::commit(const AccelConfig& config) {
 
   summary_.walks_structure = accel_.walks_structure();
   summary_.triangles = ntri - summary_.skipped_triangles;
+  summary_.tube_sets = tubes.size();
+  summary_.point_sets = points.size();
   summary_.spheres = spheres.size();
   summary_.planes = planes.size();
   summary_.lights = lights.size();
@@ -140,13 +254,18 @@ void Scene::commit(const AccelConfig& config) {
     summary_.refractive |= materials[m].refractive();
   };
   for (const TriangleMesh& m : meshes) note(m.material);
+  for (const TubeSet& t : tubes) note(t.material);
+  for (const PointSet& p : points) note(p.material);
   for (const Sphere& s : spheres) note(s.material);
   for (const Plane& p : planes) note(p.material);
 }
 
 ObjectType Scene::object_type(uint32_t object) const {
-  if (object < meshes.size()) return ObjectType::Mesh;
-  if (object < meshes.size() + spheres.size()) return ObjectType::Sphere;
+  size_t end = meshes.size();
+  if (object < end) return ObjectType::Mesh;
+  if (object < (end += tubes.size())) return ObjectType::Tubes;
+  if (object < (end += points.size())) return ObjectType::Points;
+  if (object < end + spheres.size()) return ObjectType::Sphere;
   return ObjectType::Plane;
 }
 
@@ -154,6 +273,10 @@ const std::string& Scene::object_name(uint32_t object) const {
   static const std::string none = "(none)";
   if (object < meshes.size()) return meshes[object].name;
   object -= uint32_t(meshes.size());
+  if (object < tubes.size()) return tubes[object].name;
+  object -= uint32_t(tubes.size());
+  if (object < points.size()) return points[object].name;
+  object -= uint32_t(points.size());
   if (object < spheres.size()) return spheres[object].name;
   object -= uint32_t(spheres.size());
   if (object < planes.size()) return planes[object].name;
@@ -161,11 +284,13 @@ const std::string& Scene::object_name(uint32_t object) const {
 }
 
 uint32_t Scene::prim_object(uint32_t prim) const {
-  if (prim < num_triangles_)
-    return uint32_t(std::upper_bound(tri_offsets_.begin(), tri_offsets_.end(), prim) -
-                    tri_offsets_.begin()) -
+  // Objects with no primitives share their offset with the next one:
+  // upper_bound finds the last object starting at or before prim.
+  if (prim < sphere_base_)
+    return uint32_t(std::upper_bound(prim_offsets_.begin(), prim_offsets_.end(), prim) -
+                    prim_offsets_.begin()) -
            1;
-  return uint32_t(meshes.size()) + (prim - num_triangles_);
+  return uint32_t(meshes.size() + tubes.size() + points.size()) + (prim - sphere_base_);
 }
 
 SurfaceHit Scene::surface_hit(const Ray& ray, const PrimHit& ph) const {
@@ -177,17 +302,23 @@ SurfaceHit Scene::surface_hit(const Ray& ray, const PrimHit& ph) const {
     const PlaneRecord& rec = accel_.plane_records()[size_t(ph.plane)];
     hit.p = plane_point(ray, t, rec.point, rec.normal, hit.p_error);
     hit.ng = hit.ns = rec.normal;
-    hit.object = uint32_t(meshes.size() + spheres.size() + size_t(ph.plane));
+    hit.object = plane_object(uint32_t(ph.plane));
     hit.prim = 0;
     hit.material = pl.material;
     return hit;
   }
   const PrimRecord& r = accel_.records()[ph.record];
   const TriangleHit th{t, ph.b0, ph.b1, ph.b2};
+  // A per-position color, unless it is not finite (reported by commit(),
+  // it would make the pixel NaN: the material color is used instead).
+  auto vertex_color = [&](const Color& c) {
+    hit.vertex_color = c;
+    hit.has_vertex_color = all_finite(c);
+  };
   if (r.id < num_triangles_) {
     uint32_t mi = prim_object(r.id);
     const TriangleMesh& m = meshes[mi];
-    uint32_t ti = r.id - tri_offsets_[mi];
+    uint32_t ti = r.id - prim_offsets_[mi];
     const glm::uvec3& tri = m.triangles[ti];
     hit.p = triangle_point(th, r.a, r.b, r.c, hit.p_error);
     hit.bary = Vec3(th.b0, th.b1, th.b2);
@@ -204,24 +335,37 @@ SurfaceHit Scene::surface_hit(const Ray& ray, const PrimHit& ph) const {
         if (glm::dot(hit.ns, hit.ng) < 0.0f) hit.ng = -hit.ng;
       }
     }
-    if (!m.colors.empty()) {
-      hit.vertex_color =
-          th.b0 * m.colors[tri.x] + th.b1 * m.colors[tri.y] + th.b2 * m.colors[tri.z];
-      // A non-finite vertex color (reported by commit()) would make the pixel
-      // NaN: the material color is used instead.
-      hit.has_vertex_color = all_finite(hit.vertex_color);
-    }
+    if (!m.colors.empty())
+      vertex_color(th.b0 * m.colors[tri.x] + th.b1 * m.colors[tri.y] + th.b2 * m.colors[tri.z]);
     hit.object = mi;
     hit.prim = ti;
     hit.material = m.material;
-  } else {
-    uint32_t si = r.id - num_triangles_;
-    const Sphere& s = spheres[si];
-    hit.p = sphere_point(ray, t, s.center, s.radius, hit.p_error, hit.ng);
+    return hit;
+  }
+  hit.object = prim_object(r.id);
+  hit.prim = prim_in_object(r.id);
+  if (r.shape == PrimShape::Capsule) {
+    const TubeSet& ts = tubes[hit.object - meshes.size()];
+    float s;
+    hit.p = capsule_point(ray, t, r.a, r.b, r.c.x, hit.p_error, hit.ng, s);
     hit.ns = hit.ng;
-    hit.object = uint32_t(meshes.size()) + si;
-    hit.prim = 0;
-    hit.material = s.material;
+    hit.bary = Vec3(1.0f - s, s, 0.0f);
+    if (!ts.colors.empty()) {
+      const glm::uvec2& sg = ts.segments[hit.prim];
+      vertex_color((1.0f - s) * ts.colors[sg.x] + s * ts.colors[sg.y]);
+    }
+    hit.material = ts.material;
+    return hit;
+  }
+  // A ball: a point of a point set or a sphere, from its record.
+  hit.p = sphere_point(ray, t, r.a, r.b.x, hit.p_error, hit.ng);
+  hit.ns = hit.ng;
+  if (r.id < sphere_base_) {
+    const PointSet& ps = points[hit.object - meshes.size() - tubes.size()];
+    if (!ps.colors.empty()) vertex_color(ps.colors[hit.prim]);
+    hit.material = ps.material;
+  } else {
+    hit.material = spheres[r.id - sphere_base_].material;
   }
   return hit;
 }

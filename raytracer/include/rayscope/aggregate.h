@@ -1,7 +1,7 @@
 // The aggregate (pbrt: "the aggregate is just a primitive"): the one thing the
 // integrator asks for closest hits and any hits. Behind it sits the chosen
-// acceleration structure over the scene's bounded primitives (triangles and
-// spheres), plus the unbounded planes, which no structure can hold. The
+// acceleration structure over the scene's bounded primitives (triangles,
+// spheres and capsules), plus the unbounded planes, which no structure can hold. The
 // structure is one of the AccelStructure alternatives (accel_structure.h),
 // built by the one factory (accel_build.h) and dispatched here, in one place.
 //
@@ -34,6 +34,7 @@
 #include "rayscope/accel/accel_structure.h"
 #include "rayscope/accel/prim_record.h"
 #include "rayscope/intersect.h"
+#include "rayscope/intersect_capsule.h"
 #include "rayscope/range_query.h"
 #include "rayscope/traversal.h"
 
@@ -48,7 +49,8 @@ class Aggregate {
 
   /// Builds the chosen structure. record_of(i) is primitive i, with bounds[i]
   /// and centroids[i] (the builder sees only those); records with id <
-  /// num_triangles are triangles, the others spheres. record_of is called
+  /// num_triangles are triangles, the others spheres or capsules (their
+  /// PrimRecord::shape). record_of is called
   /// once per primitive, in leaf order, from several threads at once: the
   /// records are made where they are kept, with no copy in the caller's order
   /// (on 1.1M triangles that copy was 53 MB to fill and reorder). Replaces
@@ -59,10 +61,11 @@ class Aggregate {
 
   /// Closest hit within (0, ray.tmax). When several primitives are hit at
   /// exactly the same t, the result is the one a brute-force loop over all
-  /// triangles, then spheres, then planes reports: the triangle with the
-  /// highest global index, else the sphere with the lowest, else the first
-  /// plane. The answer therefore does not depend on the structure or the order
-  /// of its walk.
+  /// records by global index, then planes, reports: the triangle with the
+  /// highest global index (triangles are hit at t <= the closest so far),
+  /// else the other primitive (sphere or capsule, hit at t < the closest so
+  /// far) with the lowest, else the first plane. The answer therefore does not
+  /// depend on the structure or the order of its walk.
   template <class Observer = NullTraversalObserver>
   bool intersect(const Ray& ray, PrimHit& hit, Observer& obs) const;
 
@@ -143,23 +146,27 @@ class Aggregate {
 
  private:
   /// Whether primitive `a` wins an exact tie in t against primitive `b`:
-  /// triangles beat spheres, a higher triangle index beats a lower one, a lower
-  /// sphere index beats a higher one.
+  /// triangles beat the other primitives, a higher triangle index beats a
+  /// lower one, and among the others (spheres and capsules alike, which the
+  /// brute-force loop tests with an open bound) a lower index beats a higher
+  /// one.
   bool wins_tie(uint32_t a, uint32_t b) const {
     return a < num_triangles_ ? (b >= num_triangles_ || a > b) : (b >= num_triangles_ && a < b);
   }
 
   /// The one primitive test: whether record r is hit within the query's range,
   /// and where (`th`: t, and the barycentrics of a triangle). Triangles are hit
-  /// at t <= tmax (intersect_triangle's closed bound); spheres at t < tmax, or
-  /// at t <= tmax with `sphere_closed` (so that a sphere at exactly the
-  /// closest t so far is found and can win the tie).
+  /// at t <= tmax (intersect_triangle's closed bound); spheres and capsules at
+  /// t < tmax, or at t <= tmax with `sphere_closed` (so that one at exactly
+  /// the closest t so far is found and can win the tie).
   [[gnu::always_inline]] bool test_prim(const PrimRecord& r, const Ray& ray,
                                         const TrianglePrecomp& pre, float tmax, bool sphere_closed,
                                         TriangleHit& th) const {
     if (r.id < num_triangles_) return intersect_triangle(pre, tmax, r.a, r.b, r.c, th);
     float ts;
-    if (!intersect_sphere(ray, r.a, r.b.x, sphere_closed ? next_float_up(tmax) : tmax, ts))
+    const float limit = sphere_closed ? next_float_up(tmax) : tmax;
+    if (!(r.shape == PrimShape::Capsule ? intersect_capsule(ray, r.a, r.b, r.c.x, limit, ts)
+                                        : intersect_sphere(ray, r.a, r.b.x, limit, ts)))
       return false;
     th = TriangleHit{ts, 0.0f, 0.0f, 0.0f};
     return true;
@@ -193,15 +200,17 @@ class Aggregate {
 
   /// The one primitive test of box queries (exact, see range_query.h).
   bool record_overlaps(const PrimRecord& r, const Bounds3& box) const {
-    return r.id < num_triangles_ ? triangle_overlaps_box(r.a, r.b, r.c, box)
-                                 : sphere_overlaps_box(r.a, r.b.x, box);
+    if (r.id < num_triangles_) return triangle_overlaps_box(r.a, r.b, r.c, box);
+    return r.shape == PrimShape::Capsule ? capsule_overlaps_box(r.a, r.b, r.c.x, box)
+                                         : sphere_overlaps_box(r.a, r.b.x, box);
   }
   /// The one distance of sphere and k-nearest queries (exact, see
   /// range_query.h): never below the distance to the record's bounds, so no
   /// walk prunes a node whose primitive a brute-force loop would find.
   float record_distance(const PrimRecord& r, const Vec3& p) const {
-    return r.id < num_triangles_ ? point_triangle_distance(p, r.a, r.b, r.c)
-                                 : point_sphere_distance(p, r.a, r.b.x);
+    if (r.id < num_triangles_) return point_triangle_distance(p, r.a, r.b, r.c);
+    return r.shape == PrimShape::Capsule ? point_capsule_distance(p, r.a, r.b, r.c.x)
+                                         : point_sphere_distance(p, r.a, r.b.x);
   }
 
   /// Passes the records the range may hold to `prim(record)`, each once: the

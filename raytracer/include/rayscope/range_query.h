@@ -19,8 +19,8 @@
 //   so the same walk serves it; visiting nearer children first makes it prune
 //   early.
 //
-// Distances are exact point-object distances: 0 on or inside a sphere (a
-// sphere is a solid ball here), the distance to the closest point of a
+// Distances are exact point-object distances: 0 on or inside a sphere or a
+// capsule (both solid here), the distance to the closest point of a
 // triangle, the distance to a plane.
 #pragma once
 
@@ -46,7 +46,8 @@ namespace rayscope {
 // primitive's bounds (the same mathematically; as rounded, the maximum of the
 // two, since point_box_distance() is monotone in the box). The bounds are
 // those Scene::commit() gives the builders: a triangle's vertices' minimum and
-// maximum, a sphere's center -/+ radius, in float.
+// maximum, a sphere's center -/+ radius, in float, a capsule's
+// capsule_bounds() (intersect_capsule.h).
 
 /// Distance from p to the closest point of the box (0 on or inside it). It
 /// never grows when the box grows, also as rounded: for boxes a within b the
@@ -66,6 +67,11 @@ float exact_point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b,
 /// below the distance to its bounds.
 float point_sphere_distance(const Vec3& p, const Vec3& center, float radius);
 
+/// Distance from p to the solid capsule around the segment p0 p1:
+/// max(0, distance to the segment - radius), never below the distance to its
+/// bounds. Exact up to double rounding (the segment's closest point).
+float point_capsule_distance(const Vec3& p, const Vec3& p0, const Vec3& p1, float radius);
+
 /// Distance from p to the plane through `point` with unit normal `normal`.
 float point_plane_distance(const Vec3& p, const Vec3& point, const Vec3& normal);
 
@@ -80,6 +86,15 @@ bool triangle_overlaps_box(const Vec3& a, const Vec3& b, const Vec3& c, const Bo
 /// the ball's bounds and the distance from the center to the box is at most
 /// the radius.
 bool sphere_overlaps_box(const Vec3& center, float radius, const Bounds3& box);
+
+/// Whether the solid capsule around the segment p0 p1 and the closed box share
+/// a point: the box overlaps the capsule's bounds (exact comparisons) and the
+/// distance from the segment to the box is at most the radius. That distance
+/// is the minimum of a convex piecewise quadratic along the segment (its
+/// pieces end where a coordinate crosses a face's plane), found piece by
+/// piece in double: exact up to double rounding, and exact where the nearest
+/// point is an end of the segment (where it is the sphere's test).
+bool capsule_overlaps_box(const Vec3& p0, const Vec3& p1, float radius, const Bounds3& box);
 
 /// Whether the plane through `point` with unit normal `normal` crosses or
 /// touches the closed box (the box's corners are not all strictly on one side).

@@ -1,11 +1,14 @@
-// A scene: camera, lights, materials and geometry (triangle meshes, spheres,
-// infinite planes), plus the aggregate (aggregate.h) built by commit(), which
-// answers its ray queries.
+// A scene: camera, lights, materials and geometry (triangle meshes, lines
+// drawn as tubes, points drawn as spheres, spheres, infinite planes), plus the
+// aggregate (aggregate.h) built by commit(), which answers its ray queries.
 //
-// Objects are numbered meshes first, then spheres, then planes; that number is
-// the "object id" of hits and of the object-id AOV. Bounded primitives (those
-// an acceleration structure holds) are numbered triangles first (mesh by mesh),
-// then spheres; planes are unbounded and tested outside the structure.
+// Objects are numbered meshes first, then tube sets, point sets, spheres and
+// planes; that number is the "object id" of hits and of the object-id AOV.
+// Bounded primitives (those an acceleration structure holds) are numbered in
+// the same order: triangles (mesh by mesh), tube segments (set by set), points
+// (set by set), then spheres; planes are unbounded and tested outside the
+// structure. A scene without tubes and points keeps the numbers it had before
+// they existed.
 //
 // Coordinates are scene-local: every position a Scene holds (camera, lights,
 // geometry) is relative to Scene::origin, a point in world coordinates kept in
@@ -28,6 +31,7 @@
 #include "rayscope/aggregate.h"
 #include "rayscope/camera.h"
 #include "rayscope/intersect.h"
+#include "rayscope/intersect_capsule.h"
 #include "rayscope/light.h"
 #include "rayscope/material.h"
 
@@ -54,6 +58,64 @@ struct TriangleMesh {
   }
 };
 
+/// Lines drawn as tubes: every segment a capsule (a cylinder of the segment's
+/// radius closed by half-spheres, intersect_capsule.h), so that the joints of
+/// a polyline are smooth (the balls at a shared point overlap).
+///
+/// A segment's radius is `radius` when `radii` is empty, else the mean of its
+/// two ends' radii: one radius per segment (a capsule, not a cone), which
+/// keeps the mean thickness of a tube whose radius varies and is exact at
+/// each segment's middle for a radius linear along the line; where the radii
+/// of two segments meeting at a point differ, the tube steps there. Segments
+/// with a non-finite end, or an end whose radius is not finite and > 0 (or
+/// `radius`, without radii), are left out (Scene::commit reports them); a
+/// segment of length 0 is a sphere.
+struct TubeSet {
+  std::string name;
+  std::vector<Vec3> positions;
+  std::vector<glm::uvec2> segments;  ///< Indices into positions.
+  std::vector<float> radii;          ///< Empty (every segment has `radius`) or one per position.
+  float radius = 1.0f;
+  /// Empty or one per position: interpolated along the segment, replacing
+  /// the material color (like TriangleMesh::colors).
+  std::vector<Color> colors;
+  uint32_t material = 0;
+
+  /// Segment k's radius (see above), before any check.
+  float segment_radius(size_t k) const {
+    if (radii.empty()) return radius;
+    const glm::uvec2& s = segments[k];
+    return float(0.5 * (double(radii[s.x]) + double(radii[s.y])));
+  }
+  /// Whether segment k is traced (see above); its indices must be in range.
+  bool traced(size_t k) const {
+    const glm::uvec2& s = segments[k];
+    auto usable = [](float r) { return std::isfinite(r) && r > 0.0f; };
+    return all_finite(positions[s.x]) && all_finite(positions[s.y]) &&
+           (radii.empty() ? usable(radius) : usable(radii[s.x]) && usable(radii[s.y])) &&
+           usable(segment_radius(k));
+  }
+};
+
+/// Points drawn as spheres (the sphere test and records of Sphere). Points
+/// with a non-finite position, or whose radius is not finite and > 0, are left
+/// out (Scene::commit reports them).
+struct PointSet {
+  std::string name;
+  std::vector<Vec3> positions;
+  std::vector<float> radii;  ///< Empty (every point has `radius`) or one per position.
+  float radius = 1.0f;
+  std::vector<Color> colors;  ///< Empty or one per position (replaces the material color).
+  uint32_t material = 0;
+
+  float point_radius(size_t i) const { return radii.empty() ? radius : radii[i]; }
+  /// Whether point i is traced (see above).
+  bool traced(size_t i) const {
+    const float r = point_radius(i);
+    return all_finite(positions[i]) && std::isfinite(r) && r > 0.0f;
+  }
+};
+
 struct Sphere {
   std::string name;
   Vec3 center{0.0f};
@@ -68,7 +130,7 @@ struct Plane {
   uint32_t material = 0;
 };
 
-enum class ObjectType : uint8_t { Mesh, Sphere, Plane };
+enum class ObjectType : uint8_t { Mesh, Tubes, Points, Sphere, Plane };
 
 /// Everything the integrator needs to know about a ray's closest hit.
 struct SurfaceHit {
@@ -81,9 +143,13 @@ struct SurfaceHit {
   Vec3 ng{0.0f};  ///< Unit geometric normal (outward / as wound; not face-forwarded).
   Vec3 ns{0.0f};  ///< Unit shading normal (interpolated), same side as ng.
   uint32_t object = ~0u;
-  uint32_t prim = ~0u;  ///< Triangle index within its mesh; 0 for spheres and planes.
+  /// Triangle index within its mesh, segment index within its tube set,
+  /// point index within its point set; 0 for spheres and planes.
+  uint32_t prim = ~0u;
   uint32_t material = 0;
-  Vec3 bary{0.0f};  ///< Barycentrics for triangles.
+  /// Barycentrics for triangles; for tube segments (1 - s, s, 0), s the
+  /// hit's place along the segment (0 at its first end, 1 at its second).
+  Vec3 bary{0.0f};
   bool has_vertex_color = false;
   Color vertex_color{0.0f};
 };
@@ -91,7 +157,13 @@ struct SurfaceHit {
 /// What a scene contains, found once by commit() (used to skip unneeded work).
 struct SceneSummary {
   size_t triangles = 0, spheres = 0, planes = 0, lights = 0;
-  size_t skipped_triangles = 0;     ///< Triangles with non-finite vertices, left out.
+  size_t tube_segments = 0;  ///< Tube segments traced (those left out not counted).
+  size_t points = 0;         ///< Points of point sets traced (those left out not counted).
+  size_t tube_sets = 0, point_sets = 0;
+  size_t skipped_triangles = 0;  ///< Triangles with non-finite vertices, left out.
+  /// Tube segments and points left out: a non-finite position, or a radius
+  /// that is not finite and > 0.
+  size_t skipped_segments = 0, skipped_points = 0;
   size_t degenerate_triangles = 0;  ///< Zero-area triangles (edge cross product 0; never hit).
   size_t nonfinite_normals = 0;     ///< Vertex normals with a non-finite component.
   size_t nonfinite_colors = 0;      ///< Vertex colors with a non-finite component.
@@ -104,6 +176,16 @@ struct SceneSummary {
   /// Aggregate::kBruteForceMax) that testing them all is cheaper.
   bool walks_structure = true;
   bool reflective = false, refractive = false;
+
+  /// What a structure holds: triangles, tube segments, points and spheres.
+  size_t bounded() const { return triangles + tube_segments + points + spheres; }
+  /// "N tube segments, M points, " for the front ends' one-line counts when
+  /// the scene has tube or point sets, else "" (their lines stay as they were).
+  std::string tubes_and_points_text() const {
+    if (tube_sets == 0 && point_sets == 0) return "";
+    return std::to_string(tube_segments) + " tube segments, " + std::to_string(points) +
+           " points, ";
+  }
 };
 
 /// How far (in multiples of its size) a scene's center must lie from the
@@ -135,6 +217,8 @@ class Scene {
   std::vector<Material> materials{Material{}};
   std::vector<Light> lights;
   std::vector<TriangleMesh> meshes;
+  std::vector<TubeSet> tubes;
+  std::vector<PointSet> points;
   std::vector<Sphere> spheres;
   std::vector<Plane> planes;
   Color background{0.0f};
@@ -143,10 +227,14 @@ class Scene {
   /// Validates the scene and builds the aggregate. Must be called after any
   /// change to the geometry and before tracing. Throws std::invalid_argument on
   /// bad data (bad material index, non-finite sphere, zero plane normal, index
-  /// out of range). Mesh data it can work around is reported in
-  /// summary().warnings: triangles with non-finite vertices are left out,
-  /// non-finite vertex normals and colors are not used (the geometric normal
-  /// and the material color are).
+  /// out of range, per-position arrays of the wrong size, a tube or point set's
+  /// one `radius` not finite and > 0, a mesh, tube or point set with nothing
+  /// left to trace). Data it can work around is reported in
+  /// summary().warnings: triangles with non-finite vertices are left out, so
+  /// are tube segments and points with a non-finite position or a per-position
+  /// radius that is not finite and > 0 (data from files, where one bad value
+  /// should not cost the picture); non-finite vertex normals and colors are
+  /// not used (the geometric normal and the material color are).
   void commit(const AccelConfig& config = {});
 
   /// Closest hit along the ray within (0, ray.tmax): intersect(ray, PrimHit&)
@@ -179,8 +267,7 @@ class Scene {
     PrimHit which;
     if (!accel_.occluded(ray, obs, occluder ? &which : nullptr)) return false;
     if (occluder)
-      *occluder = which.plane >= 0 ? uint32_t(meshes.size() + spheres.size() + size_t(which.plane))
-                                   : prim_object(which.prim);
+      *occluder = which.plane >= 0 ? plane_object(uint32_t(which.plane)) : prim_object(which.prim);
     return true;
   }
 
@@ -195,21 +282,32 @@ class Scene {
   /// name their nodes by).
   const Bvh& bvh() const { return accel_.bvh(); }
   const SceneSummary& summary() const { return summary_; }
-  size_t object_count() const { return meshes.size() + spheres.size() + planes.size(); }
+  size_t object_count() const {
+    return meshes.size() + tubes.size() + points.size() + spheres.size() + planes.size();
+  }
   ObjectType object_type(uint32_t object) const;
   const std::string& object_name(uint32_t object) const;
+  /// The object id of plane k (Scene::planes[k]; RangeHit::plane, PrimHit::plane).
+  uint32_t plane_object(uint32_t k) const {
+    return uint32_t(meshes.size() + tubes.size() + points.size() + spheres.size()) + k;
+  }
   /// Global primitive index -> object id.
   uint32_t prim_object(uint32_t prim) const;
   /// Global primitive index -> its index within its object: the triangle's
-  /// index in its mesh (SurfaceHit::prim), 0 for a sphere.
+  /// index in its mesh, the segment's in its tube set, the point's in its
+  /// point set (SurfaceHit::prim), 0 for a sphere.
   uint32_t prim_in_object(uint32_t prim) const {
-    return prim < num_triangles_ ? prim - tri_offsets_[prim_object(prim)] : 0;
+    return prim < sphere_base_ ? prim - prim_offsets_[prim_object(prim)] : 0;
   }
 
  private:
   Aggregate accel_;
-  std::vector<uint32_t> tri_offsets_;  ///< Prefix sums of mesh triangle counts.
+  /// Prefix sums of the primitive counts of meshes, tube sets and point sets
+  /// in object order (so that an index into it is an object id); the last
+  /// entry is the first sphere's primitive index.
+  std::vector<uint32_t> prim_offsets_;
   uint32_t num_triangles_ = 0;
+  uint32_t sphere_base_ = 0;  ///< Global index of the first sphere.
   SceneSummary summary_;
 };
 

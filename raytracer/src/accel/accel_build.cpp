@@ -61,20 +61,26 @@ AccelStructureVariant build_accel(const AccelConfig& config, std::shared_ptr<con
       std::vector<BspPrim> prims(records.size());
       for (size_t i = 0; i < prims.size(); ++i) {
         const PrimRecord& r = records[i];
-        prims[i] = r.id < num_triangles ? BspPrim::triangle(r.a, r.b, r.c)
-                                        : BspPrim::make_sphere(r.a, r.b.x);
+        prims[i] = r.id < num_triangles            ? BspPrim::triangle(r.a, r.b, r.c)
+                   : r.shape == PrimShape::Capsule ? BspPrim::make_capsule(r.a, r.b, r.c.x)
+                                                   : BspPrim::make_sphere(r.a, r.b.x);
       }
       BspTree tree;
       tree.build(prims, config.bsp, config.storage);
       return tree;
     }
     case AccelKind::Spheres: {
-      // A triangle's smallest enclosing sphere, a sphere itself.
+      // A triangle's smallest enclosing sphere, a sphere itself, the sphere
+      // around a capsule's two end balls (its smallest, rounded out).
       std::vector<BoundingSphere> spheres(records.size());
       for (size_t i = 0; i < spheres.size(); ++i) {
         const PrimRecord& r = records[i];
-        spheres[i] =
-            r.id < num_triangles ? min_triangle_sphere(r.a, r.b, r.c) : BoundingSphere{r.a, r.b.x};
+        if (r.id < num_triangles)
+          spheres[i] = min_triangle_sphere(r.a, r.b, r.c);
+        else if (r.shape == PrimShape::Capsule)
+          spheres[i] = enclosing_sphere(BoundingSphere{r.a, r.c.x}, BoundingSphere{r.b, r.c.x});
+        else
+          spheres[i] = BoundingSphere{r.a, r.b.x};
       }
       SphereTree tree;
       tree.build(spheres, config.spheres);

@@ -124,7 +124,7 @@ Bounds3 cell_box(const Cell& cell, double tolerance, const Bounds3& fallback) {
 /// triangle, or with Split the fragment left after the cuts above).
 struct Item {
   uint32_t prim;
-  Polygon poly;  ///< Empty for spheres.
+  Polygon poly;  ///< Empty for spheres and capsules.
 };
 
 struct Builder {
@@ -140,9 +140,10 @@ struct Builder {
   void extent(const Item& it, const Plane& p, double& lo, double& hi) const {
     if (it.poly.empty()) {
       const BspPrim& s = prims[it.prim];
-      const double c = p.distance(DVec3(s.a)), r = double(s.radius) * glm::length(p.n);
-      lo = c - r;
-      hi = c + r;
+      const double ca = p.distance(DVec3(s.a)), cb = p.distance(DVec3(s.b));
+      const double r = double(s.radius) * glm::length(p.n);
+      lo = std::min(ca, cb) - r;
+      hi = std::max(ca, cb) + r;
       return;
     }
     lo = kInfinity;
@@ -159,7 +160,7 @@ struct Builder {
   /// through vertex a in double: BspNode holds exactly this plane.
   bool triangle_plane(uint32_t i, Plane& p) const {
     const BspPrim& t = prims[i];
-    if (t.sphere) return false;
+    if (t.round) return false;
     const DVec3 a(t.a), b(t.b), c(t.c);
     const DVec3 n = glm::cross(b - a, c - a);
     const double len = glm::length(n);
@@ -228,7 +229,8 @@ struct Builder {
     std::vector<float> centers[3];
     for (const Item& it : items) {
       const BspPrim& q = prims[it.prim];
-      const Vec3 c = q.sphere ? q.a : (q.a + q.b + q.c) / 3.0f;
+      const Vec3 c =
+          !q.round ? (q.a + q.b + q.c) / 3.0f : (q.a == q.b ? q.a : 0.5f * q.a + 0.5f * q.b);
       b.extend(c);
       for (int a = 0; a < 3; ++a) centers[a].push_back(c[a]);
     }
@@ -309,7 +311,7 @@ struct Builder {
           front.push_back({it.prim, std::move(fp)});
         else if (hi > 0.0)
           front.push_back(it);
-      } else {  // EveryCell, or a sphere with Split: whole to both sides
+      } else {  // EveryCell, or a sphere or capsule with Split: whole to both sides
         front.push_back(it);
         back.push_back(std::move(it));
       }
@@ -357,9 +359,11 @@ void BspTree::build(std::span<const BspPrim> prims, const BspBuildConfig& cfg,
         q.radius < 0.0f)
       throw std::invalid_argument("BspTree::build: primitive " + std::to_string(i) +
                                   " has a non-finite coordinate or an invalid radius");
-    if (q.sphere) {
+    if (q.round) {
       all.extend(q.a - Vec3(q.radius));
       all.extend(q.a + Vec3(q.radius));
+      all.extend(q.b - Vec3(q.radius));
+      all.extend(q.b + Vec3(q.radius));
     } else {
       all.extend(q.a);
       all.extend(q.b);
@@ -387,7 +391,7 @@ void BspTree::build(std::span<const BspPrim> prims, const BspBuildConfig& cfg,
     std::vector<Item> items(n);
     for (uint32_t i = 0; i < n; ++i) {
       items[i].prim = i;
-      if (!prims[i].sphere)
+      if (!prims[i].round)
         items[i].poly = {DVec3(prims[i].a), DVec3(prims[i].b), DVec3(prims[i].c)};
     }
     Builder b{prims,

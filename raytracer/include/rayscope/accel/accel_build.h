@@ -27,7 +27,8 @@ static_assert(AccelStructure<BvhWalk> && AccelStructure<BruteForce> && AccelStru
 /// Builds config.kind over `records`, the primitives in the leaf order of
 /// `hierarchy` (the binary BVH built over `bounds`, the primitives' bounds in
 /// the scene's order: records[i] is primitive hierarchy->prim_indices[i]);
-/// records with id >= num_triangles are spheres. Throws
+/// records with id >= num_triangles are spheres or capsules (by their
+/// PrimRecord::shape). Throws
 /// std::invalid_argument when accel_config_error(config) says why not.
 /// `build_start`: when the binary BVH's build began (the BVH kinds count it
 /// in their build time).

@@ -44,7 +44,7 @@ struct AccelView {
   const char* structure = "bvh";
   /// nodes[id]: ids are the ones the walk reports (dense, 0 .. size - 1).
   std::vector<AccelViewNode> nodes;
-  /// Global primitive ids (triangles mesh by mesh, then spheres) of the nodes'
+  /// Global primitive ids (Scene: triangles, tube segments, points, spheres) of the nodes'
   /// lists (record indices in a structure's own view()); a primitive stored in
   /// several cells appears in each.
   std::vector<uint32_t> refs;

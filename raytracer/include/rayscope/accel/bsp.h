@@ -21,13 +21,12 @@
 // left the node is a leaf, so the recursion always ends.
 //
 // Classification: a primitive's signed distances to the plane (triangle:
-// its three vertices; sphere: its center -/+ its radius) are computed in
-// double. It is behind (back child) if its lowest distance is <= +tolerance,
-// in front if its highest is >= -tolerance: one within tolerance of the
-// plane is on both sides ("straddles"). The tolerance is one per tree,
-// kClassifyEpsilon times the size of the scene's box, far above the double
-// rounding of the distances, so no rounding ever puts a primitive on the
-// wrong side only.
+// its three vertices; sphere: its center -/+ its radius; capsule: its two
+// ends -/+ its radius) are computed in double. It is behind (back child) if its lowest distance is
+// <= +tolerance, in front if its highest is >= -tolerance: one within tolerance of the plane is on
+// both sides ("straddles"). The tolerance is one per tree, kClassifyEpsilon times the size of the
+// scene's box, far above the double rounding of the distances, so no rounding ever puts a primitive
+// on the wrong side only.
 //
 // A straddler is stored one of the lecture's three ways (prim_storage.h):
 //
@@ -84,18 +83,22 @@
 
 namespace rayscope {
 
-/// One primitive as the builder sees it: a triangle's vertices (a, b, c), or a
-/// sphere's center (a) and radius.
+/// One primitive as the builder sees it: a triangle's vertices (a, b, c), or
+/// a round one, the points within `radius` of the segment a b: a sphere
+/// (a == b) or a capsule (c == b).
 struct BspPrim {
   Vec3 a, b, c;
   float radius = 0.0f;
-  bool sphere = false;
+  bool round = false;
 
   static BspPrim triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
     return BspPrim{a, b, c, 0.0f, false};
   }
   static BspPrim make_sphere(const Vec3& center, float radius) {
     return BspPrim{center, center, center, radius, true};
+  }
+  static BspPrim make_capsule(const Vec3& a, const Vec3& b, float radius) {
+    return BspPrim{a, b, b, radius, true};
   }
 };
 

@@ -24,8 +24,8 @@ class BvhWalk {
  public:
   /// Collapses `hierarchy` (built over `records`, which are in its leaf
   /// order) into nodes of 8 children (AccelKind::Bvh) or 2 (BinaryBvh) and
-  /// fills the leaves' triangle blocks; records with id >= num_triangles are
-  /// spheres.
+  /// fills the leaves' triangle blocks; records with id >= num_triangles
+  /// (spheres, capsules) are left to the scalar test.
   void build(AccelKind kind, std::shared_ptr<const Bvh> hierarchy,
              std::span<const PrimRecord> records, uint32_t num_triangles);
   /// What figures() reports as the build time (the caller times the binary

@@ -1,5 +1,5 @@
 // The primitives as the structures and the aggregate keep them: bounded
-// primitives (triangles, spheres) as records in leaf order, unbounded planes
+// primitives (triangles, spheres, capsules) as records in leaf order, unbounded planes
 // beside the structure, and the closest hit found among them.
 #pragma once
 
@@ -16,17 +16,27 @@ struct PrimHit {
   float t = kInfinity;
   float b0 = 0.0f, b1 = 0.0f, b2 = 0.0f;  ///< Barycentric weights (triangles).
   uint32_t record = ~0u;  ///< Index into Aggregate::records() (leaf order); ~0u for a plane.
-  uint32_t prim = ~0u;    ///< Global primitive index (triangles mesh by mesh, then spheres).
-  int plane = -1;         ///< Index of the plane hit, else -1.
+  uint32_t prim =
+      ~0u;         ///< Global primitive index (Scene: triangles, tube segments, points, spheres).
+  int plane = -1;  ///< Index of the plane hit, else -1.
 };
 
-/// One bounded primitive in leaf order: a triangle's vertices, or a sphere's
-/// center and radius (in b.x). Stored inline so that leaves need no indirection.
+/// What a record holds besides triangles (which are told apart by their ids:
+/// below the aggregate's triangle count, whatever this says).
+enum class PrimShape : uint32_t {
+  Triangle = 0,
+  Sphere = 1,   ///< A ball: a sphere of the scene or a point of a point set.
+  Capsule = 2,  ///< A tube segment (intersect_capsule.h).
+};
+
+/// One bounded primitive in leaf order: a triangle's vertices (a, b, c), a
+/// sphere's center (a) and radius (b.x), or a capsule's segment (a, b) and
+/// radius (c.x). Stored inline so that leaves need no indirection.
 struct PrimRecord {
   Vec3 a;
   uint32_t id;  ///< Global primitive index.
   Vec3 b;
-  uint32_t pad;
+  PrimShape shape;
   Vec3 c;
 };
 

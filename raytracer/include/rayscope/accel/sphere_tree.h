@@ -19,7 +19,7 @@
 // one bounding sphere per primitive and a SphereTreeBuildConfig, and names
 // primitives by their index in that span. The aggregate computes the spheres
 // (min_triangle_sphere() below for a triangle, the sphere itself for a
-// sphere).
+// sphere, enclosing_sphere() of its end balls for a capsule).
 #pragma once
 
 #include <cassert>

@@ -33,7 +33,8 @@ struct alignas(16) TriangleBlock {
   float v[3][3][kLanes];
   /// Lanes holding a triangle the cull may drop.
   uint8_t triangles = 0;
-  /// Lanes holding another primitive (a sphere): always left to the scalar test.
+  /// Lanes holding another primitive (a sphere or capsule): always left to
+  /// the scalar test.
   uint8_t others = 0;
   /// The record in lane 0; lane k holds record first + k. A leaf's blocks
   /// follow one another, so its record i is in block i / kLanes, lane i % kLanes.
