@@ -82,7 +82,7 @@ int run_compare(const CompareOptions& o) {
   Scene& scene = loaded.scene;
   RenderSettings rs = loaded.settings;
   const SceneSummary& sum = scene.summary();
-  const size_t bounded = sum.triangles + sum.spheres;
+  const size_t bounded = sum.bounded();
   const double brute_tests =
       double(bounded) * double(rs.width) * double(rs.height) * double(rs.samples * rs.samples);
   std::vector<std::string> skipped;
@@ -145,10 +145,10 @@ int run_compare(const CompareOptions& o) {
 
   const std::string name = o.scene.scene.empty() ? std::string("default scene") : o.scene.scene;
   std::printf(
-      "%s: %zu triangles, %zu spheres, %zu planes; %dx%d, %dx%d samples, depth %d, %d threads; "
-      "median of %d timed render%s per structure\n",
-      name.c_str(), sum.triangles, sum.spheres, sum.planes, rs.width, rs.height, rs.samples,
-      rs.samples, rs.max_depth,
+      "%s: %zu triangles, %s%zu spheres, %zu planes; %dx%d, %dx%d samples, depth %d, %d "
+      "threads; median of %d timed render%s per structure\n",
+      name.c_str(), sum.triangles, sum.tubes_and_points_text().c_str(), sum.spheres, sum.planes,
+      rs.width, rs.height, rs.samples, rs.samples, rs.max_depth,
       rs.threads > 0 ? rs.threads : int(std::thread::hardware_concurrency()), o.runs,
       o.runs == 1 ? "" : "s");
   std::printf("%-20s %9s %10s %9s %8s %6s %9s %10s %10s %10s %9s %8s %6s\n", "structure",

@@ -140,20 +140,24 @@ std::string fmt_v(const DVec3& v) {
 
 // An object found, as people and tools name it.
 struct Named {
-  std::string kind;    // "triangle", "sphere", "plane"
+  std::string kind;    // "triangle", "segment", "point", "sphere", "plane"
   std::string object;  // its object's name
   uint32_t object_id;  // Scene object id
-  uint32_t index;      // triangle index in its mesh (else 0)
+  uint32_t index;      // triangle, segment or point index in its object (else 0)
 };
 
 Named name_of(const Scene& s, const RangeHit& h) {
   if (h.plane >= 0) {
-    const uint32_t id = uint32_t(s.meshes.size() + s.spheres.size() + size_t(h.plane));
+    const uint32_t id = s.plane_object(uint32_t(h.plane));
     return {"plane", s.object_name(id), id, 0};
   }
   const uint32_t id = s.prim_object(h.prim);
-  const bool tri = s.object_type(id) == ObjectType::Mesh;
-  return {tri ? "triangle" : "sphere", s.object_name(id), id, s.prim_in_object(h.prim)};
+  const ObjectType type = s.object_type(id);
+  const char* kind = type == ObjectType::Mesh     ? "triangle"
+                     : type == ObjectType::Tubes  ? "segment"
+                     : type == ObjectType::Points ? "point"
+                                                  : "sphere";
+  return {kind, s.object_name(id), id, s.prim_in_object(h.prim)};
 }
 
 // The structure the query walked, and what its build made.
@@ -273,7 +277,7 @@ int run_query(const QueryOptions& o) {
       e["kind"] = n.kind;
       e["object"] = n.object;
       e["object_id"] = n.object_id;
-      if (n.kind == "triangle") e["triangle"] = n.index;
+      if (n.kind == "triangle" || n.kind == "segment" || n.kind == "point") e[n.kind] = n.index;
       if (with_distance) e["distance"] = h.distance;
       objects.push_back(e);
     }
@@ -309,9 +313,14 @@ int run_query(const QueryOptions& o) {
       const Named n = name_of(scene, h);
       std::string id =
           h.plane >= 0 ? "plane " + std::to_string(h.plane) : "prim " + std::to_string(h.prim);
-      std::string what = n.kind == "triangle" ? "triangle " + std::to_string(n.index) +
-                                                    " of mesh \"" + n.object + "\""
-                                              : n.kind + " \"" + n.object + "\"";
+      std::string what =
+          n.kind == "triangle"
+              ? "triangle " + std::to_string(n.index) + " of mesh \"" + n.object + "\""
+          : n.kind == "segment"
+              ? "segment " + std::to_string(n.index) + " of tubes \"" + n.object + "\""
+          : n.kind == "point"
+              ? "point " + std::to_string(n.index) + " of points \"" + n.object + "\""
+              : n.kind + " \"" + n.object + "\"";
       std::snprintf(buf, sizeof buf, "  %-12s %-40s", id.c_str(), what.c_str());
       std::string line = buf;
       if (with_distance) line += "  distance " + fmt_g(h.distance);

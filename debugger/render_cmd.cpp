@@ -41,8 +41,8 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
                  double render_s) {
   BvhQuality q = scene.bvh().quality();
   const SceneSummary& sum = scene.summary();
-  std::printf("Scene:     %zu triangles, %zu spheres, %zu planes, %zu lights\n", sum.triangles,
-              sum.spheres, sum.planes, sum.lights);
+  std::printf("Scene:     %zu triangles, %s%zu spheres, %zu planes, %zu lights\n", sum.triangles,
+              sum.tubes_and_points_text().c_str(), sum.spheres, sum.planes, sum.lights);
   std::printf("Image:     %dx%d, %dx%d samples per pixel%s, max depth %d, %d threads\n", rs.width,
               rs.height, rs.sample_grid(), rs.sample_grid(),
               rs.max_samples > 0 ? " at most (adaptive)" : "", rs.max_depth,
@@ -103,8 +103,8 @@ void print_explain(const Scene& scene, const RenderSettings& rs, const RayCounte
   };
   auto u = [](uint64_t v) { return (unsigned long long)v; };
   const unsigned long long pixels = (unsigned long long)rs.width * (unsigned long long)rs.height;
-  std::printf("Scene analysis: %zu triangles, %zu spheres, %zu planes, %zu lights\n", s.triangles,
-              s.spheres, s.planes, s.lights);
+  std::printf("Scene analysis: %zu triangles, %s%zu spheres, %zu planes, %zu lights\n", s.triangles,
+              s.tubes_and_points_text().c_str(), s.spheres, s.planes, s.lights);
   if (s.lights == 0)
     std::printf(
         "- shadow rays: none; the scene has no lights, so the integrator is compiled "
@@ -125,7 +125,7 @@ void print_explain(const Scene& scene, const RenderSettings& rs, const RayCounte
         u(c.rays[int(RayKind::Reflection)]), refl.empty() ? "none" : join(refl).c_str(),
         u(c.rays[int(RayKind::Refraction)]), refr.empty() ? "none" : join(refr).c_str(),
         u(c.depth_cutoffs), rs.max_depth, u(c.weight_cutoffs), double(rs.min_contribution));
-  const size_t bounded = s.triangles + s.spheres;
+  const size_t bounded = s.bounded();
   if (s.walks_structure)
     std::printf("- BVH: used for %zu bounded primitives (%u nodes)\n", bounded,
                 scene.bvh().quality().nodes);

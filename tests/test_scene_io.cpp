@@ -245,6 +245,46 @@ TEST_F(SceneIo, ValidSceneParsesToTheExpectedValues) {
   EXPECT_TRUE(copy.scene.summary().refractive);
 }
 
+TEST_F(SceneIo, TubesAndPointsParse) {
+  // A polyline without segments (one through the positions in order), tubes
+  // with segments, radii and colors, points with one radius; materials by
+  // name; positions made scene-local like every position.
+  const LoadedScene l = parse_scene(R"({
+    "materials": {"red": {"color": [1, 0, 0]}},
+    "objects": [
+      {"type": "tubes", "name": "line", "positions": [[0, 0, 0], [1, 0, 0], [1, 1, 0]],
+       "radius": 0.25, "material": "red"},
+      {"type": "tubes", "positions": [[0, 0, 0], [0, 0, 1], [0, 0, 2]],
+       "segments": [[0, 2], [2, 1]], "radii": [0.1, 0.2, 0.3],
+       "colors": [[1, 0, 0], [0, 1, 0], [0, 0, 1]]},
+      {"type": "points", "name": "cloud", "positions": [[5, 5, 5], [6, 6, 6]], "radius": 0.5,
+       "colors": [[0, 0, 1], [0, 1, 1]]}
+    ]})",
+                                    "inline", dir_, load_obj);
+  const Scene& s = l.scene;
+  ASSERT_EQ(s.tubes.size(), 2u);
+  ASSERT_EQ(s.points.size(), 1u);
+  EXPECT_EQ(s.tubes[0].name, "line");
+  EXPECT_EQ(s.tubes[0].positions.size(), 3u);
+  EXPECT_EQ(s.tubes[0].segments, (std::vector<glm::uvec2>{{0, 1}, {1, 2}}));
+  EXPECT_EQ(s.tubes[0].radius, 0.25f);
+  EXPECT_TRUE(s.tubes[0].radii.empty());
+  EXPECT_EQ(s.materials[s.tubes[0].material].name, "red");
+  EXPECT_EQ(s.tubes[1].name, "tubes1");
+  EXPECT_EQ(s.tubes[1].segments, (std::vector<glm::uvec2>{{0, 2}, {2, 1}}));
+  EXPECT_EQ(s.tubes[1].radii, (std::vector<float>{0.1f, 0.2f, 0.3f}));
+  EXPECT_EQ(s.tubes[1].colors.size(), 3u);
+  EXPECT_EQ(s.tubes[1].material, 0u);
+  EXPECT_EQ(s.points[0].name, "cloud");
+  EXPECT_EQ(s.points[0].positions[1], Vec3(6, 6, 6));
+  EXPECT_EQ(s.points[0].radius, 0.5f);
+  EXPECT_EQ(s.points[0].colors[1], Color(0, 1, 1));
+  Scene committed = s;
+  committed.commit();
+  EXPECT_EQ(committed.summary().tube_segments, 4u);
+  EXPECT_EQ(committed.summary().points, 2u);
+}
+
 TEST_F(SceneIo, EveryBadInputIsOneLineNamingFileAndProblem) {
   expect_error("malformed.json", R"({"camera": {"eye": [0, 1, 2]})", "malformed JSON");
   expect_error("trailing.json", R"({"background": [0, 0, 0],})", "malformed JSON");
@@ -311,7 +351,47 @@ TEST_F(SceneIo, EveryBadInputIsOneLineNamingFileAndProblem) {
   expect_error("huge_depth.json", R"({"render": {"max_depth": 1e3}})",
                "render.max_depth: expected an integer");
   expect_error("bad_object_type.json", R"({"objects": [{"type": "cube"}]})",
-               "objects[0].type: expected \"sphere\", \"plane\" or \"mesh\", got \"cube\"");
+               "objects[0].type: expected \"sphere\", \"plane\", \"mesh\", \"tubes\" or "
+               "\"points\", got \"cube\"");
+  // Tubes and points.
+  expect_error("tubes_no_positions.json", R"({"objects": [{"type": "tubes", "radius": 1}]})",
+               "objects[0]: needs 'positions' (an array of [x, y, z])");
+  expect_error("tubes_one_position.json",
+               R"({"objects": [{"type": "tubes", "positions": [[0, 0, 0]]}]})",
+               "objects[0]: tubes need at least one segment (two positions)");
+  expect_error("tubes_bad_index.json",
+               R"({"objects": [{"type": "tubes", "positions": [[0, 0, 0], [1, 0, 0]],
+                                 "segments": [[0, 1], [1, 2]]}]})",
+               "objects[0].segments[1]: index 2 is not below the 2 positions");
+  expect_error("tubes_bad_segment.json",
+               R"({"objects": [{"type": "tubes", "positions": [[0, 0, 0], [1, 0, 0]],
+                                 "segments": [[0, 1, 1]]}]})",
+               "objects[0].segments[0]: expected [i, j]");
+  expect_error("tubes_zero_radius.json",
+               R"({"objects": [{"type": "tubes", "positions": [[0, 0, 0], [1, 0, 0]],
+                                 "radius": 0}]})",
+               "objects[0].radius: value 0 is outside [1e-30, 1e+30]");
+  expect_error("tubes_both_radii.json",
+               R"({"objects": [{"type": "tubes", "positions": [[0, 0, 0], [1, 0, 0]],
+                                 "radius": 1, "radii": [1, 1]}]})",
+               "objects[0]: give either 'radius' or 'radii', not both");
+  expect_error("points_radii_count.json",
+               R"({"objects": [{"type": "points", "positions": [[0, 0, 0], [1, 0, 0]],
+                                 "radii": [1]}]})",
+               "objects[0].radii: expected an array of 2 (one per position)");
+  expect_error("points_negative_radius.json",
+               R"({"objects": [{"type": "points", "positions": [[0, 0, 0]], "radii": [-1]}]})",
+               "objects[0].radii[0]: value -1 is outside [1e-30, 1e+30]");
+  expect_error("points_bad_color.json",
+               R"({"objects": [{"type": "points", "positions": [[0, 0, 0]],
+                                 "colors": [[1, -1, 0]]}]})",
+               "objects[0].colors[0]: color components must be >= 0");
+  expect_error("points_nan.json",
+               R"({"objects": [{"type": "points", "positions": [[0, 1e39, 0]]}]})",
+               "objects[0].positions[0][1]: number is not finite");
+  expect_error("points_unknown_key.json",
+               R"({"objects": [{"type": "points", "positions": [[0, 0, 0]], "segments": []}]})",
+               "objects[0]: unknown key 'segments'");
   expect_error("zero_normal.json", R"({"objects": [{"type": "plane", "normal": [0, 0, 0]}]})",
                "objects[0].normal: must be non-zero");
   expect_error("negative_color.json", R"({"background": [0, -1, 0]})",

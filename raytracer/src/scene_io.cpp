@@ -184,6 +184,36 @@ MeshColorBy parse_color_by(Reader& r, const json& j, const std::string& where) {
   return c;
 }
 
+// The positions, radius or radii and colors of a tube or point set (TubeSet,
+// PointSet): positions in world coordinates made scene-local, every radius in
+// the range a sphere's may have.
+template <class Set>
+void parse_round_set(Reader& r, const Scene& s, const json& j, const std::string& w, Set& set) {
+  if (!j.contains("positions")) r.fail(w, "needs 'positions' (an array of [x, y, z])");
+  const json& ps = j["positions"];
+  if (!ps.is_array() || ps.empty())
+    r.fail(w + ".positions", "expected a non-empty array of [x, y, z]");
+  for (size_t k = 0; k < ps.size(); ++k)
+    set.positions.push_back(
+        s.to_local(r.dvec3(ps[k], w + ".positions[" + std::to_string(k) + "]")));
+  if (j.contains("radius") && j.contains("radii"))
+    r.fail(w, "give either 'radius' or 'radii', not both");
+  if (j.contains("radius")) set.radius = r.number(j["radius"], w + ".radius", 1e-30f, 1e30f);
+  auto per_position = [&](const char* key, auto&& one) {
+    if (!j.contains(key)) return;
+    const json& a = j[key];
+    const std::string wk = w + "." + key;
+    if (!a.is_array() || a.size() != ps.size())
+      r.fail(wk, "expected an array of " + std::to_string(ps.size()) + " (one per position)");
+    for (size_t k = 0; k < a.size(); ++k) one(a[k], wk + "[" + std::to_string(k) + "]");
+  };
+  per_position("radii", [&](const json& v, const std::string& wk) {
+    set.radii.push_back(r.number(v, wk, 1e-30f, 1e30f));
+  });
+  per_position("colors",
+               [&](const json& v, const std::string& wk) { set.colors.push_back(r.color(v, wk)); });
+}
+
 }  // namespace
 
 LoadedScene parse_scene(const std::string& text, const std::string& name,
@@ -382,7 +412,7 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
       std::string w = "objects[" + std::to_string(i) + "]";
       const json& j = os[i];
       if (!j.is_object()) r.fail(w, "expected an object");
-      if (!j.contains("type")) r.fail(w, "missing 'type' (sphere, plane or mesh)");
+      if (!j.contains("type")) r.fail(w, "missing 'type' (sphere, plane, mesh, tubes or points)");
       std::string type = r.string(j["type"], w + ".type");
       std::string oname =
           j.contains("name") ? r.string(j["name"], w + ".name") : type + std::to_string(i);
@@ -439,9 +469,45 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
         }
         for (const std::string& warning : loaded.warnings)
           out.warnings.push_back(name + ": " + w + ".file: " + warning);
+      } else if (type == "tubes") {
+        r.keys(j, w,
+               {"type", "name", "positions", "segments", "radius", "radii", "colors", "material"});
+        TubeSet t;
+        t.name = oname;
+        parse_round_set(r, s, j, w, t);
+        if (j.contains("segments")) {
+          const json& sg = j["segments"];
+          if (!sg.is_array()) r.fail(w + ".segments", "expected an array of [i, j] index pairs");
+          for (size_t k = 0; k < sg.size(); ++k) {
+            const std::string wk = w + ".segments[" + std::to_string(k) + "]";
+            if (!sg[k].is_array() || sg[k].size() != 2) r.fail(wk, "expected [i, j]");
+            glm::uvec2 e;
+            for (int c = 0; c < 2; ++c) {
+              e[c] = r.integer<uint32_t>(sg[k][c], wk);
+              if (e[c] >= t.positions.size())
+                r.fail(wk, "index " + std::to_string(e[c]) + " is not below the " +
+                               std::to_string(t.positions.size()) + " positions");
+            }
+            t.segments.push_back(e);
+          }
+        } else {
+          // One polyline through the positions in order.
+          for (uint32_t k = 1; k < t.positions.size(); ++k) t.segments.push_back({k - 1, k});
+        }
+        if (t.segments.empty()) r.fail(w, "tubes need at least one segment (two positions)");
+        t.material = material_ref(j, w);
+        s.tubes.push_back(std::move(t));
+      } else if (type == "points") {
+        r.keys(j, w, {"type", "name", "positions", "radius", "radii", "colors", "material"});
+        PointSet p;
+        p.name = oname;
+        parse_round_set(r, s, j, w, p);
+        p.material = material_ref(j, w);
+        s.points.push_back(std::move(p));
       } else {
         r.fail(w + ".type",
-               "expected \"sphere\", \"plane\" or \"mesh\", got \"" + printable_text(type) + "\"");
+               "expected \"sphere\", \"plane\", \"mesh\", \"tubes\" or \"points\", got \"" +
+                   printable_text(type) + "\"");
       }
     }
   }
