@@ -1,6 +1,8 @@
-// bench_accuracy: how accurate are the ray-plane, ray-triangle and ray-sphere
-// results (t, hit point), measured in ulps against an extended-precision
-// reference, for RayScope's robust routines and the naive textbook formulas.
+// bench_accuracy: how accurate are the ray-plane, ray-triangle, ray-sphere and
+// ray-capsule results (t, hit point), measured in ulps against an
+// extended-precision reference, for RayScope's robust routines and the naive
+// textbook formulas, and how often rays spawned at their hits hit the same
+// primitive again.
 //
 // For every primitive, scale s (primitive size) and distance d (ray origin to
 // primitive centre) on a log grid, and for two placements of the whole
@@ -8,12 +10,17 @@
 // float rays aimed at the primitive are intersected by
 //   naive     the textbook formulas in float: plane t = (p0 - o).n / (d.n);
 //             Moller-Trumbore; sphere from b^2 - 4ac with t = (-b - sqrt)/2a
-//             (the + root when that is behind the origin); hit point o + t*d;
+//             (the + root when that is behind the origin); capsule: the
+//             infinite cylinder's quadratic in the same form with its root
+//             kept between the end planes, else the end spheres' roots beyond
+//             them; hit point o + t*d;
 //   rayscope  intersect_plane / intersect_triangle / intersect_sphere from
-//             rayscope/intersect.h and the hit point Scene::surface_hit uses
-//             (plane_point: o + t*d re-projected onto the plane;
-//             triangle_point: barycentric interpolation of the vertices;
-//             sphere_point: o + t*d re-projected onto the sphere in double),
+//             rayscope/intersect.h, intersect_capsule from
+//             rayscope/intersect_capsule.h, and the hit point
+//             Scene::surface_hit uses (plane_point: o + t*d re-projected onto
+//             the plane; triangle_point: barycentric interpolation of the
+//             vertices; sphere_point and capsule_point: o + t*d re-projected
+//             onto the surface in double),
 // and compared with the exact answer for the same float inputs, computed in
 // __float128 (long double when libquadmath is missing; the program says which).
 //
@@ -22,15 +29,24 @@
 //   point    max_i |p_i - p_ref_i| / ulp(max_i |p_ref_i|): distance from the
 //            exact hit point, in ulps of the point's largest coordinate;
 //   surface  distance of the computed point from the exact surface (the plane,
-//            the triangle's plane, the sphere), in the same unit. This is what
-//            matters for self-intersection: a point slid along the surface is
-//            harmless, one off the surface is not.
+//            the triangle's plane, the sphere, the capsule), in the same unit.
+//            This is what matters for self-intersection: a point slid along
+//            the surface is harmless, one off the surface is not.
 // Statistics per cell over the rays that both the method and the reference
 // hit: median, 99th percentile (nearest rank) and max. miss_rate is the
 // fraction of all rays on which the method and the reference disagree about
 // hit or miss. For rayscope, bound_viol is the fraction of hits whose error
 // exceeds the bound the hit carries (p_error): per axis for `point`, and along
 // the normal (the offset spawn_ray applies, |n|.p_error) for `surface`.
+//
+// Re-hits: at every hit both the method and the reference find, two rays
+// leave the surface on the side the ray came from (the mirror direction and a
+// random one; for a sphere or capsule only from outside, where the normal at
+// the point faces the ray: inward rays must hit it again), and the method's
+// own test is asked whether they hit the same primitive again: naive rays start at o + t*d with the
+// textbook normal (no offset: what needs a hand-tuned epsilon), RayScope's are spawn_ray() from the
+// hit point, its error bound and normal. The rate of those re-hits is printed per cell and summed
+// per primitive (CSV column rehit_rate).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -47,6 +63,7 @@
 #include <CLI/CLI.hpp>
 
 #include "rayscope/intersect.h"
+#include "rayscope/intersect_capsule.h"
 #include "test_util.h"
 
 #ifdef RAYSCOPE_HAVE_QUADMATH
@@ -128,8 +145,8 @@ double ulps(Real a, Real ref, Real unit) {
 // ---------------------------------------------------------------------------
 // Configurations.
 
-enum Prim { kPlane, kTriangle, kSphere, kPrimCount };
-const char* const kPrimName[kPrimCount] = {"plane", "triangle", "sphere"};
+enum Prim { kPlane, kTriangle, kSphere, kCapsule, kPrimCount };
+const char* const kPrimName[kPrimCount] = {"plane", "triangle", "sphere", "capsule"};
 enum Method { kNaive, kRayScope, kMethodCount };
 const char* const kMethodName[kMethodCount] = {"naive", "rayscope"};
 enum Quantity { kT, kPoint, kSurface, kQuantityCount };
@@ -179,13 +196,16 @@ struct CellResult {
   size_t false_miss[kMethodCount] = {}, false_hit[kMethodCount] = {};
   size_t both_hit[kMethodCount] = {};
   size_t bound_viol[kQuantityCount] = {};  // rayscope only
+  size_t spawned[kMethodCount] = {}, rehits[kMethodCount] = {};
   Stats stats[kMethodCount][kQuantityCount];
 };
 
 // One random primitive and ray, all in float (what the code under test sees).
 struct Sample {
   Ray ray;
-  Vec3 a, b, c;  // plane: a = point, b = unit normal; triangle: vertices; sphere: a = centre
+  // plane: a = point, b = unit normal; triangle: vertices; sphere: a = centre;
+  // capsule: a, b = the segment's ends.
+  Vec3 a, b, c;
   float radius = 0.0f;
 };
 
@@ -227,6 +247,21 @@ Sample make_sample(Rng& rng, const Cell& cell) {
       }
       double r1 = std::sqrt(rng.uniform()), r2 = rng.uniform();
       target = (1.0 - r1) * DVec3(sm.a) + r1 * (1.0 - r2) * DVec3(sm.b) + r1 * r2 * DVec3(sm.c);
+      break;
+    }
+    case kCapsule: {
+      // Length s/2 and radius s/4 (its extent is s), along n; aimed at a
+      // point of its silhouette: a point of the segment plus a point of the
+      // disc of radius r facing the origin.
+      sm.a = to_f(centre - 0.25 * s * n);
+      sm.b = to_f(centre + 0.25 * s * n);
+      sm.radius = round_f(0.25 * s);
+      const DVec3 on_axis = DVec3(sm.a) + rng.uniform() * (DVec3(sm.b) - DVec3(sm.a));
+      DVec3 view = DVec3(o) - on_axis;
+      if (glm::dot(view, view) == 0.0) view = t;
+      view = glm::normalize(view);
+      DVec3 vt = perpendicular(view), vb = glm::cross(view, vt);
+      target = on_axis + double(sm.radius) * disc_point(rng, vt, vb);
       break;
     }
     default: {
@@ -276,8 +311,88 @@ bool naive_triangle(const Ray& r, const Vec3& p0, const Vec3& p1, const Vec3& p2
   return t > 0.0f;
 }
 
+// The capsule the textbook way: the infinite cylinder around the segment
+// a b, |(f + t d) x e|^2 = r^2 |e|^2 with f = o - a, e = b - a, expanded into
+// a quadratic in float, its root kept where it lies between the end planes;
+// else the end spheres (naive_sphere), each root kept beyond its end plane.
+bool naive_capsule(const Ray& r, const Vec3& a, const Vec3& b, float radius, float& t) {
+  const Vec3 e = b - a, f = r.origin - a;
+  const float ee = glm::dot(e, e), de = glm::dot(r.dir, e), fe = glm::dot(f, e);
+  const float qa = ee * glm::dot(r.dir, r.dir) - de * de;
+  const float qb = ee * glm::dot(f, r.dir) - fe * de;
+  const float qc = ee * glm::dot(f, f) - fe * fe - radius * radius * ee;
+  const float disc = qb * qb - qa * qc;
+  float best = kInfinity;
+  if (qa != 0.0f && disc >= 0.0f) {
+    for (const float tc : {(-qb - std::sqrt(disc)) / qa, (-qb + std::sqrt(disc)) / qa}) {
+      const float y = fe + tc * de;
+      if (tc > 0.0f && y >= 0.0f && y <= ee) {
+        best = std::min(best, tc);
+        break;
+      }
+    }
+  }
+  for (int end = 0; end < 2; ++end) {
+    float ts;
+    if (!naive_sphere(r, end ? b : a, radius, ts)) continue;
+    const float y = fe + ts * de;
+    if (end ? y >= ee : y <= 0.0f) best = std::min(best, ts);
+  }
+  if (!(best < kInfinity)) return false;
+  t = best;
+  return true;
+}
+
 // ---------------------------------------------------------------------------
 // The exact answer for the float inputs, in Real.
+
+/// The interval of the line o + t d in the capsule around a b with radius r:
+/// the hull of the end balls' intervals and of the infinite cylinder's cut
+/// to the slab between the end planes (textbook formulas: Real has the bits).
+bool ref_capsule(const R3& o, const R3& d, const R3& a, const R3& b, Real r, Real& t_in,
+                 Real& t_out) {
+  bool hit = false;
+  auto take = [&](Real lo, Real hi) {
+    if (!hit || lo < t_in) t_in = lo;
+    if (!hit || hi > t_out) t_out = hi;
+    hit = true;
+  };
+  auto quadric = [&](const R3& f, const R3& v, Real& lo, Real& hi) {
+    const Real qa = dot(v, v), qb = dot(f, v), qc = dot(f, f) - r * r;
+    const Real disc = qb * qb - qa * qc;
+    if (!(qa > 0) || disc < 0) return false;
+    lo = (-qb - real_sqrt(disc)) / qa;
+    hi = (-qb + real_sqrt(disc)) / qa;
+    return true;
+  };
+  Real lo = 0, hi = 0;
+  if (quadric(o - a, d, lo, hi)) take(lo, hi);
+  const R3 e = b - a;
+  const Real ee = dot(e, e);
+  if (!(ee > 0)) return hit;
+  if (quadric(o - b, d, lo, hi)) take(lo, hi);
+  const R3 f = o - a;
+  const Real de = dot(d, e), fe = dot(f, e);
+  const R3 dp = d - (de / ee) * e, fp = f - (fe / ee) * e;
+  Real c0, c1;
+  if (!quadric(fp, dp, c0, c1)) return hit;  // parallel to the axis: the balls decide
+  if (de == 0) return hit;
+  Real s0 = -fe / de, s1 = (ee - fe) / de;
+  if (s0 > s1) std::swap(s0, s1);
+  lo = std::max(c0, s0);
+  hi = std::min(c1, s1);
+  if (lo <= hi) take(lo, hi);
+  return hit;
+}
+
+/// Distance from p to the segment a b.
+Real segment_distance(const R3& p, const R3& a, const R3& b) {
+  const R3 e = b - a;
+  const Real ee = dot(e, e);
+  Real s = ee > 0 ? dot(p - a, e) / ee : Real(0);
+  s = s < 0 ? Real(0) : (s > 1 ? Real(1) : s);
+  return norm(p - (a + s * e));
+}
 
 struct RefHit {
   Real t;
@@ -303,6 +418,12 @@ bool reference(const Sample& sm, Prim prim, RefHit& h) {
       Real u = dot(tv, pv) / det, v = dot(d, qv) / det;
       if (u < 0 || v < 0 || u + v > 1) return false;
       h.t = dot(e2, qv) / det;
+      break;
+    }
+    case kCapsule: {
+      Real t_in = 0, t_out = 0;
+      if (!ref_capsule(o, d, rv(sm.a), rv(sm.b), Real(sm.radius), t_in, t_out)) return false;
+      h.t = t_in > 0 ? t_in : t_out;
       break;
     }
     default: {  // closest approach of the line to the centre, then +-half chord
@@ -333,8 +454,50 @@ Real surface_distance(const Sample& sm, Prim prim, const R3& p) {
       R3 p0 = rv(sm.a), n = cross(rv(sm.b) - p0, rv(sm.c) - p0);
       return real_abs(dot(p - p0, n)) / norm(n);
     }
+    case kCapsule:
+      return real_abs(segment_distance(p, rv(sm.a), rv(sm.b)) - Real(sm.radius));
     default:
       return real_abs(norm(p - rv(sm.a)) - Real(sm.radius));
+  }
+}
+
+/// The method's own test of the sample's primitive against another ray
+/// (t > 0, any distance).
+bool hits_again(Method m, const Sample& sm, Prim prim, const Ray& r) {
+  float t;
+  switch (prim) {
+    case kPlane:
+      return m == kNaive ? naive_plane(r, sm.a, sm.b, t)
+                         : intersect_plane(r, sm.a, sm.b, kInfinity, t);
+    case kTriangle: {
+      if (m == kNaive) return naive_triangle(r, sm.a, sm.b, sm.c, t);
+      TriangleHit th;
+      return intersect_triangle(TrianglePrecomp(r), kInfinity, sm.a, sm.b, sm.c, th);
+    }
+    case kCapsule:
+      return m == kNaive ? naive_capsule(r, sm.a, sm.b, sm.radius, t)
+                         : intersect_capsule(r, sm.a, sm.b, sm.radius, kInfinity, t);
+    default:
+      return m == kNaive ? naive_sphere(r, sm.a, sm.radius, t)
+                         : intersect_sphere(r, sm.a, sm.radius, kInfinity, t);
+  }
+}
+
+/// The textbook normal at a naive hit point (unit, not face-forwarded).
+Vec3 naive_normal(const Sample& sm, Prim prim, const Vec3& p) {
+  switch (prim) {
+    case kPlane:
+      return sm.b;
+    case kTriangle:
+      return glm::normalize(glm::cross(sm.b - sm.a, sm.c - sm.a));
+    case kCapsule: {
+      const Vec3 e = sm.b - sm.a;
+      const float ee = glm::dot(e, e);
+      const float s = ee > 0.0f ? std::clamp(glm::dot(p - sm.a, e) / ee, 0.0f, 1.0f) : 0.0f;
+      return glm::normalize(p - (sm.a + s * e));
+    }
+    default:
+      return glm::normalize(p - sm.a);
   }
 }
 
@@ -342,6 +505,9 @@ Real surface_distance(const Sample& sm, Prim prim, const R3& p) {
 
 CellResult run_cell(const Cell& cell, int rays, uint32_t seed) {
   Rng rng(seed);
+  // The spawned rays' random directions come from a stream of their own, so
+  // that the samples are those of the runs before re-hits were counted.
+  Rng spawn_rng(seed ^ 0x9e3779b9u);
   CellResult res;
   std::vector<double> err[kMethodCount][kQuantityCount];
   for (int i = 0; i < rays; ++i) {
@@ -349,6 +515,11 @@ CellResult run_cell(const Cell& cell, int rays, uint32_t seed) {
     const Ray& ray = sm.ray;
     RefHit ref{};
     const bool ref_hit = reference(sm, cell.prim, ref);
+    const bool origin_inside =
+        cell.prim == kSphere ? norm(rv(ray.origin) - rv(sm.a)) < Real(sm.radius)
+        : cell.prim == kCapsule
+            ? segment_distance(rv(ray.origin), rv(sm.a), rv(sm.b)) < Real(sm.radius)
+            : false;
     res.rays++;
     res.ref_hits += ref_hit;
 
@@ -373,6 +544,15 @@ CellResult run_cell(const Cell& cell, int rays, uint32_t seed) {
         ng = glm::normalize(glm::cross(sm.b - sm.a, sm.c - sm.a));  // as Scene::surface_hit
         break;
       }
+      case kCapsule:
+        hit[kNaive] = naive_capsule(ray, sm.a, sm.b, sm.radius, t[kNaive]);
+        hit[kRayScope] = intersect_capsule(ray, sm.a, sm.b, sm.radius, kInfinity, t[kRayScope]);
+        if (hit[kRayScope]) {
+          float along;
+          p[kRayScope] =
+              capsule_point(ray, t[kRayScope], sm.a, sm.b, sm.radius, p_error, ng, along);
+        }
+        break;
       default:
         hit[kNaive] = naive_sphere(ray, sm.a, sm.radius, t[kNaive]);
         hit[kRayScope] = intersect_sphere(ray, sm.a, sm.radius, kInfinity, t[kRayScope]);
@@ -399,6 +579,9 @@ CellResult run_cell(const Cell& cell, int rays, uint32_t seed) {
       head_on = cos_incidence >= 0.3;
     } else if (ref_hit && cell.prim == kSphere) {
       bin = size_bin(double(sm.radius) / glm::length(DVec3(ray.origin) - DVec3(sm.a)));
+    } else if (ref_hit && cell.prim == kCapsule) {
+      const Real dist = segment_distance(rv(ray.origin), rv(sm.a), rv(sm.b));
+      bin = size_bin(double(sm.radius) / double(dist));
     }
     if (bin >= 0) res.size_hits[0][bin]++;
     if (head_on) res.size_hits[1][bin]++;
@@ -422,6 +605,26 @@ CellResult run_cell(const Cell& cell, int rays, uint32_t seed) {
         if (real_abs(e.x) > p_error.x || real_abs(e.y) > p_error.y || real_abs(e.z) > p_error.z)
           res.bound_viol[kPoint]++;
         if (ds > Real(glm::dot(glm::abs(ng), p_error))) res.bound_viol[kSurface]++;
+      }
+      // Two rays leaving the surface on the ray's side: the mirror direction
+      // and a random one. Not from inside a sphere or capsule (rays leaving
+      // its surface inward must hit it again), nor where its outward normal
+      // at the point faces away from the ray (beyond d/s ~ 1e7 the rounding
+      // of t exceeds the primitive and the point may land on its far side,
+      // which test_self_intersection skips alike).
+      if (origin_inside) continue;
+      Vec3 n = m == kRayScope ? ng : naive_normal(sm, cell.prim, p[m]);
+      if (!all_finite(n)) continue;
+      const bool closed = cell.prim == kSphere || cell.prim == kCapsule;
+      if (closed && !(glm::dot(n, ray.dir) < 0.0f)) continue;
+      if (glm::dot(n, ray.dir) > 0.0f) n = -n;
+      Vec3 w[2] = {ray.dir - 2.0f * glm::dot(ray.dir, n) * n, to_f(spawn_rng.unit_vector())};
+      if (glm::dot(w[1], n) < 0.0f) w[1] = -w[1];
+      for (const Vec3& wk : w) {
+        if (!(glm::dot(wk, n) > 0.0f)) continue;
+        const Ray out = m == kRayScope ? spawn_ray(p[m], p_error, n, wk) : Ray{p[m], wk, kInfinity};
+        res.spawned[m]++;
+        res.rehits[m] += hits_again(Method(m), sm, cell.prim, out);
       }
     }
   }
@@ -474,7 +677,7 @@ void write_csv(const std::filesystem::path& path, const std::vector<Cell>& cells
     std::ofstream out(tmp);
     if (!out) throw std::runtime_error(path.string() + ": cannot create temporary file");
     out << "primitive,method,quantity,scale,distance,placement,offset,rays,ref_hits,n,"
-           "median_ulps,p99_ulps,max_ulps,miss_rate,false_miss,false_hit,bound_viol\n";
+           "median_ulps,p99_ulps,max_ulps,miss_rate,false_miss,false_hit,bound_viol,rehit_rate\n";
     for (size_t i = 0; i < cells.size(); ++i) {
       const Cell& c = cells[i];
       const CellResult& r = results[i];
@@ -490,7 +693,8 @@ void write_csv(const std::filesystem::path& path, const std::vector<Cell>& cells
               << kPlacementName[c.placement] << ',' << csv_num(c.offset) << ',' << r.rays << ','
               << r.ref_hits << ',' << s.n << ',' << csv_num(s.median) << ',' << csv_num(s.p99)
               << ',' << csv_num(s.max) << ',' << csv_num(miss) << ',' << r.false_miss[m] << ','
-              << r.false_hit[m] << ',' << viol << '\n';
+              << r.false_hit[m] << ',' << viol << ','
+              << csv_num(r.spawned[m] ? double(r.rehits[m]) / double(r.spawned[m]) : NAN) << '\n';
         }
     }
     out.flush();
@@ -513,8 +717,9 @@ void write_csv(const std::filesystem::path& path, const std::vector<Cell>& cells
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "bench_accuracy: error of ray-plane/triangle/sphere t and hit points in ulps against an "
-      "extended-precision reference, naive textbook formulas vs RayScope"};
+      "bench_accuracy: error of ray-plane/triangle/sphere/capsule t and hit points in ulps "
+      "against an extended-precision reference, naive textbook formulas vs RayScope, and "
+      "re-hits of spawned rays"};
   int rays = 10000;
   uint32_t seed = 1;
   int step = 2;
@@ -606,25 +811,51 @@ int main(int argc, char** argv) {
       matrix(base, "miss%", both([](const CellResult& r, int m) {
                return fmt_pct(100.0 * double(r.false_miss[m] + r.false_hit[m]) / double(r.rays));
              }));
+      matrix(base, "re-hit%", both([](const CellResult& r, int m) {
+               return r.spawned[m] ? fmt_pct(100.0 * double(r.rehits[m]) / double(r.spawned[m]))
+                                   : std::string("-");
+             }));
     }
+
+  // Re-hits of spawned rays, summed over each primitive's cells.
+  std::printf(
+      "\nRe-hits of rays spawned at hits (the mirror direction and a random one, leaving on the\n"
+      "ray's side; spheres and capsules: rays from outside at points facing the ray; naive:\n"
+      "from o + t*d with no offset, rayscope: spawn_ray), all cells:\n");
+  std::printf("  %-10s %-9s %12s %12s %10s\n", "primitive", "placement", "spawned", "re-hits",
+              "re-hit %");
+  for (int pr = 0; pr < kPrimCount; ++pr)
+    for (int pl = 0; pl < kPlacementCount; ++pl)
+      for (int m = 0; m < kMethodCount; ++m) {
+        size_t spawned = 0, rehits = 0;
+        for (size_t i = 0; i < cells.size(); ++i) {
+          if (cells[i].prim != pr || cells[i].placement != pl) continue;
+          spawned += results[i].spawned[m];
+          rehits += results[i].rehits[m];
+        }
+        std::printf("  %-10s %-9s %12zu %12zu %10s  %s\n", kPrimName[pr], kPlacementName[pl],
+                    spawned, rehits,
+                    spawned ? fmt_pct(100.0 * double(rehits) / double(spawned)).c_str() : "-",
+                    kMethodName[m]);
+      }
 
   // False misses by apparent size, over all cells of the 'origin' placement.
   std::printf(
       "\nFalse misses (reference hits, method misses) by apparent size of the primitive seen\n"
       "from the ray origin, placement origin, all cells (radians; triangle: projected height over\n"
-      "its longest edge / t = 2 area |cos| / (longest edge * t); sphere: radius / distance).\n"
-      "|cos|>=0.3: only rays within 72 degrees of the normal. Columns: reference hits, naive %%,\n"
-      "rayscope %%.\n");
-  std::printf("  %-18s%28s%28s%28s\n", "apparent size", "triangle", "triangle |cos|>=0.3",
-              "sphere");
+      "its longest edge / t = 2 area |cos| / (longest edge * t); sphere: radius / distance;\n"
+      "capsule: radius / distance to its segment). |cos|>=0.3: only rays within 72 degrees of\n"
+      "the normal. Columns: reference hits, naive %%, rayscope %%.\n");
+  std::printf("  %-18s%28s%28s%28s%28s\n", "apparent size", "triangle", "triangle |cos|>=0.3",
+              "sphere", "capsule");
   for (int b = 0; b < kSizeBins; ++b) {
     std::string label = b == 0 ? "< 1e-8"
                         : b == kSizeBins - 1
                             ? ">= 1e-2"
                             : fmt(std::pow(10.0, b - 9)) + " .. " + fmt(std::pow(10.0, b - 8));
     std::printf("  %-18s", label.c_str());
-    for (auto [pr, subset] :
-         {std::pair{kTriangle, 0}, std::pair{kTriangle, 1}, std::pair{kSphere, 0}}) {
+    for (auto [pr, subset] : {std::pair{kTriangle, 0}, std::pair{kTriangle, 1},
+                              std::pair{kSphere, 0}, std::pair{kCapsule, 0}}) {
       size_t hits = 0, fm[kMethodCount] = {};
       for (size_t i = 0; i < cells.size(); ++i) {
         if (cells[i].prim != pr || cells[i].placement != kAtOrigin) continue;
