@@ -1,7 +1,8 @@
 """Bad input through Python, where the issue met it (issue 11): polydata whose
 triangle names point 7 of 3 (it crashed the interpreter inside
-vtkPolyDataNormals), an empty polydata and a 1-D image (a blank image without a
-word), SetInputMaterial(5, m) with one input (accepted silently), and (issue
+vtkPolyDataNormals), an empty polydata and points without cells (a blank image
+without a word; a 1-D image's lines are drawn as a tube), SetInputMaterial(5, m)
+with one input (accepted silently), and (issue
 31) polydata whose every point is NaN (a warning and a blank image). Each is now an
 error or warning event on vtkRayScopeImageAlgorithm, with an empty output image
 where nothing can be rendered. test_vtk_bad_input.cpp covers the same in C++.
@@ -66,9 +67,13 @@ def triangle(third):
 
 expect_error("point id 7 of 3", triangle(7), "cell 0 refers to point 7 but the data has 3 points")
 expect_error("empty polydata", vtk.vtkPolyData(), "has no surface triangles")
-line = vtk.vtkImageData()
-line.SetDimensions(5, 1, 1)
-expect_error("1-D image", line, "(vtkImageData with 5 points, 4 cells) has no surface triangles")
+cloud = vtk.vtkPolyData()  # points without cells: nothing to draw
+cloud_points = vtk.vtkPoints()
+for i in range(4):
+    cloud_points.InsertNextPoint(i, 0.0, 0.0)
+cloud.SetPoints(cloud_points)
+expect_error("points without cells", cloud,
+             "(vtkPolyData with 4 points, 0 cells) has no surface triangles, lines or vertices")
 # Every point NaN (it gave a warning and a blank image): an error, no image.
 nan_triangle = triangle(2)
 for i in range(3):

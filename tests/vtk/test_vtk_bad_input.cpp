@@ -140,12 +140,17 @@ TEST(VtkBadInput, InputWithoutTrianglesIsAnError) {
         "nothing to render: input 0 (vtkPolyData with 0 points, 0 cells) has no "
         "surface triangles");
   }
-  // A 1-D image: its surface is lines.
-  vtkNew<vtkImageData> line;
-  line->SetDimensions(5, 1, 1);
+  // Points without cells: nothing to draw (a 1-D image's lines would be
+  // tubes, a vertex a sphere).
+  vtkNew<vtkPolyData> cloud;
+  vtkNew<vtkPoints> cloud_points;
+  for (int i = 0; i < 4; ++i) cloud_points->InsertNextPoint(i, 0.0, 0.0);
+  cloud->SetPoints(cloud_points);
   {
-    Traced t({line});
-    t.expect_error("input 0 (vtkImageData with 5 points, 4 cells) has no surface triangles");
+    Traced t({cloud});
+    t.expect_error(
+        "input 0 (vtkPolyData with 4 points, 0 cells) has no surface triangles, lines or "
+        "vertices");
   }
   // Readers given a folder as their file name: some fail (the pipeline
   // reports that the reader returned failure), others produce an empty
@@ -202,7 +207,7 @@ TEST(VtkBadInput, EmptyInputBesideOthersIsAWarning) {
   EXPECT_EQ(t.errors->count, 0);
   ASSERT_EQ(t.warnings->count, 1);
   EXPECT_NE(t.warnings->last.find("input 1 (vtkPolyData with 0 points, 0 cells) has no surface "
-                                  "triangles: it is not shown"),
+                                  "triangles, lines or vertices: it is not shown"),
             std::string::npos)
       << t.warnings->last;
   EXPECT_GT(count_object(t.alg->GetOutput(), 0), 0);

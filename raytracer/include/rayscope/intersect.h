@@ -228,6 +228,21 @@ inline Vec3 triangle_point(const TriangleHit& h, const Vec3& p0, const Vec3& p1,
   return q0 + q1 + q2;
 }
 
+/// The first of the roots t0 <= t1 (double) that lies in (0, tmax) as the
+/// float the caller compares and stores, in `t_hit`: a root in (0, tmax) in
+/// double that rounds to 0 or tmax is outside the range. False when neither
+/// does. The last step of the sphere and capsule tests.
+inline bool first_float_root(double t0, double t1, float tmax, float& t_hit) {
+  for (const double t : {t0, t1}) {
+    const float tf = float(t);
+    if (tf > 0.0f && tf < tmax) {
+      t_hit = tf;
+      return true;
+    }
+  }
+  return false;
+}
+
 /// Ray-sphere test. Returns the nearest root in (0, tmax), or false. Computed
 /// in double from the float inputs: the offset f = origin - center (exact, or
 /// within 2^-53 of |f|), the discriminant as r^2 - |f - (f.d/d.d) d|^2, which
@@ -259,16 +274,7 @@ inline bool intersect_sphere(const Ray& ray, const Vec3& center, float radius, f
     t1 = q / a;
   }
   if (t0 > t1) std::swap(t0, t1);
-  // The root as the float the caller compares and stores: a root in (0, tmax)
-  // in double that rounds to 0 or tmax is outside the range.
-  for (const double t : {t0, t1}) {
-    const float tf = float(t);
-    if (tf > 0.0f && tf < tmax) {
-      t_hit = tf;
-      return true;
-    }
-  }
-  return false;
+  return first_float_root(t0, t1, tmax, t_hit);
 }
 
 /// A sphere hit's point, error bound and unit normal, all from one direction:

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rayscope/intersect.h"
 #include "rayscope/math.h"
 #include "rayscope/ray.h"
 
@@ -119,14 +120,7 @@ inline bool intersect_capsule(const Ray& ray, const Vec3& p0, const Vec3& p1, fl
                               float tmax, float& t_hit) {
   double t_in, t_out;
   if (!capsule_interval(ray, p0, p1, radius, t_in, t_out)) return false;
-  for (const double t : {t_in, t_out}) {
-    const float tf = float(t);
-    if (tf > 0.0f && tf < tmax) {
-      t_hit = tf;
-      return true;
-    }
-  }
-  return false;
+  return first_float_root(t_in, t_out, tmax, t_hit);
 }
 
 /// A capsule hit's point, error bound and unit normal, from one direction as

@@ -11,6 +11,7 @@
 #include "rayscope/image.h"
 #include "rayscope/render.h"
 #include "rayscope_vtkio/dataset_leaves.h"
+#include "rayscope_vtkio/line_conversion.h"
 #include "rayscope_vtkio/mesh_conversion.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeMaterial.h"
@@ -104,6 +105,25 @@ rayscope::Material object_material(vtkRayScopeImageAlgorithm* alg, const ObjectS
   return out;
 }
 
+// The radii of the tubes and spheres of a dataset converted by `converter`:
+// the settings' LineRadius and PointRadius, or where those are 0 the
+// automatic radius, kAutomaticRadiusFraction of `diagonal` times the
+// converter's LineWidth or PointSize.
+rayscope_vtkio::CurveRadii curve_radii(vtkRayScopeImageAlgorithm* alg,
+                                       vtkRayScopeMeshConverter* converter, double diagonal) {
+  vtkRayScopeSceneSettings* settings = alg->GetSettings();
+  const double automatic = rayscope_vtkio::kAutomaticRadiusFraction * diagonal;
+  rayscope_vtkio::CurveRadii radii;
+  radii.line = settings->GetLineRadius() > 0.0
+                   ? settings->GetLineRadius()
+                   : automatic * std::max(converter->GetLineWidth(), 0.0);
+  radii.point = settings->GetPointRadius() > 0.0
+                    ? settings->GetPointRadius()
+                    : automatic * std::max(converter->GetPointSize(), 0.0);
+  radii.array = settings->GetRadiusArray();
+  return radii;
+}
+
 // "input 2", or "input 2 block 5 'wall'" for a leaf of a composite input.
 std::string object_name(vtkRayScopeImageAlgorithm* alg, int input, vtkDataObject* data,
                         const rayscope_vtkio::DatasetLeaf& leaf) {
@@ -116,33 +136,40 @@ std::string object_name(vtkRayScopeImageAlgorithm* alg, int input, vtkDataObject
 
 }  // namespace
 
-int SceneBuilder::CheckTriangles(vtkRayScopeImageAlgorithm* alg,
-                                 const std::vector<vtkDataSet*>& data,
-                                 const std::vector<ObjectSource>& sources,
-                                 const std::vector<rayscope::TriangleMesh>& meshes) {
-  // What an object without triangles is: its class and size tell an empty
-  // reader output (0 points) from a dataset of lines, vertices or a 1-D image.
+int SceneBuilder::CheckDrawable(vtkRayScopeImageAlgorithm* alg,
+                                const std::vector<vtkDataSet*>& data,
+                                const std::vector<ObjectSource>& sources,
+                                const std::vector<rayscope::TriangleMesh>& meshes,
+                                const std::vector<size_t>& tube_of,
+                                const std::vector<size_t>& point_of) {
+  // What a dataset with nothing to draw is: its class and size tell an empty
+  // reader output (0 points) from, e.g., a dataset of polygons of 2 points.
   auto what = [&](size_t i) {
     return sources[i].name + " (" + data[i]->GetClassName() + " with " +
            std::to_string(data[i]->GetNumberOfPoints()) + " points, " +
            std::to_string(data[i]->GetNumberOfCells()) + " cells)";
   };
-  size_t empty = 0;
-  for (const rayscope::TriangleMesh& m : meshes) empty += m.triangles.empty();
   if (meshes.empty()) {
     vtkErrorWithObjectMacro(alg, << "nothing to render: the composite inputs hold no dataset");
     return 0;
   }
-  if (empty == meshes.size()) {
+  std::vector<bool> drawn(meshes.size());
+  for (size_t i = 0; i < meshes.size(); ++i) drawn[i] = !meshes[i].triangles.empty();
+  for (size_t i : tube_of) drawn[i] = true;
+  for (size_t i : point_of) drawn[i] = true;
+  const auto n = size_t(std::count(drawn.begin(), drawn.end(), true));
+  static constexpr const char* kNothing = "no surface triangles, lines or vertices";
+  if (n == 0) {
     vtkErrorWithObjectMacro(
         alg, << "nothing to render: "
-             << (meshes.size() == 1 ? what(0) + " has no surface triangles"
-                                    : "no input dataset or block has surface triangles"));
+             << (meshes.size() == 1 ? what(0) + " has " + kNothing
+                                    : std::string("no input dataset or block has surface "
+                                                  "triangles, lines or vertices")));
     return 0;
   }
   for (size_t i = 0; i < meshes.size(); ++i)
-    if (meshes[i].triangles.empty())
-      vtkWarningWithObjectMacro(alg, << what(i) << " has no surface triangles: it is not shown");
+    if (!drawn[i])
+      vtkWarningWithObjectMacro(alg, << what(i) << " has " << kNothing << ": it is not shown");
   return 1;
 }
 
@@ -250,11 +277,18 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
 
   // Geometry is converted again only when a dataset or its converter changed.
   auto converter_of = [&](size_t object) { return alg->GetConverterOf(sources[object].input); };
-  bool regeometry = !this->HasScene || datasets != this->GeometryInputs;
+  vtkRayScopeSceneSettings* settings = alg->GetSettings();
+  const CurveSettings curves{settings->GetLineRadius(), settings->GetPointRadius(),
+                             settings->GetRadiusArray()};
+  bool regeometry = !this->HasScene || datasets != this->GeometryInputs || curves != this->Curves;
   for (size_t i = 0; i < datasets.size(); ++i)
     regeometry |= datasets[i]->GetMTime() > this->GeometryTime.GetMTime() ||
                   converter_of(i)->GetMTime() > this->GeometryTime.GetMTime();
   std::vector<rayscope::TriangleMesh> meshes;
+  std::vector<rayscope::TubeSet> tubes;
+  std::vector<rayscope::PointSet> points;
+  // The dataset of each tube set and point set.
+  std::vector<size_t> tube_of = this->TubeOf, point_of = this->PointOf;
   // The local origin (the center of the inputs' bounds, for data far from the
   // world's origin) keeps float's precision there; it changes only with the
   // geometry (a camera move converts nothing).
@@ -263,18 +297,41 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
     origin = rayscope_vtkio::local_origin(datasets);
     const double o[3] = {origin.x, origin.y, origin.z};
     meshes.resize(datasets.size());
+    tube_of.clear();
+    point_of.clear();
+    // The automatic radius of tubes and spheres is a fraction of this.
+    double b[6];
+    const double diagonal = rayscope_vtkio::finite_bounds(datasets, b)
+                                ? std::hypot(b[1] - b[0], b[3] - b[2], b[5] - b[4])
+                                : 1.0;
     for (size_t i = 0; i < datasets.size(); ++i) {
       std::string why;
-      if (!converter_of(i)->ConvertToMesh(datasets[i], meshes[i], &why, o)) {
+      rayscope::TubeSet lines;
+      rayscope::PointSet vertices;
+      if (!converter_of(i)->ConvertToMesh(datasets[i], meshes[i], &why, o) ||
+          !converter_of(i)->ConvertLinesAndPoints(
+              datasets[i], curve_radii(alg, converter_of(i), diagonal), lines, vertices, why, o)) {
         vtkErrorWithObjectMacro(alg, << sources[i].name << " (" << datasets[i]->GetClassName()
-                                     << ") cannot be converted to triangles: " << why);
+                                     << ") cannot be converted: " << why);
         return 0;
       }
       meshes[i].name = sources[i].name;
       meshes[i].material = uint32_t(i);
+      if (!lines.segments.empty()) {
+        lines.name = sources[i].name + " lines";
+        lines.material = uint32_t(i);
+        tubes.push_back(std::move(lines));
+        tube_of.push_back(i);
+      }
+      if (!vertices.positions.empty()) {
+        vertices.name = sources[i].name + " vertices";
+        vertices.material = uint32_t(i);
+        points.push_back(std::move(vertices));
+        point_of.push_back(i);
+      }
     }
     ++this->Conversions;
-    if (!this->CheckTriangles(alg, datasets, sources, meshes)) return 0;
+    if (!this->CheckDrawable(alg, datasets, sources, meshes, tube_of, point_of)) return 0;
   }
 
   std::vector<rayscope::Material> materials(sources.size());
@@ -299,6 +356,8 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
     this->HasScene = false;
     if (regeometry) {
       s.meshes = std::move(meshes);
+      s.tubes = std::move(tubes);
+      s.points = std::move(points);
       this->GeometryInputs.clear();
     }
     s.materials = std::move(materials);
@@ -309,10 +368,22 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
     for (const std::string& w : s.summary().warnings) vtkWarningWithObjectMacro(alg, << w);
     if (regeometry) {
       this->GeometryInputs = datasets;
+      this->TubeOf = tube_of;
+      this->PointOf = point_of;
+      this->Curves = curves;
       this->GeometryTime.Modified();
     }
   }
-  this->Objects = std::move(sources);
+  // Objects in the scene's order: meshes (one per dataset), tube sets, point sets.
+  this->Objects = sources;
+  for (size_t i : tube_of) {
+    this->Objects.push_back(sources[i]);
+    this->Objects.back().name += " lines";
+  }
+  for (size_t i : point_of) {
+    this->Objects.push_back(sources[i]);
+    this->Objects.back().name += " vertices";
+  }
   s.background = linear_color(alg->GetBackground());
   s.ambient_light = linear_color(alg->GetAmbientLight());
   return this->PrepareCamera(alg);

@@ -57,7 +57,9 @@ class SceneBuilder {
   /// the scene's.
   void SetFixedScene(const rayscope::Scene& scene);
 
-  /// Where each object of the scene comes from (empty for a fixed scene).
+  /// Where each object of the scene comes from, in the scene's order: one
+  /// mesh per dataset, then the tube sets and the point sets of the datasets
+  /// that have lines and vertices (empty for a fixed scene).
   const std::vector<ObjectSource>& GetObjects() const { return this->Objects; }
 
   /// The scene of the last successful Update(), else null.
@@ -68,11 +70,14 @@ class SceneBuilder {
   size_t GetCommits() const { return this->Commits; }
 
  private:
-  // Converted objects without any triangle: an error when no object has one
-  // (returns 0), else a warning per empty object (returns 1).
-  static int CheckTriangles(vtkRayScopeImageAlgorithm* alg, const std::vector<vtkDataSet*>& data,
-                            const std::vector<ObjectSource>& sources,
-                            const std::vector<rayscope::TriangleMesh>& meshes);
+  // Converted datasets with nothing to draw (no triangle, line or vertex;
+  // tube_of and point_of: the dataset of each tube set and point set): an
+  // error when no dataset has anything (returns 0), else a warning per empty
+  // dataset (returns 1).
+  static int CheckDrawable(vtkRayScopeImageAlgorithm* alg, const std::vector<vtkDataSet*>& data,
+                           const std::vector<ObjectSource>& sources,
+                           const std::vector<rayscope::TriangleMesh>& meshes,
+                           const std::vector<size_t>& tube_of, const std::vector<size_t>& point_of);
 
   int UpdateFixed(vtkRayScopeImageAlgorithm* alg);
   // Scene.commit(accel), its error reported on `alg`; 1 on success.
@@ -90,6 +95,16 @@ class SceneBuilder {
   vtkTimeStamp GeometryTime;                // when the meshes were last converted
   std::vector<vtkDataSet*> GeometryInputs;  // the datasets converted, one per object
   std::vector<ObjectSource> Objects;
+  // The dataset (index into GeometryInputs) of each tube set and point set.
+  std::vector<size_t> TubeOf, PointOf;
+  // The settings the tubes and spheres were made with (a change converts
+  // the geometry again).
+  struct CurveSettings {
+    double line_radius = 0.0, point_radius = 0.0;
+    std::string radius_array;
+    bool operator==(const CurveSettings&) const = default;
+  };
+  CurveSettings Curves;
   size_t Conversions = 0, Commits = 0;
 };
 

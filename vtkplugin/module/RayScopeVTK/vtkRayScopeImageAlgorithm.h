@@ -173,6 +173,12 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   int GetStorage() { return this->GetSettings()->GetStorage(); }
   void SetLooseFactor(double v) { this->GetSettings()->SetLooseFactor(v); }
   double GetLooseFactor() { return this->GetSettings()->GetLooseFactor(); }
+  void SetLineRadius(double v) { this->GetSettings()->SetLineRadius(v); }
+  double GetLineRadius() { return this->GetSettings()->GetLineRadius(); }
+  void SetPointRadius(double v) { this->GetSettings()->SetPointRadius(v); }
+  double GetPointRadius() { return this->GetSettings()->GetPointRadius(); }
+  void SetRadiusArray(const char* v) { this->GetSettings()->SetRadiusArray(v); }
+  const char* GetRadiusArray() { return this->GetSettings()->GetRadiusArray(); }
   void SetKdSplit(int v) { this->GetSettings()->SetKdSplit(v); }
   int GetKdSplit() { return this->GetSettings()->GetKdSplit(); }
   void SetGridResolution(int x, int y, int z) { this->GetSettings()->SetGridResolution(x, y, z); }
@@ -325,7 +331,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
    *   (vtkRayScopeMaterial::CopyProperty(): diffuse color, ambient, diffuse,
    *   specular, specular color and power, 1 - opacity as transparency, and the
    *   REFLECTIVITY / INDEX_OF_REFRACTION keys). The converter settings
-   *   (normals, feature angle, subdivision) are those of GetConverter().
+   *   (normals, feature angle, subdivision) are those of GetConverter(); the
+   *   property's line width and point size scale the automatic radius of the
+   *   tubes and spheres its lines and vertices become.
    * - Lights: every switched-on vtkLight. Headlights and camera lights are
    *   placed as vtkRenderer::UpdateLightsGeometryToFollowCamera() places them
    *   (this method calls it). Positional lights become point lights with

@@ -10,6 +10,7 @@
 #include "vtkPolyData.h"
 
 #include "rayscope/scene.h"
+#include "rayscope_vtkio/line_conversion.h"
 #include "rayscope_vtkio/mesh_conversion.h"
 
 vtkStandardNewMacro(vtkRayScopeMeshConverter);
@@ -30,7 +31,9 @@ vtkRayScopeMeshConverter::vtkRayScopeMeshConverter()
       FeatureAngle(kDefaults.feature_angle),
       NonlinearSubdivisionLevel(kDefaults.nonlinear_subdivision_level),
       Mapper(vtkDataSetMapper::New()),
-      LastColorSource(NO_COLORS) {
+      LastColorSource(NO_COLORS),
+      LineWidth(1.0),
+      PointSize(1.0) {
   this->Mapper->GetLookupTable();  // create the default table now, not during a conversion
 }
 
@@ -110,6 +113,22 @@ bool vtkRayScopeMeshConverter::ConvertToMesh(vtkDataSet* input, rayscope::Triang
   return true;
 }
 
+bool vtkRayScopeMeshConverter::ConvertLinesAndPoints(vtkDataSet* input,
+                                                     const rayscope_vtkio::CurveRadii& radii,
+                                                     rayscope::TubeSet& tubes,
+                                                     rayscope::PointSet& points, std::string& why,
+                                                     const double origin[3]) {
+  const glm::dvec3 o = origin ? glm::dvec3(origin[0], origin[1], origin[2]) : glm::dvec3(0.0);
+  try {
+    rayscope_vtkio::convert_lines_and_points(input, this->Mapper, radii, tubes, points,
+                                             glm::translate(glm::dmat4(1.0), -o));
+  } catch (const std::exception& e) {
+    why = e.what();
+    return false;
+  }
+  return true;
+}
+
 void vtkRayScopeMeshConverter::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ComputeNormals: " << this->ComputeNormals << "\n";
@@ -118,4 +137,6 @@ void vtkRayScopeMeshConverter::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "NonlinearSubdivisionLevel: " << this->NonlinearSubdivisionLevel << "\n";
   os << indent << "Mapper: " << this->Mapper->GetClassName() << " (" << this->Mapper << ")\n";
   os << indent << "LastColorSource: " << this->LastColorSource << "\n";
+  os << indent << "LineWidth: " << this->LineWidth << "\n";
+  os << indent << "PointSize: " << this->PointSize << "\n";
 }

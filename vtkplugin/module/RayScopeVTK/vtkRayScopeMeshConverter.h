@@ -6,9 +6,19 @@
  * Geometry: polydata polygons and strips are triangulated (vtkTriangleFilter);
  * every other dataset (unstructured and structured grids, image data, ...) is
  * reduced to its outer surface first (vtkDataSetSurfaceFilter, with non-linear
- * cells tessellated NonlinearSubdivisionLevel times). Vertices and lines are
- * dropped. For an isosurface or a slice of image data, put the contour or
- * cutter filter of your choice upstream.
+ * cells tessellated NonlinearSubdivisionLevel times). For an isosurface or a
+ * slice of image data, put the contour or cutter filter of your choice
+ * upstream.
+ *
+ * Lines and points: line and polyline cells become tubes (a capsule around
+ * each segment) and vertex and polyvertex cells spheres, colored as the
+ * surface is (ConvertLinesAndPoints(), rayscope_vtkio::convert_lines_and_points()),
+ * as VTK's and ParaView's OSPRay ray tracing draws them. Their radius is the
+ * scene settings' LineRadius and PointRadius in world units, or, where those
+ * are 0 (the default), automatic: 1/1000 of the diagonal of what is rendered
+ * times this converter's LineWidth or PointSize (CopyRenderer() copies those
+ * from the actor's vtkProperty), as VTK's OSPRay pass sizes them; or, with
+ * the settings' RadiusArray, the value of that point array at each point.
  *
  * Normals: point normals of the data are used when present. Otherwise, with
  * ComputeNormals on (default), vtkPolyDataNormals computes them (splitting
@@ -61,7 +71,12 @@ class vtkPolyData;
 
 #ifndef __VTK_WRAP__
 namespace rayscope {
+struct PointSet;
 struct TriangleMesh;
+struct TubeSet;
+}  // namespace rayscope
+namespace rayscope_vtkio {
+struct CurveRadii;
 }
 #endif
 
@@ -101,6 +116,18 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeMeshConverter : public vtkObject {
   vtkGetObjectMacro(Mapper, vtkMapper);
   ///@}
 
+  ///@{
+  /// The line width and point size of the data (default 1; CopyRenderer()
+  /// copies the actor's vtkProperty values): the automatic radius of tubes and
+  /// spheres is this many times rayscope_vtkio::kAutomaticRadiusFraction of
+  /// the diagonal of what is rendered (vtkRayScopeSceneSettings::LineRadius
+  /// and PointRadius, when set, replace it). Negative values count as 0.
+  vtkSetMacro(LineWidth, double);
+  vtkGetMacro(LineWidth, double);
+  vtkSetMacro(PointSize, double);
+  vtkGetMacro(PointSize, double);
+  ///@}
+
   /// Includes the mapper's (and its lookup table's) modification time.
   vtkMTimeType GetMTime() override;
 
@@ -126,6 +153,15 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeMeshConverter : public vtkObject {
                      const double origin[3] = nullptr);
   /// A core mesh from polydata made by Convert().
   static void MeshFromPolyData(vtkPolyData* converted, rayscope::TriangleMesh& mesh);
+
+  /// The lines of `input` as tubes and its vertices as spheres of `radii`,
+  /// colored by the mapper (see above; rayscope_vtkio::convert_lines_and_points()).
+  /// Empty sets when the input has neither. `why` and `origin` as
+  /// ConvertToMesh(); false (with `why`) when a cell names a point the input
+  /// lacks or the radius array is not a one-component point array.
+  bool ConvertLinesAndPoints(vtkDataSet* input, const rayscope_vtkio::CurveRadii& radii,
+                             rayscope::TubeSet& tubes, rayscope::PointSet& points, std::string& why,
+                             const double origin[3] = nullptr);
 #endif
 
  protected:
@@ -138,6 +174,8 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeMeshConverter : public vtkObject {
   int NonlinearSubdivisionLevel;
   vtkMapper* Mapper;
   int LastColorSource;
+  double LineWidth;
+  double PointSize;
 
  private:
   // The conversion; false with the reason in `why` (not reported) on failure.

@@ -5,6 +5,7 @@
 #include <exception>
 #include <vector>
 
+#include "vtkAppendPolyData.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkDoubleArray.h"
@@ -12,12 +13,14 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
+#include "vtkLineSource.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSphereSource.h"
 #include "vtkStringArray.h"
+#include "vtkTubeFilter.h"
 #include "vtkUnsignedCharArray.h"
 
 #include "RayScopeArrays.h"
@@ -105,6 +108,14 @@ struct PolyBuilder {
   }
 };
 
+// "ObjectKind" of a found object.
+constexpr int kKindTriangle = 0, kKindSphere = 1, kKindPlane = 2, kKindTube = 3;
+
+// A tessellated capsule (a tube segment) in world coordinates: its cylinder,
+// closed by spheres at both ends.
+vtkSmartPointer<vtkPolyData> capsule_polys(const DVec3& a, const DVec3& b, double radius,
+                                           int resolution);
+
 // A tessellated sphere in world coordinates.
 vtkSmartPointer<vtkPolyData> sphere_polys(const DVec3& center, double radius, int resolution) {
   vtkNew<vtkSphereSource> s;
@@ -114,6 +125,23 @@ vtkSmartPointer<vtkPolyData> sphere_polys(const DVec3& center, double radius, in
   s->SetPhiResolution(resolution);
   s->Update();
   return s->GetOutput();
+}
+
+vtkSmartPointer<vtkPolyData> capsule_polys(const DVec3& a, const DVec3& b, double radius,
+                                           int resolution) {
+  vtkNew<vtkLineSource> line;
+  line->SetPoint1(a.x, a.y, a.z);
+  line->SetPoint2(b.x, b.y, b.z);
+  vtkNew<vtkTubeFilter> tube;
+  tube->SetInputConnection(line->GetOutputPort());
+  tube->SetRadius(radius);
+  tube->SetNumberOfSides(resolution);
+  vtkNew<vtkAppendPolyData> all;
+  all->AddInputConnection(tube->GetOutputPort());
+  all->AddInputData(sphere_polys(a, radius, resolution));
+  all->AddInputData(sphere_polys(b, radius, resolution));
+  all->Update();
+  return all->GetOutput();
 }
 
 // A box's 6 faces.
@@ -179,8 +207,6 @@ int vtkRayScopeRangeQuery::RequestData(vtkInformation*, vtkInformationVector** i
   }
 
   PolyBuilder objects;
-  const uint32_t num_meshes = uint32_t(scene.meshes.size());
-  const uint32_t num_bounded = num_meshes + uint32_t(scene.spheres.size());
   for (size_t r = 0; r < found.size(); ++r) {
     const rayscope::RangeHit& h = found[r];
     const vtkIdType first = objects.polys->GetNumberOfCells();
@@ -189,22 +215,46 @@ int vtkRayScopeRangeQuery::RequestData(vtkInformation*, vtkInformationVector** i
       const DVec3 p = scene.to_world(pl.point);
       const std::vector<DVec3> poly = rayscope::plane_in_box(p, DVec3(pl.normal), lo, hi);
       if (!poly.empty()) objects.polygon(poly);
-      objects.tag(first, int(r), 2, -1, h.plane, int(num_bounded) + h.plane, h.distance);
+      objects.tag(first, int(r), kKindPlane, -1, h.plane,
+                  int(scene.plane_object(uint32_t(h.plane))), h.distance);
       continue;
     }
     const uint32_t obj = scene.prim_object(h.prim);
-    if (obj < num_meshes) {
-      const rayscope::TriangleMesh& m = scene.meshes[obj];
-      const glm::uvec3 t = m.triangles[scene.prim_in_object(h.prim)];
-      objects.polygon({scene.to_world(m.positions[t.x]), scene.to_world(m.positions[t.y]),
-                       scene.to_world(m.positions[t.z])});
-      objects.tag(first, int(r), 0, int(h.prim), -1, int(obj), h.distance);
-    } else {
-      const rayscope::Sphere& s = scene.spheres[obj - num_meshes];
-      objects.polydata(
-          sphere_polys(scene.to_world(s.center), double(s.radius), this->SphereResolution));
-      objects.tag(first, int(r), 1, int(h.prim), -1, int(obj), h.distance);
+    const uint32_t k = scene.prim_in_object(h.prim);
+    int kind = kKindSphere;
+    switch (scene.object_type(obj)) {
+      case rayscope::ObjectType::Mesh: {
+        const rayscope::TriangleMesh& m = scene.meshes[obj];
+        const glm::uvec3 t = m.triangles[k];
+        objects.polygon({scene.to_world(m.positions[t.x]), scene.to_world(m.positions[t.y]),
+                         scene.to_world(m.positions[t.z])});
+        kind = kKindTriangle;
+        break;
+      }
+      case rayscope::ObjectType::Tubes: {
+        const rayscope::TubeSet& ts = scene.tubes[obj - scene.meshes.size()];
+        const glm::uvec2 seg = ts.segments[k];
+        objects.polydata(capsule_polys(scene.to_world(ts.positions[seg.x]),
+                                       scene.to_world(ts.positions[seg.y]),
+                                       double(ts.segment_radius(k)), this->SphereResolution));
+        kind = kKindTube;
+        break;
+      }
+      case rayscope::ObjectType::Points: {
+        const rayscope::PointSet& ps = scene.points[obj - scene.meshes.size() - scene.tubes.size()];
+        objects.polydata(sphere_polys(scene.to_world(ps.positions[k]), double(ps.point_radius(k)),
+                                      this->SphereResolution));
+        break;
+      }
+      default: {
+        const rayscope::Sphere& sp =
+            scene.spheres[obj - scene.meshes.size() - scene.tubes.size() - scene.points.size()];
+        objects.polydata(
+            sphere_polys(scene.to_world(sp.center), double(sp.radius), this->SphereResolution));
+        break;
+      }
     }
+    objects.tag(first, int(r), kind, int(h.prim), -1, int(obj), h.distance);
   }
   objects.output(found_out);
 

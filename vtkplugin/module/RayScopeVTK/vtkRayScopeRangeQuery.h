@@ -24,12 +24,14 @@
  *
  * Output port 0, the objects found, in the order the query returns them
  * (box: primitives by id, then planes; sphere and nearest: nearest first):
- * a triangle as one triangle cell, an analytic sphere as a tessellated sphere
- * (SphereResolution), an unbounded plane as the polygon where it cuts the
+ * a triangle as one triangle cell, an analytic sphere or a point drawn as a
+ * sphere as a tessellated sphere (SphereResolution), a tube segment as a
+ * tessellated capsule, an unbounded plane as the polygon where it cuts the
  * range's box (for the sphere ranges, the box around the final sphere). Every
  * cell of an object carries: "Rank" (its place in the result, from 0),
- * "ObjectKind" (0 triangle, 1 sphere, 2 plane), "PrimitiveId" (global
- * primitive id: triangles input by input, then spheres; -1 for a plane),
+ * "ObjectKind" (0 triangle, 1 sphere or point, 2 plane, 3 tube segment),
+ * "PrimitiveId" (global primitive id, in the scene's order: triangles, tube
+ * segments, points, spheres; -1 for a plane),
  * "PlaneId" (-1 for a primitive), "ObjectId" (the scene's object id: the
  * input's index for a dataset), "Distance" (0 for the box query).
  * Field data: "Structure" (the walked structure's name), "ObjectsFound",

@@ -17,6 +17,7 @@
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
+#include "vtkProperty.h"
 #include "vtkRenderer.h"
 #include "vtkTransform.h"
 #include "vtkTransformFilter.h"
@@ -170,6 +171,8 @@ int vtkRayScopeImageAlgorithm::CopyRenderer(vtkRenderer* ren) {
     }
     copy_converter_settings(in.converter, e.converter);
     e.converter->SetMapper(mapper);
+    e.converter->SetLineWidth(actor->GetProperty()->GetLineWidth());
+    e.converter->SetPointSize(actor->GetProperty()->GetPointSize());
     e.material->CopyProperty(actor->GetProperty());
     auto* composite = vtkCompositePolyDataMapper2::SafeDownCast(mapper);
     e.block_attributes = composite ? composite->GetCompositeDataDisplayAttributes() : nullptr;

@@ -67,6 +67,8 @@ vtkRayScopeSceneSettings::vtkRayScopeSceneSettings()
       Accel(ACCEL_BVH),
       Storage(STORAGE_EVERY_CELL),
       LooseFactor(double(rayscope::kDefaultLooseFactor)),
+      LineRadius(0.0),
+      PointRadius(0.0),
       KdSplit(KD_SPLIT_SAH),
       GridResolution{0, 0, 0},
       Position{0.0, 0.0, 1.0},
@@ -235,6 +237,10 @@ std::string vtkRayScopeSceneSettings::Validate() {
     return e;
   if (std::string e = rayscope::loose_factor_error(float(this->LooseFactor)); !e.empty())
     return "LooseFactor: " + e;
+  if (!std::isfinite(this->LineRadius) || this->LineRadius < 0.0)
+    return "LineRadius must be finite and >= 0 (0: automatic)";
+  if (!std::isfinite(this->PointRadius) || this->PointRadius < 0.0)
+    return "PointRadius must be finite and >= 0 (0: automatic)";
   for (int r : this->GridResolution)
     if (r < 0) return "GridResolution: cells per axis must be >= 0 (0: automatic)";
   if (std::string e = rayscope::grid_resolution_error(
@@ -285,6 +291,9 @@ void vtkRayScopeSceneSettings::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "Storage: " << rayscope::to_string(rayscope_vtkmodule::storage_of(this->Storage))
      << "\n";
   os << indent << "LooseFactor: " << this->LooseFactor << "\n";
+  os << indent << "LineRadius: " << this->LineRadius << "\n";
+  os << indent << "PointRadius: " << this->PointRadius << "\n";
+  os << indent << "RadiusArray: " << this->RadiusArray << "\n";
   os << indent << "GridResolution: " << this->GridResolution[0] << " " << this->GridResolution[1]
      << " " << this->GridResolution[2] << "\n";
   os << indent << "KdSplit: " << (this->KdSplit == KD_SPLIT_MEDIAN ? "median" : "sah") << "\n";

@@ -163,6 +163,23 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeSceneSettings : public vtkObject {
   ///@}
 
   ///@{
+  /// Lines and points (vtkRayScopeMeshConverter): the radius of the tubes
+  /// around line cells and of the spheres at vertex cells, in world units;
+  /// 0 (default): automatic, rayscope_vtkio::kAutomaticRadiusFraction (1/1000)
+  /// of the diagonal of all inputs times the converter's LineWidth or
+  /// PointSize, as VTK's OSPRay pass sizes them. RadiusArray: a point array
+  /// (one component) whose value is the radius at each point, for tubes and
+  /// spheres alike (empty, default: none). A negative or non-finite radius is
+  /// an error.
+  vtkSetMacro(LineRadius, double);
+  vtkGetMacro(LineRadius, double);
+  vtkSetMacro(PointRadius, double);
+  vtkGetMacro(PointRadius, double);
+  vtkSetStdStringFromCharMacro(RadiusArray);
+  vtkGetCharFromStdStringMacro(RadiusArray);
+  ///@}
+
+  ///@{
   /// How ACCEL_KDTREE chooses its split planes (rayscope::KdSplitRule, as the
   /// CLI's --kd-split): KD_SPLIT_SAH, by the surface-area heuristic
   /// (default); KD_SPLIT_MEDIAN, at the median of the cell's primitive
@@ -329,6 +346,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeSceneSettings : public vtkObject {
   int Accel;
   int Storage;
   double LooseFactor;
+  double LineRadius;
+  double PointRadius;
+  std::string RadiusArray;
   int KdSplit;
   int GridResolution[3];
   double Position[3];

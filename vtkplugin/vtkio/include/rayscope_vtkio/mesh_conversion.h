@@ -37,7 +37,7 @@ enum class ColorSource { None = 0, Point = 1, Cell = 2, Field = 3 };
 
 /// The triangulated surface of `input` in `output` (replaced): points of the
 /// input's precision (double stays double; anything else becomes float),
-/// triangles only (vertices and lines dropped), point data "Normals" (the
+/// triangles only (its vertices and lines are line_conversion.h's), point data "Normals" (the
 /// data's own or computed; absent without either), "Colors" (RGBA unsigned
 /// char, sRGB as `coloring` maps the scalars, per point) and "LinearColors"
 /// (float RGB). `coloring` (may be null: no colors) is not modified: a copy
