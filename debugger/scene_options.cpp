@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "rayscope/input_file.h"
+#include "rayscope/intersect_capsule.h"
 #include "rayscope/shapes.h"
 #include "rayscope_vtkio/dataset_leaves.h"
 #include "rayscope_vtkio/mesh_conversion.h"
@@ -53,6 +54,14 @@ void frame_mesh(Scene& s, const RenderSettings& rs) {
   for (const TriangleMesh& m : s.meshes)
     for (const Vec3& p : m.positions)
       if (all_finite(p)) b.extend(p);
+  for (const TubeSet& t : s.tubes)
+    for (size_t k = 0; k < t.segments.size(); ++k)
+      if (t.traced(k))
+        b.extend(capsule_bounds(t.positions[t.segments[k].x], t.positions[t.segments[k].y],
+                                t.segment_radius(k)));
+  for (const PointSet& p : s.points)
+    for (size_t i = 0; i < p.positions.size(); ++i)
+      if (p.traced(i)) b.extend(capsule_bounds(p.positions[i], p.positions[i], p.point_radius(i)));
   Camera view;
   view.look_at = Vec3(0.0f);
   view.eye = Vec3(0.5f, 0.5f, 1.0f);
@@ -209,13 +218,9 @@ LoadedScene SceneOptions::load() const {
     loaded.scene.origin = rayscope_vtkio::local_origin(
         rayscope_vtkio::leaf_datasets(rayscope_vtkio::dataset_leaves(data).leaves));
     options.to_scene = glm::translate(glm::dmat4(1.0), -loaded.scene.origin);
-    LoadedMeshFile file = rayscope_vtkio::load_meshes_from(options, data);
-    const std::string file_name = options.file.filename().string();
-    for (TriangleMesh& m : file.meshes) {
-      m.name = m.name.empty() ? file_name : file_name + " " + m.name;
-      loaded.scene.meshes.push_back(std::move(m));
-    }
-    loaded.warnings = std::move(file.warnings);
+    loaded.warnings =
+        add_mesh_file_objects(loaded.scene, rayscope_vtkio::load_meshes_from(options, data),
+                              options.file.filename().string(), 0);
   } else {
     loaded = load_scene(scene, rayscope_vtkio::load_meshes);
   }

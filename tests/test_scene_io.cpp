@@ -87,7 +87,9 @@ LoadedMeshFile load_obj(const MeshOptions& mo) {
         m.triangles.push_back({corners[0], corners[k - 1], corners[k]});
     }
   }
-  return {{m}, {}};
+  LoadedMeshFile f;
+  f.meshes.push_back(std::move(m));
+  return f;
 }
 
 class SceneIo : public ::testing::Test {
@@ -495,7 +497,15 @@ TEST_F(SceneIo, OneMeshObjectCanGiveSeveralMeshes) {
       f.meshes.push_back(f.meshes[0]);
       f.meshes[0].name = "block 1";
       f.meshes[1].name = "block 2 (lid)";
-      f.warnings.push_back(mo.file.string() + ": block 3: no surface triangles, left out");
+      f.tubes.emplace_back();
+      f.tubes[0].name = "block 4 lines";
+      f.tubes[0].positions = {Vec3(0.0f), Vec3(1.0f)};
+      f.tubes[0].segments = {{0, 1}};
+      f.points.emplace_back();
+      f.points[0].name = "block 5 vertices";
+      f.points[0].positions = {Vec3(2.0f)};
+      f.warnings.push_back(mo.file.string() +
+                           ": block 3: no surface triangles, lines or vertices, left out");
     }
     return f;
   };
@@ -513,7 +523,14 @@ TEST_F(SceneIo, OneMeshObjectCanGiveSeveralMeshes) {
   EXPECT_NE(ls.scene.meshes[1].material, ls.scene.meshes[0].material);
   EXPECT_EQ(ls.scene.meshes[1].triangles.size(), 3u);
   EXPECT_EQ(ls.scene.meshes[2].triangles.size(), 3u);
+  // Its lines and vertices: scene objects of the same name and material.
+  ASSERT_EQ(ls.scene.tubes.size(), 1u);
+  EXPECT_EQ(ls.scene.tubes[0].name, "box block 4 lines");
+  EXPECT_EQ(ls.scene.tubes[0].material, ls.scene.meshes[1].material);
+  ASSERT_EQ(ls.scene.points.size(), 1u);
+  EXPECT_EQ(ls.scene.points[0].name, "box block 5 vertices");
+  EXPECT_EQ(ls.scene.points[0].material, ls.scene.meshes[1].material);
   ASSERT_EQ(ls.warnings.size(), 1u);
   EXPECT_EQ(ls.warnings[0], "x: objects[1].file: " + (dir_ / "quad.obj").string() +
-                                ": block 3: no surface triangles, left out");
+                                ": block 3: no surface triangles, lines or vertices, left out");
 }

@@ -140,61 +140,58 @@ void Scene::commit(const AccelConfig& config) {
     summary_.nonfinite_normals += bad_normals;
     summary_.nonfinite_colors += bad_colors;
   }
-  // A set with nothing left to trace is an error, as a mesh is (above).
-  auto all_left_out = [](const std::string& what, size_t skipped, size_t total, const char* items) {
-    if (skipped > 0 && skipped == total)
+  // Tube segments and points: the box of each one traced (their index in the
+  // set: 0..count-1, ids from `first`); a set with nothing left to trace is an
+  // error, as a mesh is (above). Returns how many were left out.
+  auto add_round_set = [&](const std::string& what, uint32_t first, size_t count, auto traced,
+                           auto box, const char* items, const char* why_skipped,
+                           size_t bad_colors) {
+    size_t skipped = 0;
+    for (size_t j = 0; j < count; ++j) {
+      if (!traced(j)) {
+        skipped++;
+        continue;
+      }
+      const Bounds3 b = box(j);
+      bounds.push_back(b);
+      centroids.push_back(b.center());
+      ids.push_back(first + uint32_t(j));
+    }
+    if (skipped > 0 && skipped == count)
       throw std::invalid_argument(what + ": all " + std::to_string(skipped) + " " + items +
                                   " have a non-finite position or a radius not finite and > 0");
+    warn_about(what, skipped, std::string(items) + " with " + why_skipped + " skipped");
+    warn_about(what, bad_colors,
+               std::string("colors are not finite (their ") + items + " get the material color)");
+    summary_.nonfinite_colors += bad_colors;
+    return skipped;
   };
   for (size_t k = 0; k < tubes.size(); ++k) {
     const TubeSet& ts = tubes[k];
-    const std::string what = "tubes '" + ts.name + "'";
-    const uint32_t first = prim_offsets_[meshes.size() + k];
-    size_t skipped = 0;
-    for (size_t j = 0; j < ts.segments.size(); ++j) {
-      if (!ts.traced(j)) {
-        skipped++;
-        continue;
-      }
-      const Bounds3 box = capsule_bounds(ts.positions[ts.segments[j].x],
-                                         ts.positions[ts.segments[j].y], ts.segment_radius(j));
-      bounds.push_back(box);
-      centroids.push_back(box.center());
-      ids.push_back(first + uint32_t(j));
-    }
-    all_left_out(what, skipped, ts.segments.size(), "segments");
-    const size_t bad_colors = count_nonfinite(ts.colors);
-    warn_about(what, skipped,
-               "segments with a non-finite end or an end's radius not finite and > 0 skipped");
-    warn_about(what, bad_colors, "colors are not finite (their segments get the material color)");
+    const size_t skipped = add_round_set(
+        "tubes '" + ts.name + "'", prim_offsets_[meshes.size() + k], ts.segments.size(),
+        [&](size_t j) { return ts.traced(j); },
+        [&](size_t j) {
+          return capsule_bounds(ts.positions[ts.segments[j].x], ts.positions[ts.segments[j].y],
+                                ts.segment_radius(j));
+        },
+        "segments", "a non-finite end or an end's radius not finite and > 0",
+        count_nonfinite(ts.colors));
     summary_.skipped_segments += skipped;
     summary_.tube_segments += ts.segments.size() - skipped;
-    summary_.nonfinite_colors += bad_colors;
   }
   for (size_t k = 0; k < points.size(); ++k) {
     const PointSet& ps = points[k];
-    const std::string what = "points '" + ps.name + "'";
-    const uint32_t first = prim_offsets_[meshes.size() + tubes.size() + k];
-    size_t skipped = 0;
-    for (size_t j = 0; j < ps.positions.size(); ++j) {
-      if (!ps.traced(j)) {
-        skipped++;
-        continue;
-      }
-      const Vec3& c = ps.positions[j];
-      const float r = ps.point_radius(j);
-      bounds.emplace_back(c - Vec3(r), c + Vec3(r));
-      centroids.push_back(c);
-      ids.push_back(first + uint32_t(j));
-    }
-    all_left_out(what, skipped, ps.positions.size(), "points");
-    const size_t bad_colors = count_nonfinite(ps.colors);
-    warn_about(what, skipped,
-               "points with a non-finite position or a radius not finite and > 0 skipped");
-    warn_about(what, bad_colors, "colors are not finite (their points get the material color)");
+    const size_t skipped = add_round_set(
+        "points '" + ps.name + "'", prim_offsets_[meshes.size() + tubes.size() + k],
+        ps.positions.size(), [&](size_t j) { return ps.traced(j); },
+        [&](size_t j) {
+          return capsule_bounds(ps.positions[j], ps.positions[j], ps.point_radius(j));
+        },
+        "points", "a non-finite position or a radius not finite and > 0",
+        count_nonfinite(ps.colors));
     summary_.skipped_points += skipped;
     summary_.points += ps.positions.size() - skipped;
-    summary_.nonfinite_colors += bad_colors;
   }
   for (size_t si = 0; si < spheres.size(); ++si) {
     const Sphere& s = spheres[si];

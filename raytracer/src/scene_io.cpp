@@ -436,13 +436,23 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
         p.material = material_ref(j, w);
         s.planes.push_back(p);
       } else if (type == "mesh") {
-        r.keys(j, w, {"type", "name", "file", "transform", "material", "smooth", "color_by"});
+        r.keys(j, w,
+               {"type", "name", "file", "transform", "material", "smooth", "color_by",
+                "line_radius", "point_radius", "radius_array"});
         if (!j.contains("file")) r.fail(w, "a mesh needs a 'file'");
         MeshOptions mo;
         mo.file = r.string(j["file"], w + ".file");
         if (mo.file.is_relative()) mo.file = base_dir / mo.file;
         if (j.contains("smooth")) mo.smooth = r.boolean(j["smooth"], w + ".smooth");
         if (j.contains("color_by")) mo.color_by = parse_color_by(r, j["color_by"], w + ".color_by");
+        if (j.contains("line_radius"))
+          mo.line_radius = r.number(j["line_radius"], w + ".line_radius", 1e-30f, 1e30f);
+        if (j.contains("point_radius"))
+          mo.point_radius = r.number(j["point_radius"], w + ".point_radius", 1e-30f, 1e30f);
+        if (j.contains("radius_array")) {
+          mo.radius_array = r.string(j["radius_array"], w + ".radius_array");
+          if (mo.radius_array.empty()) r.fail(w + ".radius_array", "must not be empty");
+        }
         if (!mesh_loader) r.fail(w, "no mesh reader available for '" + mo.file.string() + "'");
         glm::dmat4 t(1.0);
         if (j.contains("transform")) {
@@ -461,13 +471,8 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
           std::string msg = e.what();
           throw SceneError(name + ": " + w + ".file: " + msg);
         }
-        const uint32_t material = material_ref(j, w);
-        for (TriangleMesh& m : loaded.meshes) {
-          m.name = m.name.empty() ? oname : oname + " " + m.name;
-          m.material = material;
-          s.meshes.push_back(std::move(m));
-        }
-        for (const std::string& warning : loaded.warnings)
+        for (const std::string& warning :
+             add_mesh_file_objects(s, std::move(loaded), oname, material_ref(j, w)))
           out.warnings.push_back(name + ": " + w + ".file: " + warning);
       } else if (type == "tubes") {
         r.keys(j, w,
@@ -512,6 +517,21 @@ LoadedScene parse_scene(const std::string& text, const std::string& name,
     }
   }
   return out;
+}
+
+std::vector<std::string> add_mesh_file_objects(Scene& scene, LoadedMeshFile&& file,
+                                               const std::string& name, uint32_t material) {
+  auto add = [&](auto& objects, auto& to) {
+    for (auto& o : objects) {
+      o.name = o.name.empty() ? name : name + " " + o.name;
+      o.material = material;
+      to.push_back(std::move(o));
+    }
+  };
+  add(file.meshes, scene.meshes);
+  add(file.tubes, scene.tubes);
+  add(file.points, scene.points);
+  return std::move(file.warnings);
 }
 
 LoadedScene load_scene(const std::filesystem::path& path, const MeshLoader& mesh_loader) {

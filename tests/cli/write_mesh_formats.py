@@ -13,14 +13,19 @@ Usage: write_mesh_formats.py OUT_DIR
   written in two pieces; image_surface.vtp: its outer surface as VTK's dataset
   mapper makes it (vtkDataSetSurfaceFilter).
 - two.ex2: two element blocks of one hexahedron each (vtkExodusIIWriter).
-- lines.vtm: a sphere and a block of lines only (no surface triangles).
+- lines.vtm: a sphere, a block of a line only (no surface triangles) and a
+  block of points without cells (nothing to draw).
+- curves.vtp: lines and vertices only, no surface: a polyline of 40 segments
+  (a helix, as streamlines are) and a cloud of 50 vertices.
 - Damaged: missing_piece.pvtp and missing_block.vtm name a file that does not
   exist, bad_piece.pvtp names a truncated piece, bad_index.vtm gives a block
   index beyond its blocks, loose_dataset.vtpc has a DataSet outside any
   Partitions (VTK 9.1's reader crashes on it), truncated.ex2 is half of
   two.ex2, bad_node.ex2 is two.ex2 with a hexahedron naming node 999 of 16,
-  not_netcdf.ex2 is text.
+  not_netcdf.ex2 is text, damaged_hdf5.ex2 starts as a netCDF-4 (HDF5) file
+  does and goes on with bytes that are not HDF5.
 """
+import math
 import os
 import sys
 
@@ -153,15 +158,36 @@ with open(path("bad_node.ex2"), "wb") as f:
     f.write(exodus_bytes.replace(nodes, nodes[:-4] + (999).to_bytes(4, "big")))
 with open(path("not_netcdf.ex2"), "w") as f:
     f.write("This is not an Exodus file.\n")
+with open(path("damaged_hdf5.ex2"), "wb") as f:
+    f.write(b"\x89HDF\r\n\x1a\n" + bytes(range(256)) * 8)
 
 lines = vtk.vtkLineSource()
 lines.Update()
 with_lines = vtk.vtkMultiBlockDataSet()
-with_lines.SetNumberOfBlocks(2)
+with_lines.SetNumberOfBlocks(3)
 with_lines.SetBlock(0, big)
 with_lines.SetBlock(1, lines.GetOutput())
 with_lines.GetMetaData(1).Set(vtk.vtkCompositeDataSet.NAME(), "lines")
+nothing = vtk.vtkPolyData()  # points without cells
+nothing.SetPoints(big.GetPoints())
+with_lines.SetBlock(2, nothing)
+with_lines.GetMetaData(2).Set(vtk.vtkCompositeDataSet.NAME(), "empty")
 write(vtk.vtkXMLMultiBlockDataWriter(), with_lines, "lines.vtm")
+
+helix = vtk.vtkPolyLineSource()
+helix.SetNumberOfPoints(41)
+for i in range(41):
+    a = 0.3 * i
+    helix.SetPoint(i, math.cos(a), math.sin(a), 0.05 * i)
+cloud = vtk.vtkPointSource()
+cloud.SetNumberOfPoints(50)
+cloud.SetCenter(0.0, 0.0, 1.0)
+cloud.SetRadius(0.5)
+curves = vtk.vtkAppendPolyData()
+curves.AddInputConnection(helix.GetOutputPort())
+curves.AddInputConnection(cloud.GetOutputPort())
+curves.Update()
+write(vtk.vtkXMLPolyDataWriter(), curves.GetOutput(), "curves.vtp")
 
 # Composite files written by hand around the blocks written above.
 with open(path("missing_block.vtm"), "w") as f:

@@ -64,7 +64,8 @@ rayscope::TriangleMesh fake_one_mesh(const rayscope::MeshOptions& options) {
 // A file named "blocks*" is composite: two meshes, one per block, and a
 // warning for a third left out.
 rayscope::LoadedMeshFile fake_mesh(const rayscope::MeshOptions& options) {
-  rayscope::LoadedMeshFile loaded{{fake_one_mesh(options)}, {}};
+  rayscope::LoadedMeshFile loaded;
+  loaded.meshes.push_back(fake_one_mesh(options));
   if (options.file.filename().string().rfind("blocks", 0) == 0) {
     loaded.meshes.push_back(loaded.meshes[0]);
     loaded.meshes[0].name = "block 1";

@@ -16,6 +16,7 @@
 #include <map>
 #include <string>
 
+#include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCompositeDataSet.h>
 #include <vtkCubeSource.h>
@@ -28,15 +29,18 @@
 #include <vtkNew.h>
 #include <vtkPlaneSource.h>
 #include <vtkPointData.h>
+#include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSTLReader.h>
 #include <vtkSTLWriter.h>
 #include <vtkSmartPointer.h>
 #include <vtkSphereSource.h>
 #include <vtkTriangleFilter.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkXMLMultiBlockDataWriter.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "../obj_samples.h"
 #include "rayscope/scene_io.h"
@@ -49,6 +53,7 @@ namespace fs = std::filesystem;
 using rayscope::MeshColorBy;
 using rayscope::MeshOptions;
 using rayscope::TriangleMesh;
+using rayscope::Vec3;
 
 class VtkMeshFiles : public ::testing::Test {
  protected:
@@ -389,10 +394,17 @@ TEST_F(VtkMeshFiles, CompositeFileBlocksShareOneColorRange) {
   ASSERT_EQ(loaded.meshes[1].colors.size(), loaded.meshes[1].positions.size());
   for (const glm::vec3& c : loaded.meshes[1].colors) EXPECT_EQ(c, glm::vec3(1.0f));
   EXPECT_TRUE(loaded.meshes[2].colors.empty());
+  // The block of a line alone: a tube set, of the automatic radius.
+  ASSERT_EQ(loaded.tubes.size(), 1u);
+  EXPECT_EQ(loaded.tubes[0].name, "block 4 (wire) lines");
+  EXPECT_EQ(loaded.tubes[0].segments.size(), 1u);
+  EXPECT_TRUE(loaded.points.empty());
   ASSERT_EQ(loaded.warnings.size(), 2u);
   EXPECT_EQ(loaded.warnings[0],
             file.string() + ": block 3: has no cell array 'T', drawn in the material's color");
-  EXPECT_EQ(loaded.warnings[1], file.string() + ": block 4 (wire): no surface triangles, left out");
+  EXPECT_EQ(loaded.warnings[1], file.string() +
+                                    ": block 4 (wire): has no cell array 'T', drawn in the "
+                                    "material's color");
 
   try {
     rayscope_vtkio::load_mesh(file_options(file));
@@ -400,6 +412,89 @@ TEST_F(VtkMeshFiles, CompositeFileBlocksShareOneColorRange) {
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()),
               file.string() + ": holds 3 meshes (a composite file), not one");
+  }
+}
+
+// A file of lines and vertices only (streamlines, a point cloud): tubes and
+// spheres, colored like a surface, of the automatic radius (1/1000 of the
+// diagonal of the file's bounds in the scene, transform included) or of the
+// scene's radii; a radius array the file lacks, and non-finite points, are
+// errors naming the file.
+TEST_F(VtkMeshFiles, LinesAndVerticesBecomeTubesAndSpheres) {
+  vtkNew<vtkPolyData> pd;
+  vtkNew<vtkPoints> pts;
+  for (double x : {0.0, 1.0, 2.0, 3.0, 4.0}) pts->InsertNextPoint(x, 0.0, 0.0);
+  pd->SetPoints(pts);
+  vtkNew<vtkCellArray> lines, verts;
+  const vtkIdType polyline[] = {0, 1, 2};
+  lines->InsertNextCell(3, polyline);
+  for (vtkIdType i : {3, 4}) verts->InsertNextCell(1, &i);
+  pd->SetLines(lines);
+  pd->SetVerts(verts);
+  vtkNew<vtkUnsignedCharArray> rgb;
+  rgb->SetName("rgb");
+  rgb->SetNumberOfComponents(3);
+  for (int i = 0; i < 5; ++i) rgb->InsertNextTuple3(255, 0, 0);
+  pd->GetPointData()->SetScalars(rgb);
+  vtkNew<vtkFloatArray> r;
+  r->SetName("r");
+  for (int i = 0; i < 5; ++i) r->InsertNextValue(0.1f * float(i + 1));
+  pd->GetPointData()->AddArray(r);
+  const fs::path file = dir_ / "curves.vtp";
+  vtkNew<vtkXMLPolyDataWriter> w;
+  w->SetFileName(file.c_str());
+  w->SetInputData(pd);
+  ASSERT_EQ(w->Write(), 1);
+
+  MeshOptions o = file_options(file);
+  o.to_scene = glm::scale(glm::dmat4(1.0), glm::dvec3(2.0));
+  const rayscope::LoadedMeshFile loaded = rayscope_vtkio::load_meshes(o);
+  EXPECT_TRUE(loaded.meshes.empty());
+  EXPECT_TRUE(loaded.warnings.empty());
+  ASSERT_EQ(loaded.tubes.size(), 1u);
+  ASSERT_EQ(loaded.points.size(), 1u);
+  const rayscope::TubeSet& t = loaded.tubes[0];
+  const rayscope::PointSet& v = loaded.points[0];
+  EXPECT_EQ(t.name, "lines");
+  EXPECT_EQ(v.name, "vertices");
+  EXPECT_EQ(t.segments.size(), 2u);
+  EXPECT_EQ(v.positions.size(), 2u);
+  EXPECT_EQ(v.positions[1], Vec3(8.0f, 0.0f, 0.0f));  // scaled by to_scene
+  // The bounds are 4 long along x, 8 in the scene.
+  EXPECT_FLOAT_EQ(t.radius, 8e-3f);
+  EXPECT_FLOAT_EQ(v.radius, 8e-3f);
+  ASSERT_EQ(t.colors.size(), t.positions.size());
+  EXPECT_EQ(t.colors[0], glm::vec3(1.0f, 0.0f, 0.0f));
+  ASSERT_EQ(v.colors.size(), 2u);
+
+  o.line_radius = 0.5;
+  o.point_radius = 0.25;
+  rayscope::LoadedMeshFile given = rayscope_vtkio::load_meshes(o);
+  EXPECT_EQ(given.tubes[0].radius, 0.5f);
+  EXPECT_EQ(given.points[0].radius, 0.25f);
+  o.radius_array = "r";
+  given = rayscope_vtkio::load_meshes(o);
+  EXPECT_EQ(given.points[0].radii, (std::vector<float>{0.4f, 0.5f}));
+
+  o.radius_array = "nope";
+  try {
+    rayscope_vtkio::load_meshes(o);
+    ADD_FAILURE() << "no error";
+  } catch (const rayscope::MeshOptionError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "radius_array: " + file.string() + ": has no point array 'nope' of one component");
+  }
+
+  pts->SetPoint(4, std::nan(""), 0.0, 0.0);
+  const fs::path bad = dir_ / "nan_curves.vtp";
+  w->SetFileName(bad.c_str());
+  ASSERT_EQ(w->Write(), 1);
+  try {
+    rayscope_vtkio::load_meshes(file_options(bad));
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              bad.string() + ": 1 of 2 vertices have non-finite (NaN or infinite) coordinates");
   }
 }
 
@@ -412,13 +507,16 @@ TEST_F(VtkMeshFiles, SceneFileColorByReachesTheLoader) {
     TriangleMesh m;
     m.positions = {glm::vec3(0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0)};
     m.triangles = {glm::uvec3(0, 1, 2)};
-    return rayscope::LoadedMeshFile{{m}, {}};
+    rayscope::LoadedMeshFile f;
+    f.meshes.push_back(m);
+    return f;
   };
   rayscope::parse_scene(R"({"objects": [
       {"type": "mesh", "file": "a.vtp", "smooth": false,
        "color_by": {"array": "T", "association": "cell", "range": [-1, 2.5], "map": "rainbow"}},
       {"type": "mesh", "file": "b.vtu", "color_by": {"array": "Elevation"}},
-      {"type": "mesh", "file": "c.stl"}]})",
+      {"type": "mesh", "file": "c.stl", "line_radius": 0.5, "point_radius": 2,
+       "radius_array": "R"}]})",
                         "inline", dir_, capture);
   ASSERT_EQ(seen.size(), 3u);
   EXPECT_EQ(seen[0].file, dir_ / "a.vtp");
@@ -436,6 +534,12 @@ TEST_F(VtkMeshFiles, SceneFileColorByReachesTheLoader) {
   EXPECT_FALSE(seen[1].color_by->range);
   EXPECT_EQ(seen[1].color_by->map, rayscope::ColorMap::CoolWarm);
   EXPECT_FALSE(seen[2].color_by);
+  EXPECT_EQ(seen[0].line_radius, 0.0);  // automatic
+  EXPECT_EQ(seen[0].point_radius, 0.0);
+  EXPECT_TRUE(seen[0].radius_array.empty());
+  EXPECT_EQ(seen[2].line_radius, 0.5);
+  EXPECT_EQ(seen[2].point_radius, 2.0);
+  EXPECT_EQ(seen[2].radius_array, "R");
 }
 
 // Bad color_by values and arrays the file lacks: one SceneError line naming

@@ -57,8 +57,8 @@ struct Fixture {
   vtkNew<vtkRayScopeImageAlgorithm> alg;
   vtkNew<vtkRayScopeViewer> viewer;
 
-  explicit Fixture(int max_depth = 3) {
-    scene = rayscope::make_default_scene();
+  explicit Fixture(int max_depth = 3, rayscope::Scene s = rayscope::make_default_scene())
+      : scene(std::move(s)) {
     scene.commit();
     alg->SetSize(kW, kH);
     alg->SetSamples(1);
@@ -273,6 +273,74 @@ TEST_F(Viewer, ClickOnASurfaceIn3DPicksItsPixel) {
   // The 3D view's pixel grid is coarser than the image's: within a pixel.
   EXPECT_NEAR(f.viewer->GetPickedPixel()[0], kGlassI, 1);
   EXPECT_NEAR(f.viewer->GetPickedPixel()[1], kGlassJ, 1);
+}
+
+// A scene of a tube and a point over a floor: a pixel on the tube shows the
+// recorded tree (its hit point on the tube, the text naming the tube set),
+// and the tube and the point are drawn in the 3D view, where a click on
+// either picks the pixel that sees it.
+TEST_F(Viewer, TubesAndPointsAreShownAndPicked) {
+  rayscope::Scene scene;
+  scene.camera.eye = rayscope::Vec3(0, 0, 5);
+  scene.camera.look_at = rayscope::Vec3(0);
+  scene.materials.push_back(rayscope::Material{});
+  rayscope::TubeSet tube;
+  tube.name = "wire";
+  tube.positions = {rayscope::Vec3(-1, 0.3f, 0), rayscope::Vec3(1, 0.3f, 0)};
+  tube.segments = {{0, 1}};
+  tube.radius = 0.15f;
+  scene.tubes.push_back(tube);
+  rayscope::PointSet dot;
+  dot.name = "dot";
+  dot.positions = {rayscope::Vec3(0, -0.5f, 0)};
+  dot.radius = 0.25f;
+  scene.points.push_back(dot);
+  rayscope::Plane floor;
+  floor.point = rayscope::Vec3(0, 0, -1);
+  floor.normal = rayscope::Vec3(0, 0, 1);
+  scene.planes.push_back(floor);
+  rayscope::Light light;
+  light.position = rayscope::Vec3(0, 3, 5);
+  scene.lights.push_back(light);
+  Fixture f(3, scene);
+  ASSERT_TRUE(f.start()) << f.viewer->GetMessage();
+
+  // The pixels of the middle column that see the tube and the point.
+  int tube_j = -1, dot_j = -1;
+  for (int j = 0; j < kH; ++j) {
+    const rayscope::PixelRecord rec = f.record(kW / 2, j);
+    if (!rec.rays[0].hit) continue;
+    if (rec.rays[0].object == 0 && tube_j < 0) tube_j = j;
+    if (rec.rays[0].object == 1 && dot_j < 0) dot_j = j;
+  }
+  ASSERT_GE(tube_j, 0) << "no pixel of the middle column sees the tube";
+  ASSERT_GE(dot_j, 0) << "no pixel of the middle column sees the point";
+
+  int x, y;
+  f.pixel_display(kW / 2, tube_j, x, y);
+  f.click(x, y);
+  ASSERT_EQ(f.viewer->GetPickedPixel()[1], tube_j);
+  const rayscope::PixelRecord rec = f.record(kW / 2, tube_j);
+  EXPECT_EQ(lines_by_kind(f.viewer->GetShownRays()), recorded_by_kind(rec));
+  // The hit lies on the tube's surface: 0.15 from its axis y = 0.3, z = 0.
+  const rayscope::Vec3 p = rec.rays[0].point;
+  EXPECT_NEAR(std::hypot(p.y - 0.3, p.z), 0.15, 1e-5);
+  const std::string text = f.viewer->GetInspectText();
+  EXPECT_NE(text.find("wire"), std::string::npos) << text;
+
+  // Clicks on the tube and on the point in the 3D view.
+  vtkRenderer* ren = f.viewer->GetSceneRenderer();
+  for (int want : {tube_j, dot_j}) {
+    const rayscope::Vec3 q = f.record(kW / 2, want).rays[0].point;
+    ren->SetWorldPoint(q.x, q.y, q.z, 1.0);
+    ren->WorldToDisplay();
+    double d[3];
+    ren->GetDisplayPoint(d);
+    ASSERT_TRUE(ren->IsInViewport(int(d[0]), int(d[1])));
+    f.click(int(std::lround(d[0])), int(std::lround(d[1])));
+    EXPECT_NEAR(f.viewer->GetPickedPixel()[0], kW / 2, 1) << want;
+    EXPECT_NEAR(f.viewer->GetPickedPixel()[1], want, 1) << want;
+  }
 }
 
 // Up/Down grow and shrink the tree by depth, Right/Left step ray by ray, k

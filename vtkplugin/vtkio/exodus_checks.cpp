@@ -10,7 +10,8 @@
 // connectivity in a variable "connectN" of 1-based node numbers, which the
 // reader turns into indices of its node maps without a check: those are read
 // here and held against the dimension "num_nodes". netCDF-4 files (HDF5) are
-// recognised by their signature; their structure is HDF5's to check.
+// recognised by their signature and opened by the netCDF library; their
+// structure is HDF5's to check.
 #include <array>
 #include <cstdint>
 #include <fstream>
@@ -20,6 +21,8 @@
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include <vtk_netcdf.h>
 
 #include "check_util.h"
 #include "rayscope_vtkio/mesh_checks.h"
@@ -50,9 +53,18 @@ int type_size(u64 type, int version) {
   return kSizes[type];
 }
 
+/// An attribute: its netCDF type and, for one value of an integer type
+/// (NC_SHORT, NC_INT), that value.
+struct Attribute {
+  u64 type = 0;
+  std::optional<long long> integer;
+};
+using Attributes = std::map<std::string, Attribute, std::less<>>;
+
 struct Variable {
   std::string name;
   std::vector<u64> dims, dim_ids;
+  Attributes attributes;
   u64 type = 0, begin = 0;
 };
 
@@ -104,7 +116,17 @@ void check_exodus_file(const fs::path& path) {
   unsigned char magic[8] = {};
   in.read(reinterpret_cast<char*>(magic), 8);
   const std::string_view m(reinterpret_cast<const char*>(magic), size_t(in.gcount()));
-  if (m == std::string_view("\x89HDF\r\n\x1a\n", 8)) return;  // netCDF-4: HDF5's to check
+  if (m == std::string_view("\x89HDF\r\n\x1a\n", 8)) {
+    // netCDF-4: HDF5's structure, for the netCDF library to check. It is
+    // opened here first, quietly: the Exodus library, opening a file netCDF
+    // refuses, prints its own lines to stderr whatever its options say.
+    int id = 0;
+    if (const int status = nc_open(path.c_str(), NC_NOWRITE, &id); status != NC_NOERR)
+      fail(path, std::string("Exodus: a netCDF-4 (HDF5) file netCDF cannot open: ") +
+                     nc_strerror(status));
+    nc_close(id);
+    return;
+  }
   if (m.size() < 4 || m.substr(0, 3) != "CDF" || (magic[3] != 1 && magic[3] != 2 && magic[3] != 5))
     fail(path, "Exodus: not a netCDF file (an Exodus II file is one)");
   const int version = magic[3];
@@ -129,19 +151,33 @@ void check_exodus_file(const fs::path& path) {
     if (n > header.size() / 8) header.error(std::string("more ") + what + " than the file holds");
     return n;
   };
+  // Reads an attribute list.
   auto attributes = [&](const char* what) {
+    Attributes out;
     const u64 n = list(kAttributeTag, what);
     for (u64 i = 0; i < n; ++i) {
-      header.name(count_bytes, what);
-      const u64 type = header.read(4, what);
-      const int bytes = type_size(type, version);
-      if (!bytes) header.error(std::string("an attribute of unknown type ") + std::to_string(type));
+      std::string name = header.name(count_bytes, what);
+      Attribute a;
+      a.type = header.read(4, what);
+      const int bytes = type_size(a.type, version);
+      if (!bytes)
+        header.error(std::string("an attribute of unknown type ") + std::to_string(a.type));
       const u64 values = header.read(count_bytes, what);
       const u64 length = times(values, u64(bytes));
       if (length == kNoSize || length > header.size())
         header.error(std::string("an attribute longer than the file"));
-      header.skip(length + (4 - length % 4) % 4, what);
+      constexpr u64 kShort = 3, kInt = 4;
+      if ((a.type == kShort || a.type == kInt) && values == 1) {
+        const u64 bits = header.read(bytes, what);
+        a.integer =
+            a.type == kShort ? (long long)std::int16_t(bits) : (long long)std::int32_t(bits);
+        header.skip(u64((4 - bytes % 4) % 4), what);
+      } else {
+        header.skip(length + (4 - length % 4) % 4, what);
+      }
+      out.emplace(std::move(name), a);
     }
+    return out;
   };
   const u64 ndims = list(kDimensionTag, "dimensions");
   bool record_dim = false;
@@ -155,7 +191,14 @@ void check_exodus_file(const fs::path& path) {
     dim_by_name.emplace(std::move(name), dims.size());
     dims.push_back(length);
   }
-  attributes("global attributes");
+  // The longest name the file says it holds: the reader sizes its name
+  // buffers by it (a damaged value made it ask for 4 GB). The Exodus library
+  // takes names of 1 to NC_MAX_NAME characters.
+  const Attributes global = attributes("global attributes");
+  if (const auto it = global.find("maximum_name_length"); it != global.end())
+    if (!it->second.integer || *it->second.integer < 0 || *it->second.integer > NC_MAX_NAME)
+      header.error("the attribute 'maximum_name_length' is not a number of 0 to " +
+                   std::to_string(NC_MAX_NAME) + " characters");
   const u64 nvars = list(kVariableTag, "variables");
   std::vector<Variable> vars;
   for (u64 i = 0; i < nvars; ++i) {
@@ -174,7 +217,7 @@ void check_exodus_file(const fs::path& path) {
       v.dims.push_back(dims[size_t(id)]);
       v.dim_ids.push_back(id);
     }
-    attributes("variable attributes");
+    v.attributes = attributes("variable attributes");
     v.type = header.read(4, "the variables");
     if (!type_size(v.type, version))
       header.error("variable '" + rayscope::printable_text(v.name, rayscope::kMaxQuotedBytes) +
@@ -215,10 +258,11 @@ void check_exodus_file(const fs::path& path) {
   // The element blocks, as Exodus lays them out: "num_el_blk" blocks, their
   // ids in "eb_prop1", block I's elements and nodes per element in the
   // dimensions "num_el_in_blkI" and "num_nod_per_elI" and its connectivity in
-  // "connectI" of those two dimensions; an empty block has none of the three.
-  // The reader lists a block lacking some of them in one place but not in
-  // another and crashes (a damaged dimension name made a NULL dereference in
-  // vtkExodusIIReaderPrivate::GetSortedObjectInfo).
+  // "connectI" of those two dimensions, with a text attribute "elem_type"
+  // naming the element; an empty block has none of the three. The reader
+  // lists a block lacking some of them in one place but not in another and
+  // crashes (a damaged dimension name, or a damaged attribute name, made a
+  // NULL dereference in vtkExodusIIReaderPrivate::GetSortedObjectInfo).
   auto dim = [&](const std::string& name) -> std::optional<u64> {
     const auto it = dim_by_name.find(name);
     if (it == dim_by_name.end()) return std::nullopt;
@@ -244,6 +288,11 @@ void check_exodus_file(const fs::path& path) {
         fail(path, "Exodus: element block " + n +
                        " lacks or mismatches its dimensions num_el_in_blk" + n +
                        ", num_nod_per_el" + n + " or its variable connect" + n);
+      constexpr u64 kText = 2;  // NC_CHAR
+      const auto type = connect->attributes.find("elem_type");
+      if (type == connect->attributes.end() || type->second.type != kText)
+        fail(path, "Exodus: element block " + n + " has no element type (text attribute " +
+                       "'elem_type' of connect" + n + ")");
     }
   }
 

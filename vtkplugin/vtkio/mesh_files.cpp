@@ -37,6 +37,7 @@
 #include "rayscope/input_file.h"
 #include "rayscope/printable_text.h"
 #include "rayscope_vtkio/dataset_leaves.h"
+#include "rayscope_vtkio/line_conversion.h"
 #include "rayscope_vtkio/mesh_checks.h"
 #include "rayscope_vtkio/mesh_conversion.h"
 #include "rayscope_vtkio/plain_obj.h"
@@ -250,6 +251,64 @@ rayscope::TriangleMesh convert(vtkDataSet* data, const std::string& where,
   return m;
 }
 
+// The radii of a file's tubes and spheres: the options', or the automatic
+// radius, kAutomaticRadiusFraction of the diagonal of the leaves' bounds in
+// the scene (their finite bounds' corners moved by options.to_scene), as the
+// VTK module sizes them at VTK's default line width and point size of 1.
+CurveRadii curve_radii(const rayscope::MeshOptions& options,
+                       const std::vector<DatasetLeaf>& leaves) {
+  double b[6];
+  double automatic = 0.0;
+  if (finite_bounds(leaf_datasets(leaves), b)) {
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::dvec4 p =
+          options.to_scene *
+          glm::dvec4(b[corner & 1 ? 1 : 0], b[corner & 2 ? 3 : 2], b[corner & 4 ? 5 : 4], 1.0);
+      lo = glm::min(lo, glm::dvec3(p));
+      hi = glm::max(hi, glm::dvec3(p));
+    }
+    automatic = kAutomaticRadiusFraction * glm::length(hi - lo);
+  }
+  CurveRadii radii;
+  radii.line = options.line_radius > 0.0 ? options.line_radius : automatic;
+  radii.point = options.point_radius > 0.0 ? options.point_radius : automatic;
+  radii.array = options.radius_array;
+  return radii;
+}
+
+// The line cells of `data` as `tubes` and its vertex cells as `points`
+// (convert_lines_and_points()). A file is refused for non-finite points on
+// them, as convert() refuses it for non-finite triangles.
+void convert_curves(vtkDataSet* data, const std::string& where, const CurveRadii& radii,
+                    vtkMapper* coloring, const glm::dmat4& to_scene, rayscope::TubeSet& tubes,
+                    rayscope::PointSet& points) {
+  try {
+    convert_lines_and_points(data, coloring, radii, tubes, points, to_scene);
+  } catch (const std::invalid_argument& e) {
+    vtkDataArray* a =
+        radii.array.empty() ? nullptr : data->GetPointData()->GetArray(radii.array.c_str());
+    if (!radii.array.empty() && (!a || a->GetNumberOfComponents() != 1))
+      throw rayscope::MeshOptionError("radius_array: " + where + ": has no point array '" +
+                                      radii.array + "' of one component");
+    throw std::runtime_error(where + ": " + e.what());
+  }
+  using rayscope::all_finite;
+  size_t bad = 0;
+  for (const glm::uvec2& s : tubes.segments)
+    bad += !all_finite(tubes.positions[s.x]) || !all_finite(tubes.positions[s.y]);
+  if (bad)
+    throw std::runtime_error(where + ": " + std::to_string(bad) + " of " +
+                             std::to_string(tubes.segments.size()) +
+                             " line segments have a non-finite (NaN or infinite) end");
+  bad = size_t(std::count_if(points.positions.begin(), points.positions.end(),
+                             [](const rayscope::Vec3& p) { return !all_finite(p); }));
+  if (bad)
+    throw std::runtime_error(where + ": " + std::to_string(bad) + " of " +
+                             std::to_string(points.positions.size()) +
+                             " vertices have non-finite (NaN or infinite) coordinates");
+}
+
 // The format of `path` in kMeshFileFormats, or null.
 const MeshFileFormat* format_of(const std::filesystem::path& path) {
   const std::string ext = rayscope::lower_extension(path);
@@ -457,6 +516,7 @@ rayscope::LoadedMeshFile load_meshes_from(const rayscope::MeshOptions& options,
   std::vector<const DatasetLeaf*> lacking;
   vtkSmartPointer<vtkMapper> color_by;
   if (options.color_by) color_by = color_by_mapper(found.leaves, *options.color_by, file, lacking);
+  const CurveRadii radii = curve_radii(options, found.leaves);
   for (const DatasetLeaf& leaf : found.leaves) {
     const std::string label = composite ? leaf_label(leaf) : std::string();
     const std::string where = composite ? file + ": " + label : file;
@@ -464,8 +524,12 @@ rayscope::LoadedMeshFile load_meshes_from(const rayscope::MeshOptions& options,
     vtkSmartPointer<vtkMapper> coloring =
         options.color_by && !uncolored ? color_by : direct_color_mapper(leaf.data);
     rayscope::TriangleMesh m = convert(leaf.data, where, surface, coloring, options.to_scene);
-    if (m.triangles.empty()) {
-      if (composite) loaded.warnings.push_back(where + ": no surface triangles, left out");
+    rayscope::TubeSet tubes;
+    rayscope::PointSet points;
+    convert_curves(leaf.data, where, radii, coloring, options.to_scene, tubes, points);
+    if (m.triangles.empty() && tubes.segments.empty() && points.positions.empty()) {
+      if (composite)
+        loaded.warnings.push_back(where + ": no surface triangles, lines or vertices, left out");
       continue;
     }
     if (uncolored)
@@ -473,17 +537,30 @@ rayscope::LoadedMeshFile load_meshes_from(const rayscope::MeshOptions& options,
           where + ": has no " +
           (options.color_by->association == MeshColorBy::Association::Cell ? "cell" : "point") +
           " array '" + options.color_by->array + "', drawn in the material's color");
+    const std::string space = label.empty() ? "" : " ";
+    if (!tubes.segments.empty()) {
+      tubes.name = label + space + "lines";
+      loaded.tubes.push_back(std::move(tubes));
+    }
+    if (!points.positions.empty()) {
+      points.name = label + space + "vertices";
+      loaded.points.push_back(std::move(points));
+    }
+    if (m.triangles.empty()) continue;
     if (!options.smooth) m.normals.clear();  // the file's own normals too
     m.name = label;
     loaded.meshes.push_back(std::move(m));
   }
-  if (loaded.meshes.empty()) throw std::runtime_error(file + ": contains no surface triangles");
+  if (loaded.meshes.empty() && loaded.tubes.empty() && loaded.points.empty())
+    throw std::runtime_error(file + ": contains no surface triangles, lines or vertices");
   return loaded;
 }
 
 rayscope::TriangleMesh load_mesh(const rayscope::MeshOptions& options) {
   const std::string file = options.file.string();
   rayscope::LoadedMeshFile loaded = load_meshes(options);
+  if (loaded.meshes.empty())
+    throw std::runtime_error(file + ": contains no surface triangles (only lines or vertices)");
   if (loaded.meshes.size() != 1)
     throw std::runtime_error(file + ": holds " + std::to_string(loaded.meshes.size()) +
                              " meshes (a composite file), not one");

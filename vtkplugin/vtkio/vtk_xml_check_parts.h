@@ -49,6 +49,12 @@ struct XmlArray {
   bool operator==(const XmlArray&) const = default;
 };
 
+/// Appends to `out` the arrays `section` (may be null) declares in nested
+/// elements named `element` ("DataArray"; a parallel file's "PDataArray"),
+/// each under the section name `name`.
+void note_arrays(vtkXMLDataElement* section, std::string_view element, const char* name,
+                 std::vector<XmlArray>& out);
+
 /// What check_vtk_xml_dataset() saw in a file that passed.
 struct XmlDatasetSummary {
   /// The arrays of its first piece.

@@ -442,11 +442,14 @@ u64 extent_cells(const std::array<long long, 6>& e) {
   return cells;
 }
 
-void note_arrays(vtkXMLDataElement* section, const char* name, std::vector<XmlArray>& out) {
+}  // namespace
+
+void note_arrays(vtkXMLDataElement* section, std::string_view element, const char* name,
+                 std::vector<XmlArray>& out) {
   if (!section) return;
   for (int i = 0; i < section->GetNumberOfNestedElements(); ++i) {
     vtkXMLDataElement* a = section->GetNestedElement(i);
-    if (std::string_view(a->GetName()) != "DataArray") continue;
+    if (std::string_view(a->GetName()) != element) continue;
     XmlArray x;
     x.section = name;
     x.name = a->GetAttribute("Name") ? a->GetAttribute("Name") : "";
@@ -455,8 +458,6 @@ void note_arrays(vtkXMLDataElement* section, const char* name, std::vector<XmlAr
     out.push_back(x);
   }
 }
-
-}  // namespace
 
 struct XmlDocument {
   explicit XmlDocument(const fs::path& p)
@@ -622,9 +623,12 @@ XmlDatasetSummary check_vtk_xml_dataset(const fs::path& path, std::string_view d
     check_attribute_arrays(f, piece->FindNestedElementWithName("PointData"), points, "points");
     check_attribute_arrays(f, piece->FindNestedElementWithName("CellData"), cells, "cells");
     if (first_piece) {
-      note_arrays(piece->FindNestedElementWithName("Points"), "Points", summary.arrays);
-      note_arrays(piece->FindNestedElementWithName("PointData"), "PointData", summary.arrays);
-      note_arrays(piece->FindNestedElementWithName("CellData"), "CellData", summary.arrays);
+      note_arrays(piece->FindNestedElementWithName("Points"), "DataArray", "Points",
+                  summary.arrays);
+      note_arrays(piece->FindNestedElementWithName("PointData"), "DataArray", "PointData",
+                  summary.arrays);
+      note_arrays(piece->FindNestedElementWithName("CellData"), "DataArray", "CellData",
+                  summary.arrays);
       first_piece = false;
     }
   }

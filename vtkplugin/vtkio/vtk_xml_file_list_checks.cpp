@@ -71,21 +71,6 @@ auto check_member(const fs::path& owner, const char* what, const char* name, Che
   }
 }
 
-/// The PDataArray declarations of a parallel file's section.
-void parallel_arrays(vtkXMLDataElement* section, const char* name, std::vector<XmlArray>& out) {
-  if (!section) return;
-  for (int i = 0; i < section->GetNumberOfNestedElements(); ++i) {
-    vtkXMLDataElement* a = section->GetNestedElement(i);
-    if (std::string_view(a->GetName()) != "PDataArray") continue;
-    XmlArray x;
-    x.section = name;
-    x.name = a->GetAttribute("Name") ? a->GetAttribute("Name") : "";
-    x.type = a->GetAttribute("type") ? a->GetAttribute("type") : "";
-    a->GetScalarAttribute("NumberOfComponents", x.components);
-    out.push_back(x);
-  }
-}
-
 // The children of a composite file's elements, as the readers walk them.
 struct CompositeWalk {
   const fs::path& path;
@@ -160,9 +145,10 @@ std::vector<fs::path> check_vtk_xml_parallel_file(const fs::path& path, const ch
                      " points");
   }
   std::vector<XmlArray> declared;
-  parallel_arrays(primary->FindNestedElementWithName("PPoints"), "Points", declared);
-  parallel_arrays(primary->FindNestedElementWithName("PPointData"), "PointData", declared);
-  parallel_arrays(primary->FindNestedElementWithName("PCellData"), "CellData", declared);
+  note_arrays(primary->FindNestedElementWithName("PPoints"), "PDataArray", "Points", declared);
+  note_arrays(primary->FindNestedElementWithName("PPointData"), "PDataArray", "PointData",
+              declared);
+  note_arrays(primary->FindNestedElementWithName("PCellData"), "PDataArray", "CellData", declared);
 
   std::set<fs::path> seen;
   unsigned long long points = 0;

@@ -53,6 +53,13 @@ struct MeshOptions {
   /// to the points in double precision, before they are rounded to float, and
   /// its inverse transpose to the normals.
   glm::dmat4 to_scene{1.0};
+  /// Radius of the tubes drawn around the file's line cells and of the
+  /// spheres at its vertex cells, in the scene's units; 0: automatic (the
+  /// loader's rule, a fraction of the file's size).
+  double line_radius = 0.0, point_radius = 0.0;
+  /// A point array (one component) giving the radius at each point of lines
+  /// and vertices; empty: none.
+  std::string radius_array;
 };
 
 /// Thrown by a MeshLoader when the file is read but an option does not fit it
@@ -72,10 +79,21 @@ struct LoadedMeshFile {
   /// file of one dataset, e.g. "block 3 (wall)" for a leaf; the scene parser
   /// puts the object's name before it.
   std::vector<TriangleMesh> meshes;
+  /// The line cells of the datasets as tubes and their vertex cells as
+  /// spheres, a set per dataset that has them, named like the meshes with
+  /// " lines" or " vertices" after ("lines" for a file of one dataset).
+  std::vector<TubeSet> tubes;
+  std::vector<PointSet> points;
   /// What was left out, one line each ("FILE: block 3 (wall): no surface
-  /// triangles, left out"); front ends print each as a warning.
+  /// triangles, lines or vertices, left out"); front ends print each as a
+  /// warning.
   std::vector<std::string> warnings;
 };
+
+/// Adds the objects of `file` to `scene`, each named `name`, or `name` and
+/// its own name after a space, and given `material`; returns the warnings.
+std::vector<std::string> add_mesh_file_objects(Scene& scene, LoadedMeshFile&& file,
+                                               const std::string& name, uint32_t material);
 
 /// Reads the meshes a scene object describes (positions, triangles, optional
 /// normals and colors). The core has no mesh readers of its own;

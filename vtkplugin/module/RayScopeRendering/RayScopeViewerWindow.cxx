@@ -96,8 +96,8 @@ void vtkRayScopeViewer::Internals::Build() {
   this->Initialized = true;
 }
 
-// The core scene's objects, drawn by VTK: meshes, spheres, planes (sized to
-// the rest of the scene) and point lights, in their material colors, half
+// The core scene's objects, drawn by VTK: meshes, spheres, tubes, points,
+// planes (sized to the rest of the scene) and point lights, in their material colors, half
 // transparent so that rays inside them stay visible.
 void vtkRayScopeViewer::Internals::BuildSceneGeometry() {
   for (vtkActor* a : this->GeometryActors) this->SceneRen->RemoveActor(a);
@@ -150,6 +150,63 @@ void vtkRayScopeViewer::Internals::BuildSceneGeometry() {
     src->SetPhiResolution(32);
     src->Update();
     add(src->GetOutput(), nullptr, sp.material, true);
+  }
+  // Tube sets around their traced segments (VTK's tube filter, capped; the
+  // radius per point when the set has radii) and point sets as a sphere at
+  // each traced point, of its radius.
+  for (const rayscope::TubeSet& t : s.tubes) {
+    vtkNew<vtkPolyData> pd;
+    vtkNew<vtkPoints> pts;
+    pts->SetDataTypeToDouble();
+    vtkNew<vtkFloatArray> radius;
+    vtkNew<vtkCellArray> lines;
+    for (size_t k = 0; k < t.segments.size(); ++k) {
+      if (!t.traced(k)) continue;
+      vtkIdType ids[2];
+      for (int e = 0; e < 2; ++e) {
+        const uint32_t i = t.segments[k][e];
+        const rayscope::DVec3 w = s.to_world(t.positions[i]);
+        ids[e] = pts->InsertNextPoint(w.x, w.y, w.z);
+        radius->InsertNextValue(t.radii.empty() ? t.radius : t.radii[i]);
+      }
+      lines->InsertNextCell(2, ids);
+    }
+    pd->SetPoints(pts);
+    pd->SetLines(lines);
+    pd->GetPointData()->SetScalars(radius);
+    vtkNew<vtkTubeFilter> tube;
+    tube->SetInputData(pd);
+    tube->SetVaryRadiusToVaryRadiusByAbsoluteScalar();
+    tube->SetNumberOfSides(16);
+    tube->CappingOn();
+    tube->Update();
+    add(tube->GetOutput(), nullptr, t.material, true);
+  }
+  for (const rayscope::PointSet& ps : s.points) {
+    vtkNew<vtkPolyData> pd;
+    vtkNew<vtkPoints> pts;
+    pts->SetDataTypeToDouble();
+    vtkNew<vtkFloatArray> radius;
+    for (size_t i = 0; i < ps.positions.size(); ++i) {
+      if (!ps.traced(i)) continue;
+      const rayscope::DVec3 w = s.to_world(ps.positions[i]);
+      pts->InsertNextPoint(w.x, w.y, w.z);
+      radius->InsertNextValue(ps.point_radius(i));
+    }
+    pd->SetPoints(pts);
+    pd->GetPointData()->SetScalars(radius);
+    vtkNew<vtkSphereSource> ball;  // radius 1, scaled by each point's radius
+    ball->SetRadius(1.0);
+    ball->SetThetaResolution(16);
+    ball->SetPhiResolution(12);
+    vtkNew<vtkGlyph3D> glyphs;
+    glyphs->SetInputData(pd);
+    glyphs->SetSourceConnection(ball->GetOutputPort());
+    glyphs->SetScaleModeToScaleByScalar();
+    glyphs->SetScaleFactor(1.0);
+    glyphs->OrientOff();
+    glyphs->Update();
+    add(glyphs->GetOutput(), nullptr, ps.material, true);
   }
   for (const rayscope::Plane& pl : s.planes) {
     // A square of the scene's size around the point of the plane nearest to

@@ -158,18 +158,18 @@ int SceneBuilder::CheckDrawable(vtkRayScopeImageAlgorithm* alg,
   for (size_t i : tube_of) drawn[i] = true;
   for (size_t i : point_of) drawn[i] = true;
   const auto n = size_t(std::count(drawn.begin(), drawn.end(), true));
-  static constexpr const char* kNothing = "no surface triangles, lines or vertices";
+  static constexpr const char* kDrawable = "surface triangles, lines or vertices";
   if (n == 0) {
-    vtkErrorWithObjectMacro(
-        alg, << "nothing to render: "
-             << (meshes.size() == 1 ? what(0) + " has " + kNothing
-                                    : std::string("no input dataset or block has surface "
-                                                  "triangles, lines or vertices")));
+    vtkErrorWithObjectMacro(alg, << "nothing to render: "
+                                 << (meshes.size() == 1 ? what(0) + " has no "
+                                                        : std::string("no input dataset or "
+                                                                      "block has "))
+                                 << kDrawable);
     return 0;
   }
   for (size_t i = 0; i < meshes.size(); ++i)
     if (!drawn[i])
-      vtkWarningWithObjectMacro(alg, << what(i) << " has " << kNothing << ": it is not shown");
+      vtkWarningWithObjectMacro(alg, << what(i) << " has no " << kDrawable << ": it is not shown");
   return 1;
 }
 

@@ -94,12 +94,21 @@ vtkSmartPointer<vtkDataObject> read_mesh_data_file(const std::filesystem::path& 
  *   components) by a vtkMapper with that lookup table, one for every leaf;
  *   otherwise RGB(A) unsigned-char point scalars as they are.
  *
- * A leaf without surface triangles, a leaf lacking the color_by array (drawn
- * in the material's color) and a block that is not a dataset are left out
- * with a warning naming the block. Throws rayscope::MeshOptionError
- * ("color_by.array: problem") when color_by names an array no dataset of the
- * file has, std::runtime_error "FILE: problem" for a file it cannot read or
- * that has no surface triangles at all.
+ * - Lines and vertices: each dataset's line and polyline cells as tubes and
+ *   its vertex and polyvertex cells as spheres (convert_lines_and_points(),
+ *   colored as its surface), sets named "lines" and "vertices" ("block N
+ *   lines" for a leaf). Radii: options.line_radius and point_radius, else
+ *   kAutomaticRadiusFraction of the diagonal of the file's bounds in the
+ *   scene; options.radius_array, when given, per point.
+ *
+ * A leaf without surface triangles, lines or vertices, a leaf lacking the
+ * color_by array (drawn in the material's color) and a block that is not a
+ * dataset are left out with a warning naming the block. Throws
+ * rayscope::MeshOptionError ("color_by.array: problem", "radius_array:
+ * problem") when color_by names an array no dataset of the file has or a
+ * dataset with lines or vertices lacks the radius array, std::runtime_error
+ * "FILE: problem" for a file it cannot read, with non-finite points on its
+ * triangles, lines or vertices, or with nothing to draw at all.
  */
 rayscope::LoadedMeshFile load_meshes(const rayscope::MeshOptions& options);
 /// The same for `data` already read from options.file by
@@ -109,7 +118,8 @@ rayscope::LoadedMeshFile load_meshes_from(const rayscope::MeshOptions& options,
                                           vtkDataObject* data);
 
 /// The mesh of a file of one dataset, as load_meshes() makes it, named after
-/// the file. Throws as load_meshes(), and for a composite file.
+/// the file. Throws as load_meshes(), for a composite file, and for a file
+/// of lines or vertices only.
 rayscope::TriangleMesh load_mesh(const rayscope::MeshOptions& options);
 
 /// The file's triangles as stored: the same conversion without computing
