@@ -578,9 +578,18 @@ TEST_P(AccelConformance, RangeWalksPrune) {
 // renders it in seconds): the image is the BVH's, bit for bit (color, depth,
 // normals, object ids).
 TEST_P(AccelConformance, RendersLikeTheBvh) {
+  // Tubes and points, lit so that they shadow each other, seen from outside.
+  Rng rng(33);
+  Scene tubes = rstest::tube_scene(rng);
+  tubes.camera.eye = Vec3(3.0f, 4.0f, 16.0f);
+  tubes.camera.look_at = Vec3(0.0f);
+  rayscope::Light light;
+  light.position = Vec3(5.0f, 12.0f, 8.0f);
+  tubes.lights.push_back(light);
   const std::pair<Scene, RenderSettings> cases[] = {
       {make_default_scene(), rstest::small_render(160, 120, 2)},
-      {rstest::lumpy_scene(3), rstest::small_render(80, 60, 2)}};
+      {rstest::lumpy_scene(3), rstest::small_render(80, 60, 2)},
+      {tubes, rstest::small_render(80, 60, 2)}};
   for (auto [scene, rs] : cases) {
     scene.commit();
     const Framebuffer bvh = render(scene, rs);

@@ -214,7 +214,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (rayscope_vtkio::has_dataset_file_extension(file)) check_reader(file, loaded);
 #endif
   if (!loaded) return 0;
-  if (meshes.meshes.empty()) finding("accepted file", "no meshes");
+  if (meshes.meshes.empty() && meshes.tubes.empty() && meshes.points.empty())
+    finding("accepted file", "no meshes, tubes or points");
   rayscope::Scene scene;
   for (rayscope::TriangleMesh& mesh : meshes.meshes) {
     const size_t n = mesh.positions.size();
@@ -226,6 +227,27 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (!mesh.colors.empty() && mesh.colors.size() != n)
       finding("accepted mesh", "colors are not one per position");
     scene.meshes.push_back(std::move(mesh));
+  }
+  // Lines and vertices: indices in range, radii and colors one per position
+  // or none, every one traced (finite, of a radius > 0).
+  auto per_position = [](const auto& values, size_t n) {
+    return values.empty() || values.size() == n;
+  };
+  for (rayscope::TubeSet& t : meshes.tubes) {
+    const size_t n = t.positions.size();
+    if (t.segments.empty()) finding("accepted tubes", "no segments");
+    for (const glm::uvec2& e : t.segments)
+      if (e.x >= n || e.y >= n) finding("accepted tubes", "segment index out of range");
+    if (!per_position(t.radii, n) || !per_position(t.colors, n))
+      finding("accepted tubes", "radii or colors are not one per position");
+    scene.tubes.push_back(std::move(t));
+  }
+  for (rayscope::PointSet& p : meshes.points) {
+    const size_t n = p.positions.size();
+    if (n == 0) finding("accepted points", "no points");
+    if (!per_position(p.radii, n) || !per_position(p.colors, n))
+      finding("accepted points", "radii or colors are not one per position");
+    scene.points.push_back(std::move(p));
   }
   scene.materials.emplace_back();
   try {

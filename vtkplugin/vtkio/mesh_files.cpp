@@ -270,6 +270,9 @@ CurveRadii curve_radii(const rayscope::MeshOptions& options,
     }
     automatic = kAutomaticRadiusFraction * glm::length(hi - lo);
   }
+  // A file whose points are all one point (a single vertex): a sphere of
+  // radius 1 there, which the camera then frames, rather than nothing.
+  if (!(automatic > 0.0)) automatic = 1.0;
   CurveRadii radii;
   radii.line = options.line_radius > 0.0 ? options.line_radius : automatic;
   radii.point = options.point_radius > 0.0 ? options.point_radius : automatic;
