@@ -126,6 +126,18 @@ by_array.SetRadiusArray("radius")
 by_array.Update()
 check(ids_of(by_array).count(1) > 50, "spheres sized by RadiusArray are drawn")
 
+# One vertex alone: bounds of one point, no diagonal to size it by; a sphere
+# of radius 1 there (rayscope_vtkio::automatic_radius), framed by the camera.
+one = vtk.vtkPointSource()
+one.SetNumberOfPoints(1)
+one.SetRadius(0.0)
+one.SetCenter(2.0, 3.0, 4.0)
+single = tracer(one.GetOutputPort())
+single_errors = Errors(single)
+single.Update()
+check(not single_errors.messages, f"one vertex: no error or warning ({single_errors.messages})")
+check(ids_of(single).count(1) > W * H // 10, "one vertex alone is drawn as a sphere")
+
 # ---- mixed with a surface: nothing dropped, every structure alike --------------
 floor = vtk.vtkPlaneSource()
 floor.SetOrigin(-9, -9, 9)

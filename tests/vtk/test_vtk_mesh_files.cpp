@@ -485,6 +485,26 @@ TEST_F(VtkMeshFiles, LinesAndVerticesBecomeTubesAndSpheres) {
               "radius_array: " + file.string() + ": has no point array 'nope' of one component");
   }
 
+  // A file whose vertices are one point: radius 1 (automatic_radius()).
+  {
+    vtkNew<vtkPolyData> one;
+    vtkNew<vtkPoints> p1;
+    p1->InsertNextPoint(2.0, 3.0, 4.0);
+    one->SetPoints(p1);
+    vtkNew<vtkCellArray> v1;
+    const vtkIdType id0 = 0;
+    v1->InsertNextCell(1, &id0);
+    one->SetVerts(v1);
+    const fs::path single = dir_ / "one_vertex.vtp";
+    vtkNew<vtkXMLPolyDataWriter> w1;
+    w1->SetFileName(single.c_str());
+    w1->SetInputData(one);
+    ASSERT_EQ(w1->Write(), 1);
+    const rayscope::LoadedMeshFile one_point = rayscope_vtkio::load_meshes(file_options(single));
+    ASSERT_EQ(one_point.points.size(), 1u);
+    EXPECT_EQ(one_point.points[0].radius, 1.0f);
+  }
+
   pts->SetPoint(4, std::nan(""), 0.0, 0.0);
   const fs::path bad = dir_ / "nan_curves.vtp";
   w->SetFileName(bad.c_str());

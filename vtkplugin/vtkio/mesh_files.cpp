@@ -252,13 +252,13 @@ rayscope::TriangleMesh convert(vtkDataSet* data, const std::string& where,
 }
 
 // The radii of a file's tubes and spheres: the options', or the automatic
-// radius, kAutomaticRadiusFraction of the diagonal of the leaves' bounds in
-// the scene (their finite bounds' corners moved by options.to_scene), as the
+// radius, automatic_radius() of the diagonal of the leaves' bounds in the
+// scene (their finite bounds' corners moved by options.to_scene), as the
 // VTK module sizes them at VTK's default line width and point size of 1.
 CurveRadii curve_radii(const rayscope::MeshOptions& options,
                        const std::vector<DatasetLeaf>& leaves) {
   double b[6];
-  double automatic = 0.0;
+  double diagonal = 0.0;
   if (finite_bounds(leaf_datasets(leaves), b)) {
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
     for (int corner = 0; corner < 8; ++corner) {
@@ -268,11 +268,9 @@ CurveRadii curve_radii(const rayscope::MeshOptions& options,
       lo = glm::min(lo, glm::dvec3(p));
       hi = glm::max(hi, glm::dvec3(p));
     }
-    automatic = kAutomaticRadiusFraction * glm::length(hi - lo);
+    diagonal = glm::length(hi - lo);
   }
-  // A file whose points are all one point (a single vertex): a sphere of
-  // radius 1 there, which the camera then frames, rather than nothing.
-  if (!(automatic > 0.0)) automatic = 1.0;
+  const double automatic = automatic_radius(diagonal);
   CurveRadii radii;
   radii.line = options.line_radius > 0.0 ? options.line_radius : automatic;
   radii.point = options.point_radius > 0.0 ? options.point_radius : automatic;

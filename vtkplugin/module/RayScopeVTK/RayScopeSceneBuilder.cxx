@@ -107,12 +107,12 @@ rayscope::Material object_material(vtkRayScopeImageAlgorithm* alg, const ObjectS
 
 // The radii of the tubes and spheres of a dataset converted by `converter`:
 // the settings' LineRadius and PointRadius, or where those are 0 the
-// automatic radius, kAutomaticRadiusFraction of `diagonal` times the
+// automatic radius, rayscope_vtkio::automatic_radius(diagonal) times the
 // converter's LineWidth or PointSize.
 rayscope_vtkio::CurveRadii curve_radii(vtkRayScopeImageAlgorithm* alg,
                                        vtkRayScopeMeshConverter* converter, double diagonal) {
   vtkRayScopeSceneSettings* settings = alg->GetSettings();
-  const double automatic = rayscope_vtkio::kAutomaticRadiusFraction * diagonal;
+  const double automatic = rayscope_vtkio::automatic_radius(diagonal);
   rayscope_vtkio::CurveRadii radii;
   radii.line = settings->GetLineRadius() > 0.0
                    ? settings->GetLineRadius()

@@ -24,6 +24,14 @@ namespace rayscope_vtkio {
 /// sizes them (a line width of 1 is a tube 1/500 of the diagonal across).
 inline constexpr double kAutomaticRadiusFraction = 1e-3;
 
+/// The automatic radius (at a line width or point size of 1) of what has
+/// bounds of this diagonal: kAutomaticRadiusFraction of it, or 1 when the
+/// diagonal is 0 (everything at one point: a sphere there that a camera can
+/// frame, rather than nothing).
+inline double automatic_radius(double diagonal) {
+  return diagonal > 0.0 ? kAutomaticRadiusFraction * diagonal : 1.0;
+}
+
 /// How thick tubes and spheres are, in world units.
 struct CurveRadii {
   double line = 1.0;   ///< Radius of the tube around line and polyline cells.
