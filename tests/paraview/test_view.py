@@ -1,0 +1,93 @@
+"""The RayScope render view in pvpython (CreateView('RayScopeView')): ParaView's
+Render View ray-traced by RayScope through vtkRayScopePass.
+
+A sphere in a solid red and a Wavelet contour colored by elevation through a
+lookup table are shown. The view's screenshot shows the red sphere and the
+contour in several colors of the map; a still render traces the view's
+Samples, an interactive one 1 sample; moving the camera changes the image; the
+Cost display mode shows another image (the heat map).
+"""
+import os
+import sys
+
+from paraview.simple import *
+from paraview.vtk.vtkIOImage import vtkPNGReader
+
+W, H = 120, 90
+OUT = os.environ.get("RAYSCOPE_TEST_OUTPUT", ".")
+failures = []
+
+
+def check(ok, what):
+    if not ok:
+        failures.append(what)
+        print("FAIL:", what, file=sys.stderr)
+
+
+def screenshot(name):
+    """The view's pixels as a list of (r, g, b)."""
+    path = os.path.join(OUT, name)
+    SaveScreenshot(path, view, ImageResolution=[W, H])
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    a = reader.GetOutput().GetPointData().GetScalars()
+    return [tuple(int(a.GetComponent(i, k)) for k in range(3)) for i in range(a.GetNumberOfTuples())]
+
+
+def traced_samples():
+    view.UpdatePropertyInformation()
+    return view.GetPropertyValue("TracedSamples")
+
+
+view = CreateView("RayScopeView")
+view.ViewSize = [W, H]
+view.OrientationAxesVisibility = 0
+view.UseColorPaletteForBackground = 0
+view.Background = [0.0, 0.0, 0.0]
+view.Samples = 2
+
+sphere = Sphere(Center=[-15.0, 0.0, 0.0], Radius=4.0, ThetaResolution=32, PhiResolution=32)
+sphere_display = Show(sphere, view)
+sphere_display.ColorArrayName = ["POINTS", ""]
+sphere_display.DiffuseColor = [1.0, 0.0, 0.0]
+sphere_display.AmbientColor = [1.0, 0.0, 0.0]
+
+wavelet = Wavelet(WholeExtent=[-8, 8, -8, 8, -8, 8])
+contour = Contour(Input=wavelet, ContourBy=["POINTS", "RTData"], Isosurfaces=[150.0])
+elevation = Elevation(Input=contour, LowPoint=[0, -8, 0], HighPoint=[0, 8, 0])
+contour_display = Show(elevation, view)
+ColorBy(contour_display, ("POINTS", "Elevation"))
+GetColorTransferFunction("Elevation").ApplyPreset("Rainbow Uniform", True)
+
+view.ResetCamera()
+Render(view)
+check(traced_samples() == 2, f"a still render traces the view's Samples ({traced_samples()})")
+first = screenshot("rayscope_view.png")
+red = sum(1 for r, g, b in first if r > 60 and r > 2 * g and r > 2 * b)
+check(red > W * H // 20, f"the sphere is drawn in its solid red ({red} pixels)")
+others = {(r // 48, g // 48, b // 48) for r, g, b in first if max(r, g, b) > 30 and not (r > 2 * g and r > 2 * b)}
+check(len(others) > 4, f"the contour is colored through its lookup table ({len(others)} color bins)")
+
+# An interactive render (the camera moving) traces 1 sample per pixel; the
+# next still render the view's Samples again.
+view.SMProxy.InteractiveRender()
+check(traced_samples() == 1, f"an interactive render traces 1 sample ({traced_samples()})")
+Render(view)
+check(traced_samples() == 2, "the next still render traces the view's Samples again")
+
+# The image follows the camera.
+GetActiveCamera().Azimuth(40.0)
+moved = screenshot("rayscope_view_moved.png")
+changed = sum(1 for a, b in zip(first, moved) if a != b)
+check(changed > W * H // 20, f"the image follows the camera ({changed} pixels changed)")
+
+# The cost heat map is another image.
+view.DisplayMode = "Cost"
+cost = screenshot("rayscope_view_cost.png")
+changed = sum(1 for a, b in zip(moved, cost) if a != b)
+check(changed > W * H // 20, f"the Cost display mode shows the heat map ({changed} pixels differ)")
+
+if failures:
+    sys.exit(f"{len(failures)} check(s) failed")
+print("paraview.view: all checks passed")

@@ -1,0 +1,74 @@
+/**
+ * @class   vtkRayScopeRenderView
+ * @brief   ParaView's render view, ray-traced by RayScope.
+ *
+ * A vtkPVRenderView whose renderer draws through a vtkRayScopePass: every
+ * visible representation (surfaces, composite data, lines as tubes and points
+ * as spheres, with their solid colors or scalar colors, opacity and the
+ * RayScope material properties of their actors), the view's lights (light kit
+ * and headlight), background and camera are converted as
+ * vtkRayScopeImageAlgorithm::CopyRenderer() converts a renderer, and the image
+ * is traced at the view's size. The plugin registers it as the "RayScope"
+ * view (proxy RayScopeView, e.g. CreateView('RayScopeView') in
+ * paraview.simple).
+ *
+ * While the camera moves (ParaView's interactive renders) the view traces one
+ * sample per pixel; a still render traces Samples x Samples. The render
+ * settings are the pass's image algorithm's (GetImageAlgorithm()), which
+ * validates them: the setters below forward to it.
+ */
+#ifndef vtkRayScopeRenderView_h
+#define vtkRayScopeRenderView_h
+
+#include "RayScopeParaViewViewModule.h"  // export macro
+#include "vtkPVRenderView.h"
+
+class vtkRayScopeImageAlgorithm;
+class vtkRayScopePass;
+
+class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView {
+ public:
+  static vtkRayScopeRenderView* New();
+  vtkTypeMacro(vtkRayScopeRenderView, vtkPVRenderView);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// Samples per pixel of a still render: N x N (an interactive render
+  /// traces 1).
+  void SetRayScopeSamples(int n);
+  int GetRayScopeSamples() { return this->Samples; }
+  /// Bounces after the primary hit, the smallest contribution a secondary ray
+  /// must carry to be traced, and hard shadows on or off
+  /// (vtkRayScopeImageAlgorithm's MaxDepth, MinContribution, Shadows).
+  void SetRayScopeMaxDepth(int depth);
+  void SetRayScopeMinContribution(double c);
+  void SetRayScopeShadows(int on);
+  /// What the view shows: vtkRayScopePass::COLOR or COST (the BVH cost heat
+  /// map).
+  void SetRayScopeDisplayMode(int mode);
+
+  /// Samples per pixel (N of N x N) the last render traced: Samples after a
+  /// still render, 1 after an interactive one.
+  int GetRayScopeTracedSamples();
+
+  /// The pass drawing the view, and the algorithm holding its scene and
+  /// settings (never null).
+  vtkRayScopePass* GetRayScopePass();
+  vtkRayScopeImageAlgorithm* GetImageAlgorithm();
+
+  void StillRender() override;
+  void InteractiveRender() override;
+
+ protected:
+  vtkRayScopeRenderView();
+  ~vtkRayScopeRenderView() override;
+
+  int Samples = 1;
+
+ private:
+  vtkRayScopeRenderView(const vtkRayScopeRenderView&) = delete;
+  void operator=(const vtkRayScopeRenderView&) = delete;
+
+  vtkRayScopePass* Pass;
+};
+
+#endif
