@@ -18,7 +18,8 @@ Usage: write_mesh_formats.py OUT_DIR
 - curves.vtp: lines and vertices only, no surface: a polyline of 40 segments
   (a helix, as streamlines are) and a cloud of 50 vertices.
 - Damaged: missing_piece.pvtp and missing_block.vtm name a file that does not
-  exist, bad_piece.pvtp names a truncated piece, bad_index.vtm gives a block
+  exist, bad_piece.pvtp names a truncated piece, no_points_array.pvtp misspells
+  the element declaring its points array, bad_index.vtm gives a block
   index beyond its blocks, loose_dataset.vtpc has a DataSet outside any
   Partitions (VTK 9.1's reader crashes on it), truncated.ex2 is half of
   two.ex2, bad_node.ex2 is two.ex2 with a hexahedron naming node 999 of 16,
@@ -109,6 +110,12 @@ with open(path("small.vtp"), "rb") as f:
 with open(path("truncated_piece.vtp"), "wb") as f:
     f.write(small_bytes[: len(small_bytes) // 2])
 parallel_polydata("bad_piece.pvtp", ("big.vtp", "truncated_piece.vtp"))
+with open(path("two_pieces.pvtp")) as f:
+    two_pieces_text = f.read()
+points_array = '<PDataArray type="Float32" Name="Points" NumberOfComponents="3"/>'
+assert two_pieces_text.count(points_array) == 1
+with open(path("no_points_array.pvtp"), "w") as f:
+    f.write(two_pieces_text.replace(points_array, points_array.replace("PDataArray", "PDataArrey")))
 
 image = vtk.vtkRTAnalyticSource()
 image.SetWholeExtent(0, 4, 0, 3, 0, 2)

@@ -20,14 +20,10 @@ import tempfile
 from paraview.simple import *
 from paraview import servermanager as sm
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from script_checks import check, finish  # noqa: E402
+
 W, H = 96, 72
-failures = []
-
-
-def check(ok, what):
-    if not ok:
-        failures.append(what)
-        print("FAIL:", what, file=sys.stderr)
 
 
 def ray_trace(source):
@@ -127,6 +123,4 @@ display = Show(ray_trace(blocks), view)
 check(display.ColorArrayName[1] == "Color", f"colored by {display.ColorArrayName}")
 check(display.MapScalars == 0, "Map Scalars is off for the Color array")
 
-if failures:
-    sys.exit(f"{len(failures)} check(s) failed")
-print("paraview.composite: all checks passed")
+finish("paraview.composite")

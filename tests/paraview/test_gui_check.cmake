@@ -23,6 +23,7 @@ set(want "RayScopeRayTrace | Ray Trace | RayScope
 RayScopeRayTree | Ray Tree | RayScope
 RayScopeAccelStructure | Acceleration Structure | RayScope
 RayScopeBVH | BVH | None
+RayScopeView | RayScope | vtkRayScopeRenderView
 ")
 if(NOT got STREQUAL want)
   message(FATAL_ERROR "the GUI lists:\n${got}\nexpected:\n${want}")

@@ -3,19 +3,16 @@ ParaView's Stream Tracer output (polylines) and a Point Source (vertices) are
 drawn by "Ray Trace", each alone, with no error: the tubes and spheres cover
 pixels of their own objects, and a larger Line Radius covers more.
 """
+import os
 import sys
 
 from paraview.simple import *
 from paraview import servermanager as sm
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from script_checks import check, finish  # noqa: E402
+
 W, H = 80, 60
-failures = []
-
-
-def check(ok, what):
-    if not ok:
-        failures.append(what)
-        print("FAIL:", what, file=sys.stderr)
 
 
 def object_pixels(image, obj):
@@ -43,6 +40,4 @@ cloud = PointSource(NumberOfPoints=100, Radius=1.0)
 spheres = sm.Fetch(RayTrace(Input=cloud, ImageSize=[W, H], PointRadius=0.08))
 check(object_pixels(spheres, 1) > 50, f"a point cloud drawn as spheres ({object_pixels(spheres, 1)} pixels)")
 
-if failures:
-    sys.exit(f"{len(failures)} check(s) failed")
-print("paraview.lines_points: all checks passed")
+finish("paraview.lines_points")

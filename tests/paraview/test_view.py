@@ -13,15 +13,11 @@ import sys
 from paraview.simple import *
 from paraview.vtk.vtkIOImage import vtkPNGReader
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from script_checks import check, finish  # noqa: E402
+
 W, H = 120, 90
 OUT = os.environ.get("RAYSCOPE_TEST_OUTPUT", ".")
-failures = []
-
-
-def check(ok, what):
-    if not ok:
-        failures.append(what)
-        print("FAIL:", what, file=sys.stderr)
 
 
 def screenshot(name):
@@ -88,6 +84,4 @@ cost = screenshot("rayscope_view_cost.png")
 changed = sum(1 for a, b in zip(moved, cost) if a != b)
 check(changed > W * H // 20, f"the Cost display mode shows the heat map ({changed} pixels differ)")
 
-if failures:
-    sys.exit(f"{len(failures)} check(s) failed")
-print("paraview.view: all checks passed")
+finish("paraview.view")

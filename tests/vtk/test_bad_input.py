@@ -7,18 +7,15 @@ with one input (accepted silently), and (issue
 error or warning event on vtkRayScopeImageAlgorithm, with an empty output image
 where nothing can be rendered. test_vtk_bad_input.cpp covers the same in C++.
 """
+import os
 import sys
 
 import vtk
 import rayscope
 
-failures = []
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from script_checks import check, finish  # noqa: E402
 
-
-def check(condition, what):
-    if not condition:
-        failures.append(what)
-        print("FAIL:", what)
 
 
 class Events:
@@ -95,6 +92,4 @@ check(alg.GetOutput().GetNumberOfPoints() == 16 * 12, "valid triangle: full imag
 check(len(warnings.messages) == 1 and "is set for input 5, but only 1 input is connected"
       in warnings.messages[0], f"SetInputMaterial(5): one warning: {warnings.messages}")
 
-if failures:
-    sys.exit(f"{len(failures)} check(s) failed")
-print("bad input: all checks passed")
+finish("bad input")

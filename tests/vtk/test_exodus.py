@@ -13,13 +13,9 @@ import tempfile
 import vtk
 import rayscope
 
-failures = []
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from script_checks import check, finish  # noqa: E402
 
-
-def check(condition, what):
-    if not condition:
-        failures.append(what)
-        print("FAIL:", what)
 
 
 W, H = 96, 72
@@ -101,6 +97,4 @@ shadowed = sum(1 for i in range(W * H) if ids[i] == 0 and floor_ids[i] == 0
                and color.GetValue(3 * i) + 30 < floor_color.GetValue(3 * i))
 check(shadowed > 50, f"the sphere shadows the floor ({shadowed} pixels)")
 
-if failures:
-    sys.exit(f"{len(failures)} check(s) failed")
-print("exodus: all checks passed")
+finish("exodus")

@@ -10,18 +10,15 @@
 - LineRadius and PointRadius set the thickness (a larger radius covers more
   pixels); RadiusArray sets it per point; a negative radius is an error.
 """
+import os
 import sys
 
 import vtk
 import rayscope
 
-failures = []
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from script_checks import check, finish  # noqa: E402
 
-
-def check(condition, what):
-    if not condition:
-        failures.append(what)
-        print("FAIL:", what)
 
 
 W, H = 80, 60
@@ -207,6 +204,4 @@ bad.Update()
 check(any("PointRadius" in m for m in bad_errors.messages), "a negative PointRadius is an error")
 check(bad.GetOutput().GetNumberOfPoints() == 0, "and the output is empty")
 
-if failures:
-    sys.exit(f"{len(failures)} check(s) failed")
-print("lines and points: all checks passed")
+finish("lines and points")

@@ -22,16 +22,10 @@ from vtk.util.numpy_support import vtk_to_numpy
 import rayscope
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from script_checks import check, finish  # noqa: E402
 from damaged_mesh_files import damaged_copies  # noqa: E402
 
 QUICK_SECONDS = 5.0
-failures = []
-
-
-def check(condition, what):
-    if not condition:
-        failures.append(what)
-        print("FAIL:", what)
 
 
 class Errors:
@@ -185,6 +179,4 @@ with tempfile.TemporaryDirectory(prefix="rayscope_mesh_reader_") as tmp:
           reader.CanReadFile(tmp) == 0,
           "CanReadFile: missing file, folder")
 
-if failures:
-    sys.exit(f"{len(failures)} check(s) failed")
-print("mesh reader: all checks passed")
+finish("mesh reader")

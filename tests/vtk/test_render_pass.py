@@ -19,16 +19,12 @@ import sys
 import vtk
 import rayscope
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from script_checks import check, finish  # noqa: E402
+
 W, H = 200, 150
 OUT = os.environ.get("RAYSCOPE_TEST_OUTPUT", ".")
 BUNNY = "/usr/share/glmark2/models/bunny.obj"
-failures = []
-
-
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
 
 
 def grab(window):
@@ -190,7 +186,4 @@ print("coverage differs at %d of %d pixels" % (differ, n))
 # would differ in thousands of pixels.
 check(differ < 0.01 * n, "OpenGL and ray-traced coverage agree (< 1% of pixels differ)")
 
-if failures:
-    print("%d check(s) failed" % len(failures))
-    sys.exit(1)
-print("all checks passed")
+finish("render pass")

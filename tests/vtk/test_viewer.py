@@ -12,18 +12,15 @@ few lines, as its header shows.
 
 Runs under xvfb-run (OpenGL).
 """
+import os
 import sys
 
 import vtk
 import rayscope
 
-failures = []
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from script_checks import check, finish  # noqa: E402
 
-
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
 
 
 def kinds(pd):
@@ -110,10 +107,7 @@ def main():
     check(bvh.GetNumberOfTraversalEntries() >= 2 and [e for e, _ in entered] == [0, 1],
           f"two nodes entered after two steps: {entered}")
 
-    if failures:
-        print(f"{len(failures)} check(s) failed")
-        return 1
-    print("all checks passed")
+    finish("viewer")
     return 0
 
 

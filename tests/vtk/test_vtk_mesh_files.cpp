@@ -75,7 +75,11 @@ class VtkMeshFiles : public ::testing::Test {
     vtkNew<vtkPolyData> pd;
     pd->DeepCopy(s->GetOutput());
     pd->GetPointData()->SetNormals(nullptr);
-    fs::path p = dir_ / "sphere.vtp";
+    return write_vtp(pd, "sphere.vtp");
+  }
+  // `pd` written as dir_/name by VTK's XML writer.
+  fs::path write_vtp(vtkPolyData* pd, const std::string& name) {
+    const fs::path p = dir_ / name;
     vtkNew<vtkXMLPolyDataWriter> w;
     w->SetFileName(p.c_str());
     w->SetInputData(pd);
@@ -310,11 +314,7 @@ TEST_F(VtkMeshFiles, ColorByMatchesTheModuleMapper) {
   half->InsertNextValue(0.0f);
   half->InsertNextValue(1.0f);
   pd->GetCellData()->AddArray(half);
-  const fs::path file = dir_ / "halves.vtp";
-  vtkNew<vtkXMLPolyDataWriter> w;
-  w->SetFileName(file.c_str());
-  w->SetInputData(pd);
-  ASSERT_EQ(w->Write(), 1);
+  const fs::path file = write_vtp(pd, "halves.vtp");
 
   MeshOptions o = file_options(file);
   o.color_by = MeshColorBy{};
@@ -440,11 +440,7 @@ TEST_F(VtkMeshFiles, LinesAndVerticesBecomeTubesAndSpheres) {
   r->SetName("r");
   for (int i = 0; i < 5; ++i) r->InsertNextValue(0.1f * float(i + 1));
   pd->GetPointData()->AddArray(r);
-  const fs::path file = dir_ / "curves.vtp";
-  vtkNew<vtkXMLPolyDataWriter> w;
-  w->SetFileName(file.c_str());
-  w->SetInputData(pd);
-  ASSERT_EQ(w->Write(), 1);
+  const fs::path file = write_vtp(pd, "curves.vtp");
 
   MeshOptions o = file_options(file);
   o.to_scene = glm::scale(glm::dmat4(1.0), glm::dvec3(2.0));
@@ -495,20 +491,14 @@ TEST_F(VtkMeshFiles, LinesAndVerticesBecomeTubesAndSpheres) {
     const vtkIdType id0 = 0;
     v1->InsertNextCell(1, &id0);
     one->SetVerts(v1);
-    const fs::path single = dir_ / "one_vertex.vtp";
-    vtkNew<vtkXMLPolyDataWriter> w1;
-    w1->SetFileName(single.c_str());
-    w1->SetInputData(one);
-    ASSERT_EQ(w1->Write(), 1);
-    const rayscope::LoadedMeshFile one_point = rayscope_vtkio::load_meshes(file_options(single));
+    const rayscope::LoadedMeshFile one_point =
+        rayscope_vtkio::load_meshes(file_options(write_vtp(one, "one_vertex.vtp")));
     ASSERT_EQ(one_point.points.size(), 1u);
     EXPECT_EQ(one_point.points[0].radius, 1.0f);
   }
 
   pts->SetPoint(4, std::nan(""), 0.0, 0.0);
-  const fs::path bad = dir_ / "nan_curves.vtp";
-  w->SetFileName(bad.c_str());
-  ASSERT_EQ(w->Write(), 1);
+  const fs::path bad = write_vtp(pd, "nan_curves.vtp");
   try {
     rayscope_vtkio::load_meshes(file_options(bad));
     ADD_FAILURE() << "no error";

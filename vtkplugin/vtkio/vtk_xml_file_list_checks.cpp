@@ -149,6 +149,16 @@ std::vector<fs::path> check_vtk_xml_parallel_file(const fs::path& path, const ch
   note_arrays(primary->FindNestedElementWithName("PPointData"), "PDataArray", "PointData",
               declared);
   note_arrays(primary->FindNestedElementWithName("PCellData"), "PDataArray", "CellData", declared);
+  // VTK's parallel readers of point sets copy each piece's points into the
+  // array PPoints declares, unchecked: without one (a misspelt element
+  // name) they copied into nothing.
+  if (!image) {
+    const auto is_points = [](const XmlArray& a) { return a.section == "Points"; };
+    const auto points_arrays = std::count_if(declared.begin(), declared.end(), is_points);
+    const auto it = std::find_if(declared.begin(), declared.end(), is_points);
+    if (points_arrays != 1 || it->components != 3)
+      fail(path, "PPoints does not declare the one point array (a PDataArray of 3 components)");
+  }
 
   std::set<fs::path> seen;
   unsigned long long points = 0;

@@ -167,8 +167,12 @@ int SceneBuilder::CheckDrawable(vtkRayScopeImageAlgorithm* alg,
                                  << kDrawable);
     return 0;
   }
+  // An empty dataset (no points) beside others loses nothing and is common
+  // (empty blocks of composite data, the placeholder actors of ParaView's
+  // representations): left out quietly, as OpenGL draws nothing for it. One
+  // with points but nothing to draw is named.
   for (size_t i = 0; i < meshes.size(); ++i)
-    if (!drawn[i])
+    if (!drawn[i] && data[i]->GetNumberOfPoints() > 0)
       vtkWarningWithObjectMacro(alg, << what(i) << " has no " << kDrawable << ": it is not shown");
   return 1;
 }

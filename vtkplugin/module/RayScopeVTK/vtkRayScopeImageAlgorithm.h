@@ -20,10 +20,12 @@
  * Input that cannot be rendered is an error (vtkErrorMacro) and leaves the
  * output empty: no input, an input whose cells name points it lacks, or
  * inputs that have no surface triangles at all (an empty dataset, a 1-D
- * image, a reader's output after it failed). An input without triangles next
- * to others that have some is a warning (vtkWarningMacro), as is a material or
- * converter set for an input index that is not connected when the image is
- * made (it is kept for when that input is connected, and unused until then).
+ * image, a reader's output after it failed). An input with points but nothing
+ * to draw, next to others that have something, is a warning (vtkWarningMacro);
+ * an empty one (no points: an empty block, a placeholder actor of ParaView's
+ * representations) is left out quietly. A material or converter set for an
+ * input index that is not connected when the image is made is a warning too
+ * (it is kept for when that input is connected, and unused until then).
  *
  * The camera follows vtkCamera (Position, FocalPoint, ViewUp, vertical
  * ViewAngle in degrees, ParallelProjection with ParallelScale = half the image
