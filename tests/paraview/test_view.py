@@ -5,12 +5,15 @@ A sphere in a solid red and a Wavelet contour colored by elevation through a
 lookup table are shown. The view's screenshot shows the red sphere and the
 contour in several colors of the map; a still render traces the view's
 Samples, an interactive one 1 sample; moving the camera changes the image; the
-Cost display mode shows another image (the heat map).
+Cost display mode shows another image (the heat map). The ray tree of a pixel
+of the view (View Ray Tree) replays the view's own scene: its pixel
+color is the color the view shows there.
 """
 import os
 import sys
 
 from paraview.simple import *
+from paraview import servermanager as sm
 from paraview.vtk.vtkIOImage import vtkPNGReader
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
@@ -64,6 +67,38 @@ red = sum(1 for r, g, b in first if r > 60 and r > 2 * g and r > 2 * b)
 check(red > W * H // 20, f"the sphere is drawn in its solid red ({red} pixels)")
 others = {(r // 48, g // 48, b // 48) for r, g, b in first if max(r, g, b) > 30 and not (r > 2 * g and r > 2 * b)}
 check(len(others) > 4, f"the contour is colored through its lookup table ({len(others)} color bins)")
+
+# The ray tree of a pixel of the view (View Ray Tree): the view's
+# own scene, camera and settings. Its pixel color is the pixel the view shows
+# (linear color, sRGB-encoded as the image is), on a surface and on the
+# background.
+def srgb(c):
+    c = min(max(c, 0.0), 1.0)
+    return 255.0 * (12.92 * c if c <= 0.0031308 else 1.055 * c ** (1 / 2.4) - 0.055)
+
+
+def lit(k):
+    return max(first[k]) > 30
+
+
+# A pixel inside a surface (it and its four neighbors show one), and the
+# corner, which shows the background.
+inside = next(k for k in range(W + 1, W * H - W - 1) if all(lit(n) for n in (k, k - 1, k + 1, k - W, k + W)))
+for k in (inside, 0):
+    i, j = k % W, k // W  # the PNG's rows run from the bottom, as VTK images do
+    tree = ViewRayTree(View=view, Pixel=[i, j])
+    rays = sm.Fetch(tree)
+    kinds = rays.GetCellData().GetArray("Kind")
+    hits = rays.GetCellData().GetArray("Hit")
+    primary = [c for c in range(rays.GetNumberOfCells()) if kinds.GetValue(c) == 0 and rays.GetCellType(c) == 3]
+    check(len(primary) == 4, f"pixel ({i}, {j}): one primary ray per sample, 2 x 2 ({len(primary)})")
+    hit = sum(hits.GetValue(c) for c in primary)
+    check(hit > 0 if k == inside else hit == 0, f"pixel ({i}, {j}): {hit} of its primary rays hit")
+    color = rays.GetFieldData().GetArray("PixelColor").GetTuple3(0)
+    shown = first[k]
+    check(all(abs(srgb(color[c]) - shown[c]) <= 1.5 for c in range(3)),
+          f"pixel ({i}, {j}): the tree's pixel color {[round(srgb(v), 1) for v in color]} is the view's {shown}")
+    Delete(tree)
 
 # An interactive render (the camera moving) traces 1 sample per pixel; the
 # next still render the view's Samples again.
