@@ -51,6 +51,10 @@ int vtkRayScopeRenderView::GetRayScopeTracedSamples() {
   return this->GetImageAlgorithm()->GetSamples();
 }
 
+double vtkRayScopeRenderView::GetRayScopeLastRenderSeconds() {
+  return this->Pass->GetLastRenderTime();
+}
+
 void vtkRayScopeRenderView::StillRender() {
   this->GetImageAlgorithm()->SetSamples(this->Samples);
   this->Superclass::StillRender();

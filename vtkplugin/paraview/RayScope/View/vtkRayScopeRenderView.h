@@ -49,6 +49,9 @@ class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView
   /// Samples per pixel (N of N x N) the last render traced: Samples after a
   /// still render, 1 after an interactive one.
   int GetRayScopeTracedSamples();
+  /// Wall-clock seconds of the last ray-traced image, conversion included
+  /// (vtkRayScopePass::GetLastRenderTime()).
+  double GetRayScopeLastRenderSeconds();
 
   /// The pass drawing the view, and the algorithm holding its scene and
   /// settings (never null).
