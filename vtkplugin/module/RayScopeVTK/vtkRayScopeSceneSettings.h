@@ -167,10 +167,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeSceneSettings : public vtkObject {
   /// around line cells and of the spheres at vertex cells, in world units;
   /// 0 (default): automatic, rayscope_vtkio::kAutomaticRadiusFraction (1/1000)
   /// of the diagonal of all inputs (1 when they are all one point) times the
-  /// converter's LineWidth or PointSize, as VTK's OSPRay pass sizes them. RadiusArray: a point array
-  /// (one component) whose value is the radius at each point, for tubes and
-  /// spheres alike (empty, default: none). A negative or non-finite radius is
-  /// an error.
+  /// converter's LineWidth or PointSize, as VTK's OSPRay pass sizes them. RadiusArray: a point
+  /// array (one component) whose value is the radius at each point, for tubes and spheres alike
+  /// (empty, default: none). A negative or non-finite radius is an error.
   vtkSetMacro(LineRadius, double);
   vtkGetMacro(LineRadius, double);
   vtkSetMacro(PointRadius, double);
