@@ -12,6 +12,7 @@
 #include "rayscope/frame.h"
 #include "rayscope/replay.h"
 #include "rayscope/shapes.h"
+#include "rayscope/tiles.h"
 #include "test_util.h"
 
 using namespace rayscope;
@@ -218,6 +219,72 @@ TEST(Frame, TileDoneShowsFinishedPixelsOnce) {
     ASSERT_EQ(seen[i].load(), 1) << "pixel " << i;
     ASSERT_EQ(0, std::memcmp(&copy[i], &fb.color[i], sizeof(Color))) << "pixel " << i;
   }
+}
+
+TEST(FrameShares, SharesRenderedApartAssembleToTheWholeImage) {
+  // What the processes of a parallel render do: each renders its share of the
+  // tiles and packs it; the assembler unpacks every share into one
+  // framebuffer. Bit-identical to the whole render for 1, 2, 3 and 7 shares
+  // (more than there are rows of tiles in one test), with statistics and
+  // adaptive sampling (the packed optional channels), with tile sizes that
+  // do not divide the image.
+  Scene scene = make_default_scene();
+  scene.commit();
+  for (const bool stats : {false, true})
+    for (const int tile : {16, 7}) {
+      RenderSettings rs = rstest::small_render(53, 41, 2);
+      rs.tile_size = tile;
+      rs.statistics = stats;
+      rs.max_samples = stats ? 0 : 4;
+      RayCounters whole_counters;
+      const Framebuffer whole = render(scene, rs, &whole_counters);
+      for (const int count : {1, 2, 3, 7}) {
+        const std::string what = "stats " + std::to_string(stats) + ", tile " +
+                                 std::to_string(tile) + ", " + std::to_string(count) + " shares";
+        Framebuffer assembled;
+        assembled.resize(rs.width, rs.height);
+        if (stats) assembled.cost.assign(assembled.color.size(), PixelCost{});
+        if (rs.max_samples > 0) assembled.samples.assign(assembled.color.size(), 0.0f);
+        RayCounters sum;
+        size_t tiles = 0;
+        for (int index = 0; index < count; ++index) {
+          RenderSettings part = rs;
+          part.share = {index, count};
+          RayCounters counters;
+          const Framebuffer fb = render(scene, part, &counters);
+          sum += counters;
+          tiles += TileGrid(part).share_count(part.share);
+          const std::vector<float> packed = pack_share(fb, part);
+          unpack_share(assembled, part, packed);
+          // A buffer of another share's length is refused.
+          if (count > 1) {
+            RenderSettings other = part;
+            other.share.index = (index + 1) % count;
+            if (TileGrid(other).share_count(other.share) !=
+                TileGrid(part).share_count(part.share)) {
+              EXPECT_THROW(unpack_share(assembled, other, packed), std::invalid_argument) << what;
+            }
+          }
+        }
+        EXPECT_EQ(tiles, TileGrid(rs).count()) << what;
+        expect_same_image(whole, assembled, what.c_str());
+        EXPECT_TRUE(same_bytes(whole.samples, assembled.samples)) << what;
+        if (stats) {
+          ASSERT_EQ(whole.cost.size(), assembled.cost.size());
+          EXPECT_EQ(0, std::memcmp(whole.cost.data(), assembled.cost.data(),
+                                   whole.cost.size() * sizeof(PixelCost)))
+              << what;
+          EXPECT_EQ(whole_counters.nodes_visited, sum.nodes_visited) << what;
+        }
+        EXPECT_EQ(whole_counters.rays, sum.rays) << what;
+      }
+    }
+  // Bad shares are refused by the one settings check.
+  RenderSettings bad = rstest::small_render(8, 8, 1);
+  bad.share = {2, 2};
+  EXPECT_THROW(bad.validate(), std::invalid_argument);
+  bad.share = {0, 0};
+  EXPECT_THROW(bad.validate(), std::invalid_argument);
 }
 
 }  // namespace

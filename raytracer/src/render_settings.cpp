@@ -54,6 +54,11 @@ void RenderSettings::validate() const {
          " needs adaptive sampling: max_samples must be set (a multiple of samples)");
   if (tile_size < 1 || tile_size > kMaxTileSize)
     fail("tile_size must be in " + range(1, kMaxTileSize) + ", got " + std::to_string(tile_size));
+  if (share.count < 1 || share.count > kMaxShares)
+    fail("share.count must be in " + range(1, kMaxShares) + ", got " + std::to_string(share.count));
+  if (share.index < 0 || share.index >= share.count)
+    fail("share.index must be in " + range(0, share.count - 1) + ", got " +
+         std::to_string(share.index));
 }
 
 }  // namespace rayscope

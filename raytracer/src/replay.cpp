@@ -76,20 +76,19 @@ Framebuffer render_and_record(Scene& scene, const RenderSettings& settings,
   if (settings.statistics)
     throw std::invalid_argument("render_and_record: statistics and recording are exclusive");
   prepare_frame(scene, settings);
-  const int ts = settings.tile_size, tiles_x = (settings.width + ts - 1) / ts;
-  const int tiles_y = (settings.height + ts - 1) / ts;
+  const TileGrid grid(settings);
   RecordSelected sel;
   sel.width = settings.width;
   sel.slot.assign(size_t(settings.width) * size_t(settings.height), -1);
   sel.records = &records;
-  sel.tiles.assign(size_t(tiles_x) * size_t(tiles_y), 0);
+  sel.tiles.assign(grid.count(), 0);
   records.assign(pixels.size(), PixelRecord{});
   for (size_t k = 0; k < pixels.size(); ++k) {
     const glm::ivec2& p = pixels[k];
     if (p.x < 0 || p.y < 0 || p.x >= settings.width || p.y >= settings.height)
       outside(p.x, p.y, settings);
     sel.slot[size_t(p.y) * size_t(settings.width) + size_t(p.x)] = int32_t(k);
-    sel.tiles[size_t(p.y / ts) * size_t(tiles_x) + size_t(p.x / ts)] = 1;
+    sel.tiles[grid.tile_of(p.x, p.y)] = 1;
   }
   Framebuffer fb = render_frame(scene, settings, sel, counters);
   // A pixel listed twice shares one slot; fill the duplicates' records.

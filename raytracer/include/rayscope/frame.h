@@ -1,4 +1,5 @@
-// The frame loop: every pixel of an image, in tiles, in parallel with TBB
+// The frame loop: every pixel of an image (or of settings.share of its tiles:
+// tiles.h), in tiles, in parallel with TBB
 // inside an arena of settings.threads, each pixel through render_pixel() with
 // the recorder its policy gives it. It is the only loop over an image's pixels
 // in RayScope: plain renders, statistics, renders that record selected pixels'
@@ -39,6 +40,7 @@
 #include <tbb/task_arena.h>
 
 #include "rayscope/render.h"
+#include "rayscope/tiles.h"
 
 namespace rayscope {
 
@@ -84,10 +86,8 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
   const bool adaptive = settings.max_samples > 0;
   if (adaptive) fb.samples.assign(fb.color.size(), 0.0f);
   policy.begin(fb);
-  const int ts = settings.tile_size;
-  const int tiles_x = (settings.width + ts - 1) / ts;
-  const int tiles_y = (settings.height + ts - 1) / ts;
-  const size_t total = size_t(tiles_x) * size_t(tiles_y);
+  const TileGrid grid(settings);
+  const size_t total = grid.share_count(settings.share);
   std::atomic<size_t> done{0};
   std::mutex progress_mutex;
   tbb::enumerable_thread_specific<RayCounters> local;
@@ -125,9 +125,9 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
     };
     tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 1), [&](const auto& r) {
       RayCounters& cnt = local.local();
-      for (size_t tile = r.begin(); tile != r.end(); ++tile) {
-        const int x0 = int(tile % size_t(tiles_x)) * ts, y0 = int(tile / size_t(tiles_x)) * ts;
-        const int x1 = std::min(x0 + ts, settings.width), y1 = std::min(y0 + ts, settings.height);
+      for (size_t k = r.begin(); k != r.end(); ++k) {
+        const size_t tile = grid.share_tile(settings.share, k);
+        const auto [x0, y0, x1, y1] = grid.rect(tile);
         bool check = false;
         if constexpr (Policy::kSelects) check = policy.tile_selected(tile);
         if (check)

@@ -10,6 +10,18 @@
 
 namespace rayscope {
 
+/// One of `count` equal shares of an image's tiles (tiles.h numbers them row
+/// by row): the tiles t with t % count == index. Processes that render share
+/// 0, 1, ..., count-1 of the same settings render every pixel once between
+/// them, each pixel exactly as a render of the whole image does; interleaving
+/// the tiles spreads expensive regions of the image over all shares.
+struct TileShare {
+  int index = 0;
+  int count = 1;
+  bool owns(size_t tile) const { return tile % size_t(count) == size_t(index); }
+  bool operator==(const TileShare&) const = default;
+};
+
 /// Settings of a render; every field has a sensible default.
 struct RenderSettings {
   // --- Limits (inclusive) -------------------------------------------------
@@ -25,6 +37,8 @@ struct RenderSettings {
   static constexpr float kMaxMinContribution = 1.0f;
   /// Most worker threads (0 means all hardware threads).
   static constexpr int kMaxThreads = 1024;
+  /// Most shares an image's tiles can be split into (processes of one render).
+  static constexpr int kMaxShares = 65536;
   /// Largest tile side in pixels.
   static constexpr int kMaxTileSize = 1024;
   /// Largest seed: 2^31 - 1, so that the seed fits every front end's integer.
@@ -50,6 +64,9 @@ struct RenderSettings {
   int threads = 0;    ///< 0: all hardware threads.
   uint32_t seed = 0;  ///< Seed of the stratified jitter (0..kMaxSeed).
   int tile_size = 16;
+  /// The tiles this render computes (all by default); the others are left as
+  /// Framebuffer::resize() clears them.
+  TileShare share;
   /// Box-filter procedural textures (the checkerboard) over the footprint on
   /// the surface of each primary sample's cell of the pixel (render_pixel()),
   /// from ray differentials (camera.h, footprint() in ray.h,

@@ -61,8 +61,7 @@ void vtkRayScopeViewer::Internals::StartRender() {
   rayscope_vtkio::prepare_image(this->Next, w, h, true);
   this->FinishedTiles.clear();
   this->TilesShown = 0;
-  this->TilesTotal =
-      size_t((w + rs.tile_size - 1) / rs.tile_size) * size_t((h + rs.tile_size - 1) / rs.tile_size);
+  this->TilesTotal = rayscope::TileGrid(rs).count();
   this->RenderError.clear();
   this->RenderStart = std::chrono::steady_clock::now();
   this->Running = true;

@@ -9,12 +9,15 @@
 #include "vtkExecutive.h"
 #include "vtkImageData.h"
 #include "vtkIntArray.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLState.h"
 #include "vtkPointData.h"
 #include "vtkRenderState.h"
 #include "vtkRenderer.h"
 #include "vtkUnsignedCharArray.h"
+#include "vtk_glew.h"
 
 #include "RayScopeDisplay.h"
 #include "rayscope/image.h"
@@ -68,10 +71,20 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
   const int inputs = alg->CopyRenderer(ren);
   if (inputs <= 0) return;  // nothing to trace: the cleared background is the image
   this->HasImage = false;
+  // With several processes (the algorithm's controller: ParaView's MPI ranks)
+  // every process traces a share of the image and process 0 gets all of it;
+  // the algorithm has reported any error once, on one process.
+  vtkMultiProcessController* c = alg->GetController();
+  const bool parallel = c && c->GetNumberOfProcesses() > 1;
+  // Its update is then collective: every process traces on every render,
+  // whatever changed on it (the gathered scene and its structure are kept
+  // while no process's geometry changes).
+  if (parallel) alg->Modified();
   if (!alg->GetExecutive()->Update()) {
-    vtkErrorMacro(<< "ray tracing failed (see the vtkRayScopeImageAlgorithm error)");
+    if (!parallel) vtkErrorMacro(<< "ray tracing failed (see the vtkRayScopeImageAlgorithm error)");
     return;
   }
+  if (parallel && c->GetLocalProcessId() != 0) return;  // its share went to process 0
   vtkImageData* image = alg->GetOutput();
   if (!image) {  // the algorithm's output port makes images; anything else is a bug
     vtkErrorMacro(<< "the ray tracer's output is not an image");
@@ -99,6 +112,16 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
   int width, height, x0, y0;
   ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
   window->DrawPixels(x0, y0, x0 + dims[0] - 1, y0 + dims[1] - 1, 3, VTK_UNSIGNED_CHAR, pixels);
+  if (parallel) {
+    // The other processes drew nothing; their images are composited with this
+    // one by depth (ParaView's parallel render), so this one is made nearest
+    // everywhere: it is the whole image.
+    vtkOpenGLState* state = window->GetState();
+    state->vtkglDepthMask(GL_TRUE);
+    state->vtkglClearDepth(0.0);
+    state->vtkglClear(GL_DEPTH_BUFFER_BIT);
+    state->vtkglClearDepth(1.0);
+  }
   this->LastRenderTime =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   this->NumberOfRenderedProps = inputs;

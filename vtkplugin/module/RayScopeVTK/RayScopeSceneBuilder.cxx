@@ -248,7 +248,7 @@ int SceneBuilder::UpdateFixed(vtkRayScopeImageAlgorithm* alg) {
 
 int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<SceneLight>& lights) {
   if (this->Fixed) return this->UpdateFixed(alg);
-  const int n = alg->GetNumberOfInputConnections(0);
+  const int n = alg->GetNumberOfSceneInputs();
   if (n == 0) {
     vtkErrorWithObjectMacro(alg, << "no input: connect at least one vtkDataSet or composite "
                                     "dataset to port 0");
@@ -259,7 +259,7 @@ int SceneBuilder::Update(vtkRayScopeImageAlgorithm* alg, const std::vector<Scene
   std::vector<ObjectSource> sources;
   std::vector<rayscope_vtkio::DatasetLeaf> leaves;
   for (int i = 0; i < n; ++i) {
-    vtkDataObject* data = alg->GetInputDataObject(0, i);
+    vtkDataObject* data = alg->GetSceneInput(i);
     if (!vtkDataSet::SafeDownCast(data) && !vtkCompositeDataSet::SafeDownCast(data)) {
       vtkErrorWithObjectMacro(alg, << alg->GetInputName(i) << " is "
                                    << (data ? data->GetClassName() : "missing")

@@ -18,12 +18,14 @@
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
 #include "vtkMapper.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkScalarsToColors.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 
+#include "RayScopeParallel.h"
 #include "RayScopeProgressRelay.h"
 #include "rayscope/camera.h"
 #include "rayscope/render_settings.h"
@@ -251,14 +253,67 @@ vtkIdType vtkRayScopeImageAlgorithm::GetNumberOfSceneCommits() {
   return vtkIdType(this->Internal->builder.GetCommits());
 }
 
+void vtkRayScopeImageAlgorithm::SetController(vtkMultiProcessController* controller) {
+  if (this->Internal->controller == controller) return;
+  this->Internal->controller = controller;
+  this->Modified();
+}
+
+vtkMultiProcessController* vtkRayScopeImageAlgorithm::GetController() {
+  return this->Internal->controller;
+}
+
+int vtkRayScopeImageAlgorithm::GetNumberOfSceneInputs() {
+  return this->Internal->use_gathered ? int(this->Internal->gathered.Get().size())
+                                      : this->GetNumberOfInputConnections(0);
+}
+
+vtkDataObject* vtkRayScopeImageAlgorithm::GetSceneInput(int index) {
+  if (index < 0 || index >= this->GetNumberOfSceneInputs()) return nullptr;
+  return this->Internal->use_gathered ? this->Internal->gathered.Get()[size_t(index)].Get()
+                                      : this->GetInputDataObject(0, index);
+}
+
 int vtkRayScopeImageAlgorithm::BuildScene() {
+  vtkMultiProcessController* c = this->Internal->controller;
+  if (rayscope_vtkmodule::process_count(c) == 1) {
+    this->Internal->use_gathered = false;
+    return this->BuildSceneHere();
+  }
+  // Every process checks the same parameters and builds the same scene from
+  // the same gathered pieces: process 0 reports what goes wrong, and all agree
+  // on the outcome (an exception, such as running out of memory, may still
+  // strike one process alone).
+  rayscope_vtkmodule::FirstProcessSpeaks once(c);
+  return rayscope_vtkmodule::on_any_process(c, !this->BuildSceneHere()) ? 0 : 1;
+}
+
+int vtkRayScopeImageAlgorithm::BuildSceneHere() {
   // The one check of the parameters per update (the settings', then the
   // inputs' own materials).
-  if (std::string e = this->ValidateParameters(); !e.empty()) {
+  vtkMultiProcessController* c = this->Internal->controller;
+  const bool parallel = rayscope_vtkmodule::process_count(c) > 1;
+  std::string e = this->ValidateParameters();
+  if (parallel && rayscope_vtkmodule::on_any_process(c, !e.empty())) {
+    if (e.empty()) e = "another process refused the parameters";
+  }
+  if (!e.empty()) {
     vtkErrorMacro(<< e);
     return 0;
   }
   this->WarnAboutUnconnectedInputs();
+  if (parallel) {
+    std::vector<vtkDataObject*> local;
+    for (int i = 0; i < this->GetNumberOfInputConnections(0); ++i)
+      local.push_back(this->GetInputDataObject(0, i));
+    std::string why;
+    if (!this->Internal->gathered.Update(c, local, why)) {
+      vtkErrorMacro(<< "gathering the inputs from " << rayscope_vtkmodule::process_count(c)
+                    << " processes failed: " << why);
+      return 0;
+    }
+  }
+  this->Internal->use_gathered = parallel;
   if (!this->ConfigureColoring()) return 0;
   return this->Internal->builder.Update(this, this->Internal->settings->GetLights());
 }
@@ -306,10 +361,9 @@ int vtkRayScopeImageAlgorithm::ConfigureColoring() {
   mapper->SetLookupTable(this->Internal->default_table);
   mapper->UseLookupTableScalarRangeOff();
   double range[2] = {VTK_DOUBLE_MAX, VTK_DOUBLE_MIN};
-  for (int i = 0; i < this->GetNumberOfInputConnections(0); ++i)
+  for (int i = 0; i < this->GetNumberOfSceneInputs(); ++i)
     for (const rayscope_vtkio::DatasetLeaf& leaf :
-         rayscope_vtkio::dataset_leaves(this->GetInputDataObject(0, i),
-                                        this->GetInputBlockAttributes(i))
+         rayscope_vtkio::dataset_leaves(this->GetSceneInput(i), this->GetInputBlockAttributes(i))
              .leaves) {
       vtkDataArray* a = cells ? leaf.data->GetCellData()->GetArray(name)
                               : leaf.data->GetPointData()->GetArray(name);
@@ -362,12 +416,17 @@ int vtkRayScopeImageAlgorithm::RequestInformation(vtkInformation*, vtkInformatio
 int vtkRayScopeImageAlgorithm::RequestUpdateExtent(vtkInformation*,
                                                    vtkInformationVector** inputVector,
                                                    vtkInformationVector*) {
-  // Every input is needed whole, whatever part of the image is asked for.
+  // Every input is needed whole, whatever part of the image is asked for:
+  // on one process all of it, on several this process's piece of it (the
+  // pieces are gathered in RequestData).
+  vtkMultiProcessController* c = this->Internal->controller;
   vtkInformationVector* inputs = inputVector[0];
   for (int i = 0; i < inputs->GetNumberOfInformationObjects(); ++i) {
     vtkInformation* info = inputs->GetInformationObject(i);
-    info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-    info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(),
+              rayscope_vtkmodule::process_index(c));
+    info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(),
+              rayscope_vtkmodule::process_count(c));
     info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
     if (info->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
       info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
@@ -385,15 +444,38 @@ int vtkRayScopeImageAlgorithm::RequestData(vtkInformation*, vtkInformationVector
   }
   output->Initialize();  // empty unless the render succeeds
   this->UpdateProgress(0.0);
+  // With several processes, every process fails together (the pipeline
+  // downstream is collective too: a process that went on would wait for the
+  // others forever).
+  vtkMultiProcessController* c = this->Internal->controller;
   if (!this->BuildScene()) return 0;
+  // With several processes, this one traces its share of the tiles.
+  const int processes = rayscope_vtkmodule::process_count(c);
+  rayscope::RenderSettings settings = this->GetRenderSettings();
+  settings.share = {rayscope_vtkmodule::process_index(c), processes};
+  if (!rayscope_vtkmodule::same_on_every_process(
+          c, {settings.width, settings.height, settings.samples, settings.max_samples})) {
+    rayscope_vtkmodule::FirstProcessSpeaks once(c);
+    vtkErrorMacro(<< "the " << processes
+                  << " processes were asked for images of different sizes or samples: each "
+                     "must trace its share of the same image");
+    return 0;
+  }
   rayscope::RayCounters counters;
   rayscope::Framebuffer fb;
+  bool failed = false;
   try {
     fb = rayscope_vtkmodule::render_relaying_progress(
-        *this->GetCoreScene(), this->GetRenderSettings(), &counters,
-        [this](double p) { this->UpdateProgress(p); });
+        *this->GetCoreScene(), settings, &counters, [this](double p) { this->UpdateProgress(p); });
   } catch (const std::exception& e) {
     vtkErrorMacro(<< "render failed: " << e.what());
+    failed = true;
+  }
+  if (processes > 1) {
+    if (rayscope_vtkmodule::on_any_process(c, failed)) return 0;
+    // Process 0 makes the image; the others' outputs stay empty.
+    if (!rayscope_vtkmodule::assemble_image(c, settings, fb, counters)) return 1;
+  } else if (failed) {
     return 0;
   }
   rayscope_vtkio::framebuffer_to_image(fb, counters, output);

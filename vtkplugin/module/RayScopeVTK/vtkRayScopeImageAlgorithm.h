@@ -89,7 +89,9 @@
 
 class vtkCamera;
 class vtkCompositeDataDisplayAttributes;
+class vtkDataObject;
 class vtkDataSet;
+class vtkMultiProcessController;
 class vtkRayScopeMaterial;
 class vtkRayScopeMeshConverter;
 class vtkRenderer;
@@ -362,6 +364,27 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
    */
   int CopyRenderer(vtkRenderer* renderer);
 
+  ///@{
+  /// The processes that render together: by default the global controller
+  /// (vtkMultiProcessController::GetGlobalController(): ParaView's MPI
+  /// processes under pvbatch or pvserver; none in a plain VTK program). With
+  /// more than one process, each holds a piece of every input (the pieces
+  /// are requested as piece k of N) and the render is image-parallel over the
+  /// whole scene: the pieces are gathered to every process when any changed
+  /// (a camera move gathers nothing), each process builds the scene and traces
+  /// an interleaved share of the image's tiles, and process 0 assembles the
+  /// image, which is the one process's image bit for bit when the pieces put
+  /// together (polydata appended in process order, other datasets as one
+  /// unstructured grid, composite data leaf by leaf) are the serial input.
+  /// The output is the image on process 0 and empty on the others. Every
+  /// update is then collective: all processes must update together. An error
+  /// on any process (a bad parameter, input that cannot be drawn) ends the
+  /// update on all of them with empty outputs; a problem every process finds
+  /// alike is reported by process 0 only, so it is shown once.
+  void SetController(vtkMultiProcessController* controller);
+  vtkMultiProcessController* GetController();
+  ///@}
+
   /// Includes the materials', converter's and mapper's modification times.
   vtkMTimeType GetMTime() override;
 
@@ -398,6 +421,11 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// The core settings of a render with the current parameters (not
   /// validated: RenderSettings::validate() does that).
   rayscope::RenderSettings GetRenderSettings();
+  /// The data objects the scene is made of: the inputs, or in a parallel
+  /// render every process's pieces of them put together (see
+  /// SetController()), as of the last update.
+  int GetNumberOfSceneInputs();
+  vtkDataObject* GetSceneInput(int index);
   /// The converter of input `index`: its own (SetInputConverter()), else the
   /// one ScalarColoring asks for (configured by the last update).
   vtkRayScopeMeshConverter* GetConverterOf(int index);
@@ -440,6 +468,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   Internals* Internal;
 
   int BuildScene();
+  // BuildScene's checks and build; the caller agrees on the result with the
+  // other processes.
+  int BuildSceneHere();
   // The converter of inputs without their own, for ScalarColoring (after an
   // update of the inputs); 0 after an error.
   int ConfigureColoring();

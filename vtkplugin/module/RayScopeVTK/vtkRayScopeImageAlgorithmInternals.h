@@ -7,11 +7,13 @@
 
 #include "vtkCompositeDataDisplayAttributes.h"
 #include "vtkLookupTable.h"
+#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkSmartPointer.h"
 #include "vtkVolume.h"
 #include "vtkWeakPointer.h"
 
+#include "RayScopeParallel.h"
 #include "RayScopeSceneBuilder.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeMaterial.h"
@@ -34,4 +36,11 @@ struct vtkRayScopeImageAlgorithm::Internals {
   std::vector<vtkWeakPointer<vtkVolume>> warned_volumes;
   rayscope_vtkmodule::CopiedActors actors;  // CopyRenderer()'s cache
   rayscope_vtkmodule::SceneBuilder builder;
+  // The processes that render together (SetController).
+  vtkSmartPointer<vtkMultiProcessController> controller =
+      vtkMultiProcessController::GetGlobalController();
+  // With more than one process: every process's pieces of the inputs, which
+  // the scene is made of instead of this process's own (GetSceneInput()).
+  rayscope_vtkmodule::GatheredInputs gathered;
+  bool use_gathered = false;
 };

@@ -1,16 +1,43 @@
 #include "vtkRayScopeRenderView.h"
 
 #include "vtkObjectFactory.h"
+#include "vtkPVRenderViewSettings.h"
 #include "vtkPVSynchronizedRenderer.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopePass.h"
+#include "vtkSynchronizedRenderers.h"
 
-vtkStandardNewMacro(vtkRayScopeRenderView);
+vtkRayScopeRenderView* vtkRayScopeRenderView::New() {
+  // On several ranks, ParaView composites the ranks' images. Each rank here
+  // traces a share of the pixels over the whole scene and rank 0 draws the
+  // assembled image (vtkRayScopePass), so the composite must take rank 0's
+  // full-size image as it is: compositing by depth over the whole image, not
+  // IceT's, which renders each rank only where its own data projects. The
+  // view's synchronized renderer is made in vtkPVRenderView's constructor
+  // with the render-view settings' choice of IceT: it is set for this
+  // construction only.
+  vtkPVRenderViewSettings* settings = vtkPVRenderViewSettings::GetInstance();
+  const bool icet_disabled = settings->GetDisableIceT();
+  settings->SetDisableIceT(true);
+  auto* view = new vtkRayScopeRenderView;
+  settings->SetDisableIceT(icet_disabled);
+  view->InitializeObjectBase();
+  return view;
+}
 
 vtkRayScopeRenderView::vtkRayScopeRenderView() : Pass(vtkRayScopePass::New()) {
   // The synchronized renderer puts the pass on the view's renderer (on every
   // rank that renders).
   this->SynchronizedRenderers->SetRenderPass(this->Pass);
+  this->KeepBackground();
+}
+
+void vtkRayScopeRenderView::KeepBackground() {
+  // The ranks render on the view's own background, not black: the background
+  // is part of the ray-traced image (reflected and refracted), and rank 0's
+  // image covers the whole view.
+  if (vtkSynchronizedRenderers* parallel = this->SynchronizedRenderers->GetParallelSynchronizer())
+    parallel->SetFixBackground(false);
 }
 
 vtkRayScopeRenderView::~vtkRayScopeRenderView() {
@@ -56,11 +83,13 @@ double vtkRayScopeRenderView::GetRayScopeLastRenderSeconds() {
 }
 
 void vtkRayScopeRenderView::StillRender() {
+  this->KeepBackground();
   this->GetImageAlgorithm()->SetSamples(this->Samples);
   this->Superclass::StillRender();
 }
 
 void vtkRayScopeRenderView::InteractiveRender() {
+  this->KeepBackground();
   this->GetImageAlgorithm()->SetSamples(1);
   this->Superclass::InteractiveRender();
 }

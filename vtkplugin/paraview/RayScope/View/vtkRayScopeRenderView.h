@@ -16,6 +16,14 @@
  * sample per pixel; a still render traces Samples x Samples. The render
  * settings are the pass's image algorithm's (GetImageAlgorithm()), which
  * validates them: the setters below forward to it.
+ *
+ * On several ranks (pvbatch or pvserver under MPI) the ranks render
+ * together: the image algorithm gathers the representations' pieces from
+ * every rank when they change, every rank traces an interleaved share of the
+ * pixels over the whole scene, and rank 0 assembles the image, which ParaView
+ * delivers as its composited image (vtkRayScopeImageAlgorithm::SetController()).
+ * Shadows and reflections between pieces on different ranks are there, and
+ * the image is the one-rank image.
  */
 #ifndef vtkRayScopeRenderView_h
 #define vtkRayScopeRenderView_h
@@ -70,6 +78,9 @@ class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView
  private:
   vtkRayScopeRenderView(const vtkRayScopeRenderView&) = delete;
   void operator=(const vtkRayScopeRenderView&) = delete;
+
+  // Renders on the view's background on every rank (see New()).
+  void KeepBackground();
 
   vtkRayScopePass* Pass;
 };

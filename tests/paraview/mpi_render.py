@@ -1,0 +1,105 @@
+"""One run of the MPI test (tests/paraview/test_mpi.py runs it under
+`mpiexec -n N pvbatch`; the script runs on rank 0, ParaView's pipeline on every
+rank).
+
+    mpi_render.py OUT_DIR image   writes OUT_DIR/ray_trace.raw (the Ray Trace
+                                  filter's LinearColor, Depth and ObjectId bytes)
+                                  and OUT_DIR/view.raw (the RayScope view's
+                                  screenshot, RGB bytes) of scene.pvtp
+    mpi_render.py OUT_DIR bad     the same Ray Trace with MaxDepth -1: exits 1
+                                  when its output is empty, as it must be
+
+scene.pvtp (written here on rank 0 before any rank reads it) has two pieces:
+a sphere, and a floor under it with a wall behind it. ParaView's reader hands
+piece k of 2 to rank k (on 3 ranks, rank 2 gets nothing), so on several ranks
+the sphere's shadow and its reflections fall on geometry another rank holds.
+"""
+import os
+import sys
+
+from paraview.simple import *
+from paraview import servermanager as sm
+from paraview.vtk.vtkFiltersSources import vtkPlaneSource, vtkSphereSource
+from paraview.vtk.vtkFiltersCore import vtkAppendPolyData
+from paraview.vtk.vtkIOXML import vtkXMLPolyDataWriter
+from paraview.vtk.vtkIOImage import vtkPNGReader
+
+out, mode = sys.argv[1], sys.argv[2]
+W, H = 160, 120
+ranks = sm.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
+
+
+def write_piece(name, algorithms):
+    append = vtkAppendPolyData()
+    for a in algorithms:
+        append.AddInputConnection(a.GetOutputPort())
+    append.Update()
+    data = append.GetOutput()
+    data.GetPointData().RemoveArray("TextureCoordinates")
+    writer = vtkXMLPolyDataWriter()
+    writer.SetFileName(os.path.join(out, name))
+    writer.SetInputData(data)
+    writer.Write()
+
+
+sphere = vtkSphereSource()
+sphere.SetCenter(0.0, 1.0, 0.0)
+sphere.SetThetaResolution(48)
+sphere.SetPhiResolution(24)
+floor, wall = vtkPlaneSource(), vtkPlaneSource()
+floor.SetOrigin(-4.0, 0.0, -4.0)
+floor.SetPoint1(4.0, 0.0, -4.0)
+floor.SetPoint2(-4.0, 0.0, 4.0)
+wall.SetOrigin(-4.0, 0.0, -2.0)
+wall.SetPoint1(4.0, 0.0, -2.0)
+wall.SetPoint2(-4.0, 4.0, -2.0)
+write_piece("scene_0.vtp", [sphere])
+write_piece("scene_1.vtp", [floor, wall])
+with open(os.path.join(out, "scene.pvtp"), "w") as f:
+    f.write("""<?xml version="1.0"?>
+<VTKFile type="PPolyData" version="1.0" byte_order="LittleEndian">
+  <PPolyData GhostLevel="0">
+    <PPointData Normals="Normals"><PDataArray type="Float32" Name="Normals" NumberOfComponents="3"/></PPointData>
+    <PPoints><PDataArray type="Float32" NumberOfComponents="3"/></PPoints>
+    <Piece Source="scene_0.vtp"/>
+    <Piece Source="scene_1.vtp"/>
+  </PPolyData>
+</VTKFile>
+""")
+
+scene = XMLPartitionedPolydataReader(FileName=[os.path.join(out, "scene.pvtp")])
+camera = dict(CameraPosition=[3.0, 3.5, 6.0], CameraFocalPoint=[0.0, 0.8, 0.0], CameraViewUp=[0.0, 1.0, 0.0])
+
+rt = RayTrace(Input=[scene], ImageSize=[W, H], Samples=2, Reflectivity=0.3,
+              AutoCamera=0, Position=camera["CameraPosition"], FocalPoint=camera["CameraFocalPoint"],
+              ViewUp=camera["CameraViewUp"])
+if mode == "bad":
+    rt.MaxDepth = -1
+image = sm.Fetch(rt, 0)  # rank 0's output: the whole image
+if image.GetNumberOfPoints() != W * H:
+    print(f"mpi_render: {ranks} ranks: the Ray Trace image is empty", file=sys.stderr)
+    sys.exit(1)
+with open(os.path.join(out, "ray_trace.raw"), "wb") as f:
+    for name in ("LinearColor", "Depth", "ObjectId", "Color"):
+        f.write(bytes(memoryview(image.GetPointData().GetArray(name))))
+
+view = CreateView("RayScopeView")
+view.ViewSize = [W, H]
+view.OrientationAxesVisibility = 0
+view.UseColorPaletteForBackground = 0
+view.Background = [0.1, 0.2, 0.3]
+view.Samples = 2
+for k, v in camera.items():
+    setattr(view, k, v)
+display = Show(scene, view)
+display.ColorArrayName = ["POINTS", ""]
+display.DiffuseColor = [0.9, 0.7, 0.2]
+Render(view)
+png = os.path.join(out, "view.png")
+SaveScreenshot(png, view, ImageResolution=[W, H])
+reader = vtkPNGReader()
+reader.SetFileName(png)
+reader.Update()
+with open(os.path.join(out, "view.raw"), "wb") as f:
+    f.write(bytes(memoryview(reader.GetOutput().GetPointData().GetScalars())))
+print(f"mpi_render: {ranks} ranks: images written")
