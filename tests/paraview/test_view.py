@@ -7,7 +7,9 @@ contour in several colors of the map; a still render traces the view's
 Samples, an interactive one 1 sample; moving the camera changes the image; the
 Cost display mode shows another image (the heat map). The ray tree of a pixel
 of the view (View Ray Tree) replays the view's own scene: its pixel
-color is the color the view shows there.
+color is the color the view shows there. A representation's Metallic and Base
+IOR are its reflectivity and index of refraction; categorical colors are the
+table's indexed colors.
 """
 import os
 import sys
@@ -118,5 +120,53 @@ view.DisplayMode = "Cost"
 cost = screenshot("rayscope_view_cost.png")
 changed = sum(1 for a, b in zip(moved, cost) if a != b)
 check(changed > W * H // 20, f"the Cost display mode shows the heat map ({changed} pixels differ)")
+
+# Reflectivity and index of refraction per representation: ParaView's Metallic
+# and Base IOR (Surface's advanced properties). The ray tree of a pixel on the
+# sphere has reflection rays only once the sphere is metallic, refraction rays
+# once it is also translucent.
+view.DisplayMode = "Color"
+Hide(elevation, view)  # the contour's colors include red: find the sphere alone
+alone = screenshot("rayscope_view_sphere.png")
+Show(elevation, view)
+red_pixels = [k for k, (r, g, b) in enumerate(alone) if r > 60 and r > 2 * g and r > 2 * b]
+check(len(red_pixels) > 0, "the sphere is in view after the camera moved")
+
+
+def kinds_at(k):
+    Render(view)
+    tree = ViewRayTree(View=view, Pixel=[k % W, k // W])
+    rays = sm.Fetch(tree)
+    kinds = rays.GetCellData().GetArray("Kind")
+    found = {kinds.GetValue(c) for c in range(rays.GetNumberOfCells())}
+    Delete(tree)
+    return found
+
+
+if red_pixels:
+    k = red_pixels[len(red_pixels) // 2]
+    check(2 not in kinds_at(k), "a sphere pixel has no reflection ray while Metallic is 0")
+    sphere_display.Metallic = 0.4
+    check(2 in kinds_at(k), "Metallic 0.4: the sphere's pixel has reflection rays")
+    sphere_display.Opacity = 0.5
+    sphere_display.BaseIOR = 1.3
+    check(3 in kinds_at(k), "Opacity 0.5, Base IOR 1.3: the sphere's pixel has refraction rays")
+
+# Categorical colors (Interpret Values As Categories): a value's indexed color
+# from the table, as in the OpenGL view (a copied table lost them once: every
+# surface came out in one dark red).
+Hide(sphere, view)
+Hide(elevation, view)
+ids = ProcessIdScalars(Input=sphere)  # ProcessId 0 on one process
+ids_display = Show(ids, view)
+ColorBy(ids_display, ("POINTS", "ProcessId"))
+categories = GetColorTransferFunction("ProcessId")
+categories.InterpretValuesAsCategories = 1
+categories.Annotations = ["0", "zero", "1", "one"]
+categories.IndexedColors = [0.1, 0.3, 0.9, 0.9, 0.9, 0.1]
+ids_display.LookupTable = categories
+Render(view)
+blue = sum(1 for r, g, b in screenshot("rayscope_view_categories.png") if b > 60 and b > 2 * r)
+check(blue > W * H // 40, f"categorical coloring: the sphere in its category's blue ({blue} pixels)")
 
 finish("paraview.view")

@@ -221,7 +221,13 @@ vtkSmartPointer<vtkUnsignedCharArray> map_colors(vtkMapper* coloring, vtkPolyDat
   if (!coloring) return nullptr;
   vtkNew<vtkDataSetMapper> mapper;
   mapper->ShallowCopy(coloring);
-  if (vtkScalarsToColors* lut = coloring->GetLookupTable()) {
+  // A mapper that sets its table's range (UseLookupTableScalarRange off) maps
+  // through a copy, so that the caller's table keeps its range. One that uses
+  // the table's own range (ParaView's, always) maps through the table itself,
+  // as its OpenGL render does: a copy can lose what the table builds from
+  // settings DeepCopy() does not carry (ParaView's categorical colors).
+  vtkScalarsToColors* lut = coloring->GetLookupTable();
+  if (lut && !coloring->GetUseLookupTableScalarRange()) {
     vtkSmartPointer<vtkScalarsToColors> copy = vtk::TakeSmartPointer(lut->NewInstance());
     copy->DeepCopy(lut);
     mapper->SetLookupTable(copy);

@@ -12,11 +12,15 @@
 #include "vtkDataObjectTree.h"
 #include "vtkDataObjectTreeIterator.h"
 #include "vtkDataSet.h"
+#include "vtkImageData.h"
+#include "vtkIntArray.h"
 #include "vtkMultiProcessController.h"
+#include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkUnstructuredGrid.h"
 
 #include "rayscope/tiles.h"
+#include "rayscope_vtkio/data_arrays.h"
 
 namespace rayscope_vtkmodule {
 
@@ -230,6 +234,18 @@ bool assemble_image(vtkMultiProcessController* controller, const rayscope::Rende
   }
   std::memcpy(&counters, sum, sizeof counters);
   return true;
+}
+
+void add_process_array(vtkImageData* image, const rayscope::RenderSettings& settings) {
+  const int w = settings.width, h = settings.height;
+  auto process = rayscope_vtkio::make_array<vtkIntArray>("Process", 1, vtkIdType(w) * h);
+  const rayscope::TileGrid grid(settings);
+  // VTK's row j is the core's row h - 1 - j.
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      process->SetValue(vtkIdType(h - 1 - y) * w + x,
+                        int(grid.tile_of(x, y) % size_t(settings.share.count)));
+  image->GetPointData()->AddArray(process);
 }
 
 }  // namespace rayscope_vtkmodule

@@ -19,6 +19,7 @@
 #include "rayscope/stats.h"
 
 class vtkDataObject;
+class vtkImageData;
 class vtkMultiProcessController;
 
 namespace rayscope_vtkmodule {
@@ -91,5 +92,10 @@ class GatheredInputs {
 /// this process's render and has its channels (cost, samples).
 bool assemble_image(vtkMultiProcessController* controller, const rayscope::RenderSettings& settings,
                     rayscope::Framebuffer& fb, rayscope::RayCounters& counters);
+
+/// Adds to `image` (the assembled image of `settings`, whose share.count is
+/// the process count) the point array "Process": the process that traced
+/// each pixel.
+void add_process_array(vtkImageData* image, const rayscope::RenderSettings& settings);
 
 }  // namespace rayscope_vtkmodule

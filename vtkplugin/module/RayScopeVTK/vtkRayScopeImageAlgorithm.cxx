@@ -1,8 +1,10 @@
 #include "vtkRayScopeImageAlgorithm.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <exception>
+#include <iterator>
 #include <stdexcept>
 
 #include "vtkAlgorithmOutput.h"
@@ -12,6 +14,7 @@
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkDataSet.h"
+#include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
@@ -38,6 +41,12 @@
 #include "vtkRayScopeImageAlgorithmInternals.h"
 
 vtkStandardNewMacro(vtkRayScopeImageAlgorithm);
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+}  // namespace
 vtkCxxSetObjectMacro(vtkRayScopeImageAlgorithm, LookupTable, vtkScalarsToColors);
 
 vtkRayScopeImageAlgorithm::vtkRayScopeImageAlgorithm()
@@ -307,7 +316,10 @@ int vtkRayScopeImageAlgorithm::BuildSceneHere() {
     for (int i = 0; i < this->GetNumberOfInputConnections(0); ++i)
       local.push_back(this->GetInputDataObject(0, i));
     std::string why;
-    if (!this->Internal->gathered.Update(c, local, why)) {
+    const auto start = std::chrono::steady_clock::now();
+    const bool gathered = this->Internal->gathered.Update(c, local, why);
+    this->Internal->seconds[0] = seconds_since(start);
+    if (!gathered) {
       vtkErrorMacro(<< "gathering the inputs from " << rayscope_vtkmodule::process_count(c)
                     << " processes failed: " << why);
       return 0;
@@ -315,7 +327,10 @@ int vtkRayScopeImageAlgorithm::BuildSceneHere() {
   }
   this->Internal->use_gathered = parallel;
   if (!this->ConfigureColoring()) return 0;
-  return this->Internal->builder.Update(this, this->Internal->settings->GetLights());
+  const auto start = std::chrono::steady_clock::now();
+  const int built = this->Internal->builder.Update(this, this->Internal->settings->GetLights());
+  this->Internal->seconds[1] = seconds_since(start);
+  return built;
 }
 
 vtkRayScopeMeshConverter* vtkRayScopeImageAlgorithm::GetConverterOf(int index) {
@@ -448,6 +463,7 @@ int vtkRayScopeImageAlgorithm::RequestData(vtkInformation*, vtkInformationVector
   // downstream is collective too: a process that went on would wait for the
   // others forever).
   vtkMultiProcessController* c = this->Internal->controller;
+  std::fill(std::begin(this->Internal->seconds), std::end(this->Internal->seconds), 0.0);
   if (!this->BuildScene()) return 0;
   // With several processes, this one traces its share of the tiles.
   const int processes = rayscope_vtkmodule::process_count(c);
@@ -464,6 +480,7 @@ int vtkRayScopeImageAlgorithm::RequestData(vtkInformation*, vtkInformationVector
   rayscope::RayCounters counters;
   rayscope::Framebuffer fb;
   bool failed = false;
+  auto start = std::chrono::steady_clock::now();
   try {
     fb = rayscope_vtkmodule::render_relaying_progress(
         *this->GetCoreScene(), settings, &counters, [this](double p) { this->UpdateProgress(p); });
@@ -471,14 +488,22 @@ int vtkRayScopeImageAlgorithm::RequestData(vtkInformation*, vtkInformationVector
     vtkErrorMacro(<< "render failed: " << e.what());
     failed = true;
   }
+  this->Internal->seconds[2] = seconds_since(start);
   if (processes > 1) {
     if (rayscope_vtkmodule::on_any_process(c, failed)) return 0;
     // Process 0 makes the image; the others' outputs stay empty.
-    if (!rayscope_vtkmodule::assemble_image(c, settings, fb, counters)) return 1;
+    start = std::chrono::steady_clock::now();
+    const bool assembled = rayscope_vtkmodule::assemble_image(c, settings, fb, counters);
+    this->Internal->seconds[3] = seconds_since(start);
+    if (!assembled) return 1;
   } else if (failed) {
     return 0;
   }
   rayscope_vtkio::framebuffer_to_image(fb, counters, output);
+  if (processes > 1) rayscope_vtkmodule::add_process_array(output, settings);
+  const double* t = this->Internal->seconds;
+  rayscope_vtkio::add_field_tuple<vtkDoubleArray>(output->GetFieldData(), "Seconds",
+                                                  {t[0], t[1], t[2], t[3]});
   this->AddObjectArrays(output);
   this->UpdateProgress(1.0);
   return 1;

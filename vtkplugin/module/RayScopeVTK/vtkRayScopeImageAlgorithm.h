@@ -57,13 +57,20 @@
  *   core's counting integrator, slightly slower).
  * - "Samples": int, the samples the pixel took. Only with adaptive sampling
  *   (MaxSamples > 0).
+ * - "Process": int, the process that traced the pixel. Only when several
+ *   processes render together (see SetController()).
  *
  * Field data: "RayCounts" (primary, shadow, reflection, refraction rays),
  * "ShadowRaysOccluded", "NodesVisited", "BoxesTested", "PrimitivesTested";
  * and one tuple per scene object, indexed by ObjectId: "ObjectInput" (int,
  * the input index), "ObjectFlatIndex" (int, the leaf's flat index in its
  * composite input, -1 for a dataset input) and "ObjectName" (string, e.g.
- * "input 1 block 3 'wall'").
+ * "input 1 block 3 'wall'"). "Seconds": the wall-clock time of this update's
+ * steps, one tuple of four: gathering the inputs from the other processes (0
+ * on one process, and when no process's input changed), building the scene
+ * (converting the inputs and building the structure; near 0 when only the
+ * camera or settings changed), tracing (this process's share of the image),
+ * and assembling the shares on process 0.
  *
  * Progress is reported per finished tile through UpdateProgress (ProgressEvent
  * observers run on the calling thread). Parameters are checked once per

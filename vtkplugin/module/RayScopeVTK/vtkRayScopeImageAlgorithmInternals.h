@@ -43,4 +43,6 @@ struct vtkRayScopeImageAlgorithm::Internals {
   // the scene is made of instead of this process's own (GetSceneInput()).
   rayscope_vtkmodule::GatheredInputs gathered;
   bool use_gathered = false;
+  // Seconds of the last update's steps: gather, build, trace, assemble.
+  double seconds[4] = {0, 0, 0, 0};
 };

@@ -78,8 +78,8 @@ void vtkRayScopeMaterial::CopyProperty(vtkProperty* p) {
   this->SetSpecularColor(p->GetSpecularColor());
   this->SetSpecularPower(p->GetSpecularPower());
   this->SetTransparency(1.0 - p->GetOpacity());
-  this->SetReflectivity(GetPropertyReflectivity(p, this->Reflectivity));
-  this->SetIndexOfRefraction(GetPropertyIndexOfRefraction(p, this->IndexOfRefraction));
+  this->SetReflectivity(GetPropertyReflectivity(p, p->GetMetallic()));
+  this->SetIndexOfRefraction(GetPropertyIndexOfRefraction(p, p->GetBaseIOR()));
 }
 
 void vtkRayScopeMaterial::DeepCopy(vtkRayScopeMaterial* o) {

@@ -95,7 +95,12 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeMaterial : public vtkObject {
   /// power) from a vtkProperty and Transparency = 1 - opacity. Reflectivity
   /// and the index of refraction come from the property's information keys
   /// REFLECTIVITY() and INDEX_OF_REFRACTION() when it has them (see
-  /// SetPropertyReflectivity()); otherwise this material's values are kept.
+  /// SetPropertyReflectivity()), else from its physically based terms: a
+  /// smooth metallic surface is a mirror, so reflectivity is Metallic, and
+  /// the index of refraction is BaseIOR (vtkProperty's defaults, 0 and 1.5,
+  /// are RayScope's). ParaView shows both per representation (Metallic and
+  /// Base IOR, advanced properties of Surface), so the RayScope view takes
+  /// them from each representation.
   void CopyProperty(vtkProperty* property);
 
   ///@{
