@@ -24,6 +24,9 @@ from paraview.vtk.vtkFiltersCore import vtkAppendPolyData
 from paraview.vtk.vtkIOXML import vtkXMLPolyDataWriter
 from paraview.vtk.vtkIOImage import vtkPNGReader
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from rayscope_views import new_view  # noqa: E402
+
 out, mode = sys.argv[1], sys.argv[2]
 W, H = 160, 120
 ranks = sm.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
@@ -83,12 +86,7 @@ with open(os.path.join(out, "ray_trace.raw"), "wb") as f:
     for name in ("LinearColor", "Depth", "ObjectId", "Color"):
         f.write(bytes(memoryview(image.GetPointData().GetArray(name))))
 
-view = CreateView("RayScopeView")
-view.ViewSize = [W, H]
-view.OrientationAxesVisibility = 0
-view.UseColorPaletteForBackground = 0
-view.Background = [0.1, 0.2, 0.3]
-view.Samples = 2
+view = new_view((W, H), (0.1, 0.2, 0.3))
 for k, v in camera.items():
     setattr(view, k, v)
 display = Show(scene, view)

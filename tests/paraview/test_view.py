@@ -7,9 +7,11 @@ contour in several colors of the map; a still render traces the view's
 Samples, an interactive one 1 sample; moving the camera changes the image; the
 Cost display mode shows another image (the heat map). The ray tree of a pixel
 of the view (View Ray Tree) replays the view's own scene: its pixel
-color is the color the view shows there. A representation's Metallic and Base
+color is the color the view shows there; the structure its rays walk (View
+Acceleration Structure) counts that pixel's node visits. A representation's Metallic and Base
 IOR are its reflectivity and index of refraction; categorical colors are the
-table's indexed colors.
+table's indexed colors. With the same camera, lights and lookup table, the
+view's image and the Ray Trace filter's are the same pixels.
 """
 import os
 import sys
@@ -20,6 +22,9 @@ from paraview.vtk.vtkIOImage import vtkPNGReader
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from script_checks import check, finish  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from rayscope_views import new_view  # noqa: E402
 
 W, H = 120, 90
 OUT = os.environ.get("RAYSCOPE_TEST_OUTPUT", ".")
@@ -41,12 +46,7 @@ def traced_samples():
     return view.GetPropertyValue("TracedSamples")
 
 
-view = CreateView("RayScopeView")
-view.ViewSize = [W, H]
-view.OrientationAxesVisibility = 0
-view.UseColorPaletteForBackground = 0
-view.Background = [0.0, 0.0, 0.0]
-view.Samples = 2
+view = new_view((W, H), (0.0, 0.0, 0.0))
 
 sphere = Sphere(Center=[-15.0, 0.0, 0.0], Radius=4.0, ThetaResolution=32, PhiResolution=32)
 sphere_display = Show(sphere, view)
@@ -101,6 +101,20 @@ for k in (inside, 0):
     check(all(abs(srgb(color[c]) - shown[c]) <= 1.5 for c in range(3)),
           f"pixel ({i}, {j}): the tree's pixel color {[round(srgb(v), 1) for v in color]} is the view's {shown}")
     Delete(tree)
+
+# The structure the view's rays walk (View Acceleration Structure): the visits
+# of a pixel's rays, node by node, add up to the nodes its ray tree's rays
+# visited: the same scene, structure and camera as the view.
+i, j = inside % W, inside // W
+walked = sm.Fetch(ViewRayTree(View=view, Pixel=[i, j]))
+visited = walked.GetCellData().GetArray("NodesVisited")
+tree_nodes = sum(visited.GetValue(c) for c in range(walked.GetNumberOfCells()) if walked.GetCellType(c) == 3)
+boxes = sm.Fetch(ViewAccelerationStructure(View=view, Pixel=[i, j]))
+node_ids, counts = boxes.GetCellData().GetArray("NodeId"), boxes.GetCellData().GetArray("VisitCount")
+per_node = {node_ids.GetValue(c): counts.GetValue(c) for c in range(boxes.GetNumberOfCells())}
+check(len(per_node) > 10, f"View Acceleration Structure: the view's structure ({len(per_node)} nodes)")
+check(tree_nodes > 0 and sum(per_node.values()) == tree_nodes,
+      f"pixel ({i}, {j}): node visits {sum(per_node.values())} == its ray tree's {tree_nodes}")
 
 # An interactive render (the camera moving) traces 1 sample per pixel; the
 # next still render the view's Samples again.
@@ -168,5 +182,54 @@ ids_display.LookupTable = categories
 Render(view)
 blue = sum(1 for r, g, b in screenshot("rayscope_view_categories.png") if b > 60 and b > 2 * r)
 check(blue > W * H // 40, f"categorical coloring: the sphere in its category's blue ({blue} pixels)")
+
+# One settings owner: a new view follows the RayScope Scene settings (as the
+# filters do) until its own value is set.
+scene_settings = GetSettingsProxy("RayScopeScene")
+scene_settings.MaxDepth = 3
+follower = CreateView("RayScopeView")
+check(follower.MaxDepth == 3, f"a new view takes MaxDepth from RayScope Scene ({follower.MaxDepth})")
+scene_settings.MaxDepth = 4
+check(follower.MaxDepth == 4, f"and follows it ({follower.MaxDepth})")
+follower.MaxDepth = 2
+scene_settings.MaxDepth = 5
+check(follower.MaxDepth == 2, f"until set on the view ({follower.MaxDepth})")
+Delete(follower)
+
+# The view and the Ray Trace filter see the same scene alike: with the same
+# camera, lights (a headlight only: the light kit off) and coloring (both
+# shapes colored by Elevation through one lookup table), the filter's Color
+# array and the view's screenshot are the same pixels, byte for byte.
+same = new_view((W, H), (0.1, 0.1, 0.2))
+same.UseLight = 0
+AddLight(view=same).Coords = "Headlight"
+shapes = [Elevation(Input=s, LowPoint=[0, -8, 0], HighPoint=[0, 8, 0]) for s in (sphere, contour)]
+heights = GetColorTransferFunction("Height")
+heights.ApplyPreset("Rainbow Uniform", True)
+heights.RescaleTransferFunction(0.0, 1.0)
+for shape in shapes:
+    shown = Show(shape, same)
+    ColorBy(shown, ("POINTS", "Elevation"))
+    shown.LookupTable = heights
+same.ResetCamera()
+Render(same)
+SaveScreenshot(os.path.join(OUT, "rayscope_view_same.png"), same, ImageResolution=[W, H])
+reader = vtkPNGReader()
+reader.SetFileName(os.path.join(OUT, "rayscope_view_same.png"))
+reader.Update()
+shown_pixels = reader.GetOutput().GetPointData().GetScalars()
+camera = same.GetActiveCamera()
+traced = sm.Fetch(RayTrace(Input=shapes, ImageSize=[W, H], Samples=2, AutoCamera=0,
+                           Position=camera.GetPosition(), FocalPoint=camera.GetFocalPoint(),
+                           ViewUp=camera.GetViewUp(), ViewAngle=camera.GetViewAngle(),
+                           Background=[0.1, 0.1, 0.2], Coloring="Color Array",
+                           ColorArray=["POINTS", "Elevation"], LookupTable=heights, Headlight=1,
+                           AmbientLight=[1, 1, 1]))
+traced_pixels = traced.GetPointData().GetArray("Color")
+differ = sum(1 for i in range(W * H)
+             if any(shown_pixels.GetComponent(i, c) != traced_pixels.GetComponent(i, c) for c in range(3)))
+lit_pixels = sum(1 for i in range(W * H) if max(traced_pixels.GetTuple3(i)) > 60)
+check(lit_pixels > W * H // 10, f"the Ray Trace image shows the shapes ({lit_pixels} lit pixels)")
+check(differ == 0, f"the view and the Ray Trace filter, same camera and lights: {differ} pixels differ")
 
 finish("paraview.view")

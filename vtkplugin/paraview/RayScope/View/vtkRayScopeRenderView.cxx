@@ -52,6 +52,16 @@ vtkRayScopeImageAlgorithm* vtkRayScopeRenderView::GetImageAlgorithm() {
   return this->Pass->GetImageAlgorithm();
 }
 
+vtkRayScopeImageAlgorithm* vtkRayScopeRenderView::SceneOf(vtkView* view, bool& is_rayscope) {
+  auto* rayscope = vtkRayScopeRenderView::SafeDownCast(view);
+  is_rayscope = view == nullptr || rayscope != nullptr;
+  return rayscope ? rayscope->GetImageAlgorithm() : nullptr;
+}
+
+const char* vtkRayScopeRenderView::NotRayScopeError() {
+  return "View: not a RayScope view (create one with CreateView('RayScopeView'))";
+}
+
 void vtkRayScopeRenderView::SetRayScopeSamples(int n) {
   if (n == this->Samples) return;
   this->Samples = n;

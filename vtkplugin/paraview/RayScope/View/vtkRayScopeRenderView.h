@@ -33,6 +33,7 @@
 
 class vtkRayScopeImageAlgorithm;
 class vtkRayScopePass;
+class vtkView;
 
 class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView {
  public:
@@ -65,6 +66,14 @@ class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView
   /// settings (never null).
   vtkRayScopePass* GetRayScopePass();
   vtkRayScopeImageAlgorithm* GetImageAlgorithm();
+
+  /// The image algorithm of `view` when it is a RayScope view, for the
+  /// sources that replay its scene (View Ray Tree, View Acceleration
+  /// Structure); null otherwise, with `is_rayscope` false unless `view` is
+  /// null too (no view chosen yet).
+  static vtkRayScopeImageAlgorithm* SceneOf(vtkView* view, bool& is_rayscope);
+  /// The error of such a source whose view is another kind.
+  static const char* NotRayScopeError();
 
   void StillRender() override;
   void InteractiveRender() override;

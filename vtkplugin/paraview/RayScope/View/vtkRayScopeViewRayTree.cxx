@@ -6,15 +6,13 @@
 vtkStandardNewMacro(vtkRayScopeViewRayTree);
 
 void vtkRayScopeViewRayTree::SetView(vtkView* view) {
-  auto* rayscope = vtkRayScopeRenderView::SafeDownCast(view);
-  this->ViewIsRayScope = view == nullptr || rayscope != nullptr;
-  this->SetSceneSource(rayscope ? rayscope->GetImageAlgorithm() : nullptr);
+  this->SetSceneSource(vtkRayScopeRenderView::SceneOf(view, this->ViewIsRayScope));
 }
 
 int vtkRayScopeViewRayTree::RequestData(vtkInformation* request, vtkInformationVector** inputVector,
                                         vtkInformationVector* outputVector) {
   if (!this->ViewIsRayScope) {
-    vtkErrorMacro(<< "View: not a RayScope view (create one with CreateView('RayScopeView'))");
+    vtkErrorMacro(<< vtkRayScopeRenderView::NotRayScopeError());
     return 0;
   }
   return this->Superclass::RequestData(request, inputVector, outputVector);
