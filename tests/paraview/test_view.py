@@ -4,7 +4,7 @@ Render View ray-traced by RayScope through vtkRayScopePass.
 A sphere in a solid red and a Wavelet contour colored by elevation through a
 lookup table are shown. The view's screenshot shows the red sphere and the
 contour in several colors of the map; a still render traces the view's
-Samples, an interactive one 1 sample; moving the camera changes the image; the
+Samples, an interactive one 1 sample per 2 x 2 block; moving the camera changes the image; the
 Cost display mode shows another image (the heat map). The ray tree of a pixel
 of the view (View Ray Tree) replays the view's own scene: its pixel
 color is the color the view shows there; the structure its rays walk (View
@@ -44,6 +44,11 @@ def screenshot(name):
 def traced_samples():
     view.UpdatePropertyInformation()
     return view.GetPropertyValue("TracedSamples")
+
+
+def traced_size():
+    view.UpdatePropertyInformation()
+    return list(view.GetPropertyValue("TracedSize"))
 
 
 view = new_view((W, H), (0.0, 0.0, 0.0))
@@ -120,8 +125,11 @@ check(tree_nodes > 0 and sum(per_node.values()) == tree_nodes,
 # next still render the view's Samples again.
 view.SMProxy.InteractiveRender()
 check(traced_samples() == 1, f"an interactive render traces 1 sample ({traced_samples()})")
+check(traced_size() == [(W + 1) // 2, (H + 1) // 2],
+      f"an interactive render traces one pixel per 2 x 2 block ({traced_size()})")
 Render(view)
 check(traced_samples() == 2, "the next still render traces the view's Samples again")
+check(traced_size() == [W, H], f"and every pixel ({traced_size()})")
 
 # The image follows the camera.
 GetActiveCamera().Azimuth(40.0)

@@ -206,6 +206,39 @@ TEST_F(VtkPass, WindowEqualsImageAlgorithm) {
   EXPECT_EQ(max_byte_difference(r.pass->GetLastImage(), traced), 0);
 }
 
+// An image reduction of 3 traces one pixel per 3 x 3 block: the traced image
+// is a third of the viewport on each side (rounded up), and each of its pixels
+// fills its block of the window; back to 1, every pixel again.
+TEST_F(VtkPass, ImageReductionTracesOnePixelPerBlock) {
+  RendererScene r;
+  r.pass->SetImageReduction(3);
+  vtkSmartPointer<vtkImageData> shown = r.render_and_read();
+  vtkImageData* traced = r.pass->GetLastImage();
+  ASSERT_NE(traced, nullptr);
+  int dims[3];
+  traced->GetDimensions(dims);
+  EXPECT_EQ(dims[0], (kWidth + 2) / 3);
+  EXPECT_EQ(dims[1], (kHeight + 2) / 3);
+  auto* window = vtkUnsignedCharArray::SafeDownCast(shown->GetPointData()->GetScalars());
+  auto* color = vtkUnsignedCharArray::SafeDownCast(traced->GetPointData()->GetScalars());
+  ASSERT_NE(window, nullptr);
+  ASSERT_NE(color, nullptr);
+  const int wc = window->GetNumberOfComponents();
+  int mismatches = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x)
+      for (int c = 0; c < 3; ++c)
+        mismatches += window->GetValue((vtkIdType(y) * kWidth + x) * wc + c) !=
+                      color->GetValue((vtkIdType(y / 3) * dims[0] + x / 3) * 3 + c);
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_GT(count_object(traced, 0), 5);
+  r.pass->SetImageReduction(1);
+  r.render_and_read();
+  r.pass->GetLastImage()->GetDimensions(dims);
+  EXPECT_EQ(dims[0], kWidth);
+  EXPECT_EQ(dims[1], kHeight);
+}
+
 // Moving the camera, changing a property and hiding an actor between renders
 // give the image of the changed scene (the pass keeps its scene between renders
 // and must notice every change).

@@ -27,6 +27,7 @@ vtkStandardNewMacro(vtkRayScopePass);
 
 vtkRayScopePass::vtkRayScopePass()
     : DisplayMode(COLOR),
+      ImageReduction(1),
       LastRenderTime(0.0),
       Algorithm(vtkRayScopeImageAlgorithm::New()),
       HasImage(false) {
@@ -70,6 +71,12 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
   vtkRayScopeImageAlgorithm* alg = this->Algorithm;
   const int inputs = alg->CopyRenderer(ren);
   if (inputs <= 0) return;  // nothing to trace: the cleared background is the image
+  // The viewport (CopyRenderer sized the image to it), and the image traced:
+  // F times smaller with an image reduction F.
+  int width, height, x0, y0;
+  ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
+  const int f = this->ImageReduction;
+  if (f > 1) alg->SetSize((width + f - 1) / f, (height + f - 1) / f);
   this->HasImage = false;
   // With several processes (the algorithm's controller: ParaView's MPI ranks)
   // every process traces a share of the image and process 0 gets all of it;
@@ -108,9 +115,20 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
                           : "the ray-traced image has no color array"));
     return;
   }
-  // The image is as large as the renderer; draw it 1:1 over its viewport.
-  int width, height, x0, y0;
-  ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
+  // The image is as large as the renderer (or F times smaller: each pixel is
+  // repeated over its F x F block); drawn 1:1 over the viewport.
+  std::vector<unsigned char> blocks;
+  if (f > 1) {
+    const auto* src = static_cast<const unsigned char*>(pixels);
+    blocks.resize(size_t(width) * size_t(height) * 3);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x)
+        std::copy_n(src + 3 * (size_t(y / f) * size_t(dims[0]) + size_t(x / f)), 3,
+                    blocks.data() + 3 * (size_t(y) * size_t(width) + size_t(x)));
+    pixels = blocks.data();
+    dims[0] = width;
+    dims[1] = height;
+  }
   window->DrawPixels(x0, y0, x0 + dims[0] - 1, y0 + dims[1] - 1, 3, VTK_UNSIGNED_CHAR, pixels);
   if (parallel) {
     // The other processes drew nothing; their images are composited with this
@@ -130,6 +148,7 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
 void vtkRayScopePass::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "DisplayMode: " << (this->DisplayMode == COST ? "COST" : "COLOR") << "\n";
+  os << indent << "ImageReduction: " << this->ImageReduction << "\n";
   os << indent << "LastRenderTime: " << this->LastRenderTime << "\n";
   os << indent << "ImageAlgorithm:\n";
   this->Algorithm->PrintSelf(os, indent.GetNextIndent());

@@ -72,6 +72,15 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopePass : public vtkRenderPass {
   void SetDisplayModeToColor() { this->SetDisplayMode(COLOR); }
   void SetDisplayModeToCost() { this->SetDisplayMode(COST); }
 
+  ///@{
+  /// Traces one pixel for each F x F block of the viewport (an image F times
+  /// smaller on each side, each traced pixel drawn as its block): F^2 times
+  /// fewer rays, for renders that must be fast, such as ParaView's while the
+  /// camera moves. 1 (default): every pixel. Clamped to 1..16.
+  vtkSetClampMacro(ImageReduction, int, 1, 16);
+  vtkGetMacro(ImageReduction, int);
+  ///@}
+
   /// The algorithm that holds the scene of the last render and the render
   /// settings (never null).
   vtkRayScopeImageAlgorithm* GetImageAlgorithm();
@@ -87,6 +96,7 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopePass : public vtkRenderPass {
   ~vtkRayScopePass() override;
 
   int DisplayMode;
+  int ImageReduction;
   double LastRenderTime;
 
  private:

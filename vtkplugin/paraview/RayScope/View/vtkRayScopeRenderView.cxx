@@ -68,6 +68,12 @@ void vtkRayScopeRenderView::SetRayScopeSamples(int n) {
   this->Modified();
 }
 
+void vtkRayScopeRenderView::SetRayScopeInteractiveReduction(int n) {
+  if (n == this->InteractiveReduction) return;
+  this->InteractiveReduction = n;
+  this->Modified();
+}
+
 void vtkRayScopeRenderView::SetRayScopeMaxDepth(int depth) {
   this->GetImageAlgorithm()->SetMaxDepth(depth);
 }
@@ -88,6 +94,12 @@ int vtkRayScopeRenderView::GetRayScopeTracedSamples() {
   return this->GetImageAlgorithm()->GetSamples();
 }
 
+int* vtkRayScopeRenderView::GetRayScopeTracedSize() {
+  this->TracedSize[0] = this->GetImageAlgorithm()->GetWidth();
+  this->TracedSize[1] = this->GetImageAlgorithm()->GetHeight();
+  return this->TracedSize;
+}
+
 double vtkRayScopeRenderView::GetRayScopeLastRenderSeconds() {
   return this->Pass->GetLastRenderTime();
 }
@@ -95,16 +107,19 @@ double vtkRayScopeRenderView::GetRayScopeLastRenderSeconds() {
 void vtkRayScopeRenderView::StillRender() {
   this->KeepBackground();
   this->GetImageAlgorithm()->SetSamples(this->Samples);
+  this->Pass->SetImageReduction(1);
   this->Superclass::StillRender();
 }
 
 void vtkRayScopeRenderView::InteractiveRender() {
   this->KeepBackground();
   this->GetImageAlgorithm()->SetSamples(1);
+  this->Pass->SetImageReduction(this->InteractiveReduction);
   this->Superclass::InteractiveRender();
 }
 
 void vtkRayScopeRenderView::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Samples: " << this->Samples << "\n";
+  os << indent << "InteractiveReduction: " << this->InteractiveReduction << "\n";
 }

@@ -13,7 +13,8 @@
  * paraview.simple).
  *
  * While the camera moves (ParaView's interactive renders) the view traces one
- * sample per pixel; a still render traces Samples x Samples. The render
+ * sample per pixel, and one pixel per InteractiveReduction x InteractiveReduction
+ * block (2 x 2 by default); a still render traces Samples x Samples for every pixel. The render
  * settings are the pass's image algorithm's (GetImageAlgorithm()), which
  * validates them: the setters below forward to it.
  *
@@ -45,6 +46,11 @@ class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView
   /// traces 1).
   void SetRayScopeSamples(int n);
   int GetRayScopeSamples() { return this->Samples; }
+  /// While the camera moves, one pixel is traced for each N x N block of the
+  /// view (vtkRayScopePass::SetImageReduction); a still render traces every
+  /// pixel. 1: every pixel while moving too.
+  void SetRayScopeInteractiveReduction(int n);
+  int GetRayScopeInteractiveReduction() { return this->InteractiveReduction; }
   /// Bounces after the primary hit, the smallest contribution a secondary ray
   /// must carry to be traced, and hard shadows on or off
   /// (vtkRayScopeImageAlgorithm's MaxDepth, MinContribution, Shadows).
@@ -58,6 +64,9 @@ class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView
   /// Samples per pixel (N of N x N) the last render traced: Samples after a
   /// still render, 1 after an interactive one.
   int GetRayScopeTracedSamples();
+  /// Width and height of the last traced image: the view's size after a
+  /// still render, InteractiveReduction times smaller after an interactive one.
+  int* GetRayScopeTracedSize() VTK_SIZEHINT(2);
   /// Wall-clock seconds of the last ray-traced image, conversion included
   /// (vtkRayScopePass::GetLastRenderTime()).
   double GetRayScopeLastRenderSeconds();
@@ -83,6 +92,8 @@ class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView
   ~vtkRayScopeRenderView() override;
 
   int Samples = 1;
+  int InteractiveReduction = 2;
+  int TracedSize[2] = {0, 0};
 
  private:
   vtkRayScopeRenderView(const vtkRayScopeRenderView&) = delete;
