@@ -8,6 +8,9 @@ rank).
                                   screenshot, RGB bytes) of scene.pvtp
     mpi_render.py OUT_DIR bad     the same Ray Trace with MaxDepth -1: exits 1
                                   when its output is empty, as it must be
+    mpi_render.py OUT_DIR image HOST:PORT
+                                  run by pvpython as the client of a pvserver
+                                  (on its MPI ranks), rendering on the server
 
 scene.pvtp (written here on rank 0 before any rank reads it) has two pieces:
 a sphere, and a floor under it with a wall behind it. ParaView's reader hands
@@ -28,8 +31,14 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from rayscope_views import new_view  # noqa: E402
 
 out, mode = sys.argv[1], sys.argv[2]
+if len(sys.argv) > 3:
+    host, port = sys.argv[3].rsplit(":", 1)
+    Connect(host, int(port))
+    # Render on the server's ranks whatever the data's size (ParaView would
+    # otherwise deliver this small geometry to the client and render there).
+    GetSettingsProxy("RenderViewSettings").RemoteRenderThreshold = 0.0
 W, H = 160, 120
-ranks = sm.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
+ranks = sm.ActiveConnection.GetNumberOfDataPartitions()
 
 
 def write_piece(name, algorithms):

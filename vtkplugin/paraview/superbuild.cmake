@@ -51,7 +51,7 @@ ExternalProject_Add_StepDependencies(rayscope_paraview_plugin build ${_plugin_in
 # Launchers: ParaView's programs with the libraries and Python modules of
 # RAYSCOPE_PARAVIEW_ROOT (its pvpython finds its Python modules next to the
 # libraries it loaded).
-foreach(program pvpython pvbatch paraview)
+foreach(program pvpython pvbatch pvserver paraview)
   set(_exe "${RAYSCOPE_PARAVIEW_ROOT}/usr/bin/${program}")
   if(program STREQUAL "pvpython" OR program STREQUAL "pvbatch")
     set(_exe "${_exe}3.11")  # the Debian names; pvpython/pvbatch are links to them
@@ -67,6 +67,7 @@ exec "@_exe@" "$@"
 endforeach()
 set(RAYSCOPE_PVPYTHON "${_pv_dir}/pvpython")
 set(RAYSCOPE_PVBATCH "${_pv_dir}/pvbatch")
+set(RAYSCOPE_PVSERVER "${_pv_dir}/pvserver")
 set(RAYSCOPE_PARAVIEW "${_pv_dir}/paraview")
 
 include(GNUInstallDirs)

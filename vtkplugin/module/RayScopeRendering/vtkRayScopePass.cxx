@@ -28,6 +28,7 @@ vtkStandardNewMacro(vtkRayScopePass);
 vtkRayScopePass::vtkRayScopePass()
     : DisplayMode(COLOR),
       ImageReduction(1),
+      Tracing(true),
       LastRenderTime(0.0),
       Algorithm(vtkRayScopeImageAlgorithm::New()),
       HasImage(false) {
@@ -66,6 +67,7 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
   // the OpenGL passes), then its background color and depth.
   ren->GetActiveCamera()->UpdateViewport(ren);
   ren->Clear();
+  if (!this->Tracing) return;
   const auto start = std::chrono::steady_clock::now();
 
   vtkRayScopeImageAlgorithm* alg = this->Algorithm;
@@ -149,6 +151,7 @@ void vtkRayScopePass::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "DisplayMode: " << (this->DisplayMode == COST ? "COST" : "COLOR") << "\n";
   os << indent << "ImageReduction: " << this->ImageReduction << "\n";
+  os << indent << "Tracing: " << this->Tracing << "\n";
   os << indent << "LastRenderTime: " << this->LastRenderTime << "\n";
   os << indent << "ImageAlgorithm:\n";
   this->Algorithm->PrintSelf(os, indent.GetNextIndent());

@@ -81,6 +81,14 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopePass : public vtkRenderPass {
   vtkGetMacro(ImageReduction, int);
   ///@}
 
+  ///@{
+  /// Off: the pass only clears the viewport to the renderer's background and
+  /// traces nothing (ParaView's client, whose image comes from the server's
+  /// ranks, while its own renderer holds no data). On by default.
+  vtkSetMacro(Tracing, bool);
+  vtkGetMacro(Tracing, bool);
+  ///@}
+
   /// The algorithm that holds the scene of the last render and the render
   /// settings (never null).
   vtkRayScopeImageAlgorithm* GetImageAlgorithm();
@@ -97,6 +105,7 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopePass : public vtkRenderPass {
 
   int DisplayMode;
   int ImageReduction;
+  bool Tracing;
   double LastRenderTime;
 
  private:

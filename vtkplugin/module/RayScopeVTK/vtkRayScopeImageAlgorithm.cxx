@@ -464,6 +464,17 @@ int vtkRayScopeImageAlgorithm::RequestData(vtkInformation*, vtkInformationVector
   // others forever).
   vtkMultiProcessController* c = this->Internal->controller;
   std::fill(std::begin(this->Internal->seconds), std::end(this->Internal->seconds), 0.0);
+  if (rayscope_vtkmodule::process_count(c) > 1) {
+    // Process 0's background and ambient light for all: ParaView sets them
+    // on the rank that shows the image (its client-server satellites render
+    // on black), and every share must be traced alike.
+    double colors[6];
+    this->GetBackground(colors);
+    this->GetAmbientLight(colors + 3);
+    c->Broadcast(colors, 6, 0);
+    this->SetBackground(colors);
+    this->SetAmbientLight(colors + 3);
+  }
   if (!this->BuildScene()) return 0;
   // With several processes, this one traces its share of the tiles.
   const int processes = rayscope_vtkmodule::process_count(c);

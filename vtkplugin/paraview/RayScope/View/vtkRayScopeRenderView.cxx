@@ -3,9 +3,9 @@
 #include "vtkObjectFactory.h"
 #include "vtkPVRenderViewSettings.h"
 #include "vtkPVSynchronizedRenderer.h"
+#include "vtkProcessModule.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopePass.h"
-#include "vtkSynchronizedRenderers.h"
 
 vtkRayScopeRenderView* vtkRayScopeRenderView::New() {
   // On several ranks, ParaView composites the ranks' images. Each rank here
@@ -29,15 +29,14 @@ vtkRayScopeRenderView::vtkRayScopeRenderView() : Pass(vtkRayScopePass::New()) {
   // The synchronized renderer puts the pass on the view's renderer (on every
   // rank that renders).
   this->SynchronizedRenderers->SetRenderPass(this->Pass);
-  this->KeepBackground();
-}
-
-void vtkRayScopeRenderView::KeepBackground() {
-  // The ranks render on the view's own background, not black: the background
-  // is part of the ray-traced image (reflected and refracted), and rank 0's
-  // image covers the whole view.
-  if (vtkSynchronizedRenderers* parallel = this->SynchronizedRenderers->GetParallelSynchronizer())
-    parallel->SetFixBackground(false);
+  // The ranks and a server render on the view's own background, not on black
+  // (ParaView's compositing repaints the background where the image is
+  // transparent): the background is part of the ray-traced image (seen in
+  // reflections and refractions), and rank 0's image covers the whole view.
+  // ParaView's switch for a ray tracer that paints its own background (its
+  // path tracer's) turns the black background off on both synchronizers.
+  this->SynchronizedRenderers->SetEnableRayTracing(true);
+  this->SynchronizedRenderers->SetEnablePathTracing(true);
 }
 
 vtkRayScopeRenderView::~vtkRayScopeRenderView() {
@@ -105,17 +104,26 @@ double vtkRayScopeRenderView::GetRayScopeLastRenderSeconds() {
 }
 
 void vtkRayScopeRenderView::StillRender() {
-  this->KeepBackground();
   this->GetImageAlgorithm()->SetSamples(this->Samples);
   this->Pass->SetImageReduction(1);
   this->Superclass::StillRender();
 }
 
 void vtkRayScopeRenderView::InteractiveRender() {
-  this->KeepBackground();
   this->GetImageAlgorithm()->SetSamples(1);
   this->Pass->SetImageReduction(this->InteractiveReduction);
   this->Superclass::InteractiveRender();
+}
+
+void vtkRayScopeRenderView::Render(bool interactive, bool skip_rendering) {
+  // In client-server mode with the render on the server, the client's
+  // renderer holds the representations' empty placeholders and its image is
+  // replaced by the server's: it only clears to the background.
+  const bool remote = interactive ? this->GetUseDistributedRenderingForLODRender()
+                                  : this->GetUseDistributedRenderingForRender();
+  this->Pass->SetTracing(
+      !(remote && vtkProcessModule::GetProcessType() == vtkProcessModule::PROCESS_CLIENT));
+  this->Superclass::Render(interactive, skip_rendering);
 }
 
 void vtkRayScopeRenderView::PrintSelf(ostream& os, vtkIndent indent) {

@@ -91,6 +91,9 @@ class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView
   vtkRayScopeRenderView();
   ~vtkRayScopeRenderView() override;
 
+  // A client whose images come from the server's ranks traces nothing.
+  void Render(bool interactive, bool skip_rendering) override;
+
   int Samples = 1;
   int InteractiveReduction = 2;
   int TracedSize[2] = {0, 0};
@@ -98,9 +101,6 @@ class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView
  private:
   vtkRayScopeRenderView(const vtkRayScopeRenderView&) = delete;
   void operator=(const vtkRayScopeRenderView&) = delete;
-
-  // Renders on the view's background on every rank (see New()).
-  void KeepBackground();
 
   vtkRayScopePass* Pass;
 };
