@@ -4,8 +4,9 @@ rank).
 
     mpi_render.py OUT_DIR image   writes OUT_DIR/ray_trace.raw (the Ray Trace
                                   filter's LinearColor, Depth and ObjectId bytes)
-                                  and OUT_DIR/view.raw (the RayScope view's
-                                  screenshot, RGB bytes) of scene.pvtp
+                                  OUT_DIR/view.raw (the RayScope view's
+                                  screenshot, RGB bytes) of scene.pvtp and
+                                  OUT_DIR/tree.raw (View Ray Tree of a pixel)
     mpi_render.py OUT_DIR bad     the same Ray Trace with MaxDepth -1: exits 1
                                   when its output is empty, as it must be
     mpi_render.py OUT_DIR image HOST:PORT
@@ -109,4 +110,12 @@ reader.SetFileName(png)
 reader.Update()
 with open(os.path.join(out, "view.raw"), "wb") as f:
     f.write(bytes(memoryview(reader.GetOutput().GetPointData().GetScalars())))
+# The ray tree of a pixel on the sphere, whose shadow and reflection rays meet
+# the other piece: made once (by rank 0), the serial tree.
+tree = sm.Fetch(ViewRayTree(View=view, Pixel=[W // 2, H // 2]))
+with open(os.path.join(out, "tree.raw"), "wb") as f:
+    f.write(bytes(memoryview(tree.GetPoints().GetData())))
+    for name in ("Kind", "Depth", "Hit"):
+        f.write(bytes(memoryview(tree.GetCellData().GetArray(name))))
+    f.write(bytes(memoryview(tree.GetFieldData().GetArray("PixelColor"))))
 print(f"mpi_render: {ranks} ranks: images written")

@@ -84,27 +84,29 @@ for ranks in (1, 2, 3):
     ok = check(code == 0 and f"{ranks} ranks: images written" in text,
                f"{ranks} ranks: the run succeeds (exit {code}, {seconds:.1f} s)\n{text[-3000:]}")
     if ok:
-        images[ranks] = {name: read(folder, name) for name in ("ray_trace.raw", "view.raw")}
+        images[ranks] = {name: read(folder, name) for name in ("ray_trace.raw", "view.raw", "tree.raw")}
         print(f"{ranks} ranks: {seconds:.1f} s")
 
 code, text, seconds, folder = run_client_server(2)
 if check(code == 0 and "2 ranks: images written" in text,
          f"pvserver on 2 ranks, pvpython its client: the run succeeds (exit {code}, {seconds:.1f} s)\n{text[-3000:]}"):
-    images["client-server"] = {name: read(folder, name) for name in ("ray_trace.raw", "view.raw")}
+    images["client-server"] = {name: read(folder, name) for name in ("ray_trace.raw", "view.raw", "tree.raw")}
     print(f"pvserver on 2 ranks: {seconds:.1f} s")
 
 if 1 in images:
     view = images[1]["view.raw"]
     colors = {view[i:i + 3] for i in range(0, len(view), 3)}
     check(len(colors) > 50, f"the serial view's image is not blank ({len(colors)} colors)")
+    check(len(images[1]["tree.raw"]) > 200, f"the serial ray tree has rays ({len(images[1]['tree.raw'])} bytes)")
     for ranks in (2, 3, "client-server"):
         if ranks not in images:
             continue
-        for name, what in (("ray_trace.raw", "Ray Trace filter's"), ("view.raw", "RayScope view's")):
+        for name, what in (("ray_trace.raw", "Ray Trace filter's image"), ("view.raw", "RayScope view's image"),
+                           ("tree.raw", "View Ray Tree's ray tree")):
             a, b = images[1][name], images[ranks][name]
             differ = sum(1 for i in range(min(len(a), len(b))) if a[i] != b[i])
             check(len(a) == len(b) and differ == 0,
-                  f"{ranks}: the {what} image is the serial one bit for bit "
+                  f"{ranks}: the {what} is the serial one bit for bit "
                   f"({differ} of {len(a)} bytes differ)")
 
 # A bad parameter (MaxDepth -1): one error, from one rank, and every rank ends

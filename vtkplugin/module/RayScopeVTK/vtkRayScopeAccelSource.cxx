@@ -109,6 +109,10 @@ int vtkRayScopeAccelSource::RequestData(vtkInformation*, vtkInformationVector** 
   this->UpdateProgress(0.0);
   vtkRayScopeImageAlgorithm* source = this->UpdateScene(inputVector[0]);
   if (!source) return 0;
+  if (!OutputOnThisProcess(source)) {
+    output->Initialize();
+    return 1;
+  }
   const rayscope::Scene& scene = *source->GetCoreScene();
   const rayscope::RenderSettings settings = source->GetRenderSettings();
   const rayscope::AccelView view = rayscope::make_accel_view(scene.accel());

@@ -459,9 +459,9 @@ int vtkRayScopeImageAlgorithm::RequestData(vtkInformation*, vtkInformationVector
   }
   output->Initialize();  // empty unless the render succeeds
   this->UpdateProgress(0.0);
-  // With several processes, every process fails together (the pipeline
-  // downstream is collective too: a process that went on would wait for the
-  // others forever).
+  // With several processes every step below is collective, and every process
+  // fails together: the pipeline downstream is collective too, and a process
+  // that went on would wait for the others forever.
   vtkMultiProcessController* c = this->Internal->controller;
   std::fill(std::begin(this->Internal->seconds), std::end(this->Internal->seconds), 0.0);
   if (rayscope_vtkmodule::process_count(c) > 1) {
@@ -481,7 +481,8 @@ int vtkRayScopeImageAlgorithm::RequestData(vtkInformation*, vtkInformationVector
   rayscope::RenderSettings settings = this->GetRenderSettings();
   settings.share = {rayscope_vtkmodule::process_index(c), processes};
   if (!rayscope_vtkmodule::same_on_every_process(
-          c, {settings.width, settings.height, settings.samples, settings.max_samples})) {
+          c, {settings.width, settings.height, settings.samples, settings.max_samples,
+              settings.statistics ? 1 : 0})) {
     rayscope_vtkmodule::FirstProcessSpeaks once(c);
     vtkErrorMacro(<< "the " << processes
                   << " processes were asked for images of different sizes or samples: each "

@@ -163,6 +163,7 @@ int vtkRayScopeRangeQuery::RequestData(vtkInformation*, vtkInformationVector** i
   range_out->Initialize();
   vtkRayScopeImageAlgorithm* source = this->UpdateScene(inputVector[0]);
   if (!source) return 0;
+  if (!OutputOnThisProcess(source)) return 1;  // outputs empty: process 0 makes them
   const rayscope::Scene& scene = *source->GetCoreScene();
   const rayscope::Aggregate& accel = scene.accel();
 

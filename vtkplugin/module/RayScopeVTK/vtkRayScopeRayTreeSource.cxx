@@ -97,6 +97,10 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
   this->UpdateProgress(0.0);
   vtkRayScopeImageAlgorithm* source = this->UpdateScene(inputVector[0]);
   if (!source) return 0;
+  if (!OutputOnThisProcess(source)) {
+    output->Initialize();
+    return 1;
+  }
   const rayscope::Scene& scene = *source->GetCoreScene();
   const rayscope::RenderSettings settings = source->GetRenderSettings();
   const int n2 = settings.sample_grid() * settings.sample_grid();

@@ -9,6 +9,7 @@
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
 
+#include "RayScopeParallel.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeSceneSettings.h"
 
@@ -100,4 +101,8 @@ void vtkRayScopeSceneFilter::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "SceneSource: " << this->SceneSource << "\n";
   os << indent << "Settings:\n";
   this->Settings->PrintSelf(os, indent.GetNextIndent());
+}
+
+bool vtkRayScopeSceneFilter::OutputOnThisProcess(vtkRayScopeImageAlgorithm* scene) {
+  return rayscope_vtkmodule::process_index(scene->GetController()) == 0;
 }

@@ -59,6 +59,12 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeSceneFilter : public vtkPolyDataAlgorithm {
   /// filter's inputs (`inputs`, port 0 of RequestData) with its settings.
   /// Null after an error, reported with vtkErrorMacro.
   vtkRayScopeImageAlgorithm* UpdateScene(vtkInformationVector* inputs);
+  /// Whether this process makes the output: on several processes (the
+  /// scene's controller, see vtkRayScopeImageAlgorithm::SetController()) every
+  /// one has the whole scene after UpdateScene(), and process 0 alone makes
+  /// the output (one ray tree, one set of boxes); the others leave theirs
+  /// empty. Always true on one process.
+  static bool OutputOnThisProcess(vtkRayScopeImageAlgorithm* scene);
 
   vtkRayScopeImageAlgorithm* SceneSource;
 
