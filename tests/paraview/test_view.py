@@ -240,4 +240,26 @@ lit_pixels = sum(1 for i in range(W * H) if max(traced_pixels.GetTuple3(i)) > 60
 check(lit_pixels > W * H // 10, f"the Ray Trace image shows the shapes ({lit_pixels} lit pixels)")
 check(differ == 0, f"the view and the Ray Trace filter, same camera and lights: {differ} pixels differ")
 
+# And a pixel's ray tree from the view (View Ray Tree) is the Ray Tree filter's
+# of the same scene, camera and lights, ray for ray (their rays, hits and
+# kinds; the filter's solid color aside), the filter whose trees
+# paraview.inspect finds identical to `rayscope inspect`'s.
+def tree_arrays(tree):
+    return [bytes(memoryview(tree.GetPoints().GetData()))] + [
+        bytes(memoryview(tree.GetCellData().GetArray(name))) for name in ("Kind", "Depth", "Hit", "Occluded")]
+
+
+lit = [k for k in range(W * H) if max(traced_pixels.GetTuple3(k)) > 60]
+for k in (lit[len(lit) // 3], lit[2 * len(lit) // 3]) if lit else ():
+    pixel = [k % W, k // W]
+    from_view = sm.Fetch(ViewRayTree(View=same, Pixel=pixel))
+    from_filter = sm.Fetch(RayTree(Input=shapes, ImageSize=[W, H], Samples=2, AutoCamera=0,
+                                   Position=camera.GetPosition(), FocalPoint=camera.GetFocalPoint(),
+                                   ViewUp=camera.GetViewUp(), ViewAngle=camera.GetViewAngle(),
+                                   Background=[0.1, 0.1, 0.2], Headlight=1, AmbientLight=[1, 1, 1],
+                                   Pixel=pixel))
+    check(from_view.GetNumberOfCells() > 4 and tree_arrays(from_view) == tree_arrays(from_filter),
+          f"pixel {pixel}: View Ray Tree == the Ray Tree filter's tree "
+          f"({from_view.GetNumberOfCells()} and {from_filter.GetNumberOfCells()} cells)")
+
 finish("paraview.view")
