@@ -121,6 +121,26 @@ check(len(per_node) > 10, f"View Acceleration Structure: the view's structure ({
 check(tree_nodes > 0 and sum(per_node.values()) == tree_nodes,
       f"pixel ({i}, {j}): node visits {sum(per_node.values())} == its ray tree's {tree_nodes}")
 
+# The structure the view walks (Accel, the filters' property): the kD-tree
+# gives the same image, other boxes (View Acceleration Structure), another
+# cost heat map.
+def structure_nodes():
+    boxes = sm.Fetch(ViewAccelerationStructure(View=view, Pixel=[i, j]))
+    return len({boxes.GetCellData().GetArray("NodeId").GetValue(c) for c in range(boxes.GetNumberOfCells())})
+
+
+bvh_nodes = structure_nodes()
+view.DisplayMode = "Cost"
+bvh_cost = screenshot("rayscope_view_bvh_cost.png")
+view.Accel = "kD-tree (SAH)"
+kd_cost = screenshot("rayscope_view_kd_cost.png")
+view.DisplayMode = "Color"
+check(screenshot("rayscope_view_kd.png") == first, "the kD-tree gives the view the BVH's image")
+kd_nodes = structure_nodes()
+check(kd_nodes != bvh_nodes, f"View Acceleration Structure shows the kD-tree ({kd_nodes} nodes, BVH {bvh_nodes})")
+check(sum(1 for a, b in zip(bvh_cost, kd_cost) if a != b) > W * H // 50, "and the cost heat map changes")
+view.Accel = "BVH (8-wide walk)"
+
 # An interactive render (the camera moving) traces 1 sample per pixel; the
 # next still render the view's Samples again.
 view.SMProxy.InteractiveRender()

@@ -94,6 +94,15 @@ void vtkRayScopeSceneSettings::SetSize(int width, int height) {
   this->SetHeight(height);
 }
 
+void vtkRayScopeSceneSettings::CopyStructure(vtkRayScopeSceneSettings* other) {
+  if (!other || other == this) return;
+  this->SetAccel(other->Accel);
+  this->SetStorage(other->Storage);
+  this->SetLooseFactor(other->LooseFactor);
+  this->SetKdSplit(other->KdSplit);
+  this->SetGridResolution(other->GridResolution);
+}
+
 void vtkRayScopeSceneSettings::CopyCamera(vtkCamera* camera) {
   if (!camera) return;
   this->SetPosition(camera->GetPosition());

@@ -227,6 +227,9 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeSceneSettings : public vtkObject {
   /// Takes position, focal point, view up, view angle and the projection from
   /// a vtkCamera.
   void CopyCamera(vtkCamera* camera);
+  /// Takes the structure settings of `other`: Accel, Storage, LooseFactor,
+  /// KdSplit and GridResolution.
+  void CopyStructure(vtkRayScopeSceneSettings* other);
 
   ///@{
   /// AutoCamera: every update points the camera at the bounds of the inputs

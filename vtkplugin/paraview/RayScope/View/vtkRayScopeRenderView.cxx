@@ -6,6 +6,7 @@
 #include "vtkProcessModule.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopePass.h"
+#include "vtkRayScopeSceneSettings.h"
 
 vtkRayScopeRenderView* vtkRayScopeRenderView::New() {
   // On several ranks, ParaView composites the ranks' images. Each rank here
@@ -73,6 +74,16 @@ void vtkRayScopeRenderView::SetRayScopeInteractiveReduction(int n) {
   this->Modified();
 }
 
+void vtkRayScopeRenderView::SetRayScopeStructure(vtkRayScopeSceneSettings* structure) {
+  if (structure == this->Structure) return;
+  this->Structure = structure;
+  this->Modified();
+}
+
+void vtkRayScopeRenderView::TakeStructure() {
+  if (this->Structure) this->GetImageAlgorithm()->GetSettings()->CopyStructure(this->Structure);
+}
+
 void vtkRayScopeRenderView::SetRayScopeMaxDepth(int depth) {
   this->GetImageAlgorithm()->SetMaxDepth(depth);
 }
@@ -104,12 +115,14 @@ double vtkRayScopeRenderView::GetRayScopeLastRenderSeconds() {
 }
 
 void vtkRayScopeRenderView::StillRender() {
+  this->TakeStructure();
   this->GetImageAlgorithm()->SetSamples(this->Samples);
   this->Pass->SetImageReduction(1);
   this->Superclass::StillRender();
 }
 
 void vtkRayScopeRenderView::InteractiveRender() {
+  this->TakeStructure();
   this->GetImageAlgorithm()->SetSamples(1);
   this->Pass->SetImageReduction(this->InteractiveReduction);
   this->Superclass::InteractiveRender();

@@ -31,9 +31,11 @@
 
 #include "RayScopeParaViewViewModule.h"  // export macro
 #include "vtkPVRenderView.h"
+#include "vtkSmartPointer.h"  // Structure
 
 class vtkRayScopeImageAlgorithm;
 class vtkRayScopePass;
+class vtkRayScopeSceneSettings;
 class vtkView;
 
 class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView {
@@ -57,6 +59,10 @@ class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView
   void SetRayScopeMaxDepth(int depth);
   void SetRayScopeMinContribution(double c);
   void SetRayScopeShadows(int on);
+  /// The structure the view's rays walk: the Accel, Storage, LooseFactor,
+  /// KdSplit and GridResolution of `structure` (the view proxy's Structure
+  /// subproxy, whose properties are the filters'), taken at each render.
+  void SetRayScopeStructure(vtkRayScopeSceneSettings* structure);
   /// What the view shows: vtkRayScopePass::COLOR or COST (the BVH cost heat
   /// map).
   void SetRayScopeDisplayMode(int mode);
@@ -102,7 +108,11 @@ class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView
   vtkRayScopeRenderView(const vtkRayScopeRenderView&) = delete;
   void operator=(const vtkRayScopeRenderView&) = delete;
 
+  // Takes Structure's settings into the pass's image algorithm.
+  void TakeStructure();
+
   vtkRayScopePass* Pass;
+  vtkSmartPointer<vtkRayScopeSceneSettings> Structure;
 };
 
 #endif
