@@ -18,7 +18,8 @@ namespace rayscope {
 struct TileShare {
   int index = 0;
   int count = 1;
-  bool owns(size_t tile) const { return tile % size_t(count) == size_t(index); }
+  /// The share (index) that renders `tile`.
+  int owner(size_t tile) const { return int(tile % size_t(count)); }
   bool operator==(const TileShare&) const = default;
 };
 

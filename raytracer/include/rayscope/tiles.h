@@ -28,7 +28,8 @@ class TileGrid {
     return size_t(y / size_) * size_t(tiles_x_) + size_t(x / size_);
   }
   TileRect rect(size_t tile) const;
-  /// Tiles in `share`, and its k-th tile (k < share_count(share)).
+  /// Tiles in `share`, and its k-th tile (k < share_count(share)): the tiles
+  /// whose TileShare::owner() is share.index, in order.
   size_t share_count(const TileShare& share) const;
   size_t share_tile(const TileShare& share, size_t k) const {
     return size_t(share.index) + k * size_t(share.count);

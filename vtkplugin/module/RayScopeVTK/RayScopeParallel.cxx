@@ -243,8 +243,7 @@ void add_process_array(vtkImageData* image, const rayscope::RenderSettings& sett
   // VTK's row j is the core's row h - 1 - j.
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      process->SetValue(vtkIdType(h - 1 - y) * w + x,
-                        int(grid.tile_of(x, y) % size_t(settings.share.count)));
+      process->SetValue(vtkIdType(h - 1 - y) * w + x, settings.share.owner(grid.tile_of(x, y)));
   image->GetPointData()->AddArray(process);
 }
 
