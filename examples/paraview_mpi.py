@@ -13,8 +13,8 @@ sphere and the floor to rank 0. Left: the RayScope view, the surfaces colored
 by the rank that holds them (ParaView's Process Id Scalars): the contour's pieces on
 both ranks cast shadows on the floor and on each other, whoever holds them.
 Right: the Ray Trace filter's image of the same scene and camera, the tiles
-rank 0 traced darkened (its "Process" array): the ranks' interleaved shares of
-the tiles.
+rank 0 traced darkened (its "Process" array): the ranks' shares of the
+tiles, handed out by estimated cost.
 """
 import argparse
 

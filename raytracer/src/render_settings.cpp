@@ -59,6 +59,27 @@ void RenderSettings::validate() const {
   if (share.index < 0 || share.index >= share.count)
     fail("share.index must be in " + range(0, share.count - 1) + ", got " +
          std::to_string(share.index));
+  if (share.owners) {
+    const int64_t tiles = int64_t((width + tile_size - 1) / tile_size) *
+                          int64_t((height + tile_size - 1) / tile_size);
+    if (int64_t(share.owners->size()) != tiles)
+      fail("share.owners must name the share of each of the " + std::to_string(tiles) +
+           " tiles, got " + std::to_string(share.owners->size()));
+    for (int o : *share.owners)
+      if (o < 0 || o >= share.count)
+        fail("share.owners must be shares in " + range(0, share.count - 1) + ", got " +
+             std::to_string(o));
+  }
+  const int grid = sample_grid();
+  if (only_sample < -1 || only_sample >= grid * grid)
+    fail("only_sample must be -1 (all samples) or a sample in " + range(0, grid * grid - 1) +
+         " of the " + std::to_string(grid) + " x " + std::to_string(grid) + " grid, got " +
+         std::to_string(only_sample));
+  if (only_sample >= 0 && max_samples != 0)
+    fail(
+        "only_sample (one sample per pixel, a progressive pass) does not go with adaptive "
+        "sampling (max_samples " +
+        std::to_string(max_samples) + ")");
 }
 
 }  // namespace rayscope

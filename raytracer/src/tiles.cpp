@@ -19,9 +19,11 @@ TileRect TileGrid::rect(size_t tile) const {
   return {x0, y0, std::min(x0 + size_, width_), std::min(y0 + size_, height_)};
 }
 
-size_t TileGrid::share_count(const TileShare& share) const {
-  const size_t n = count(), index = size_t(share.index), step = size_t(share.count);
-  return index < n ? (n - index + step - 1) / step : 0;
+std::vector<size_t> TileGrid::share_tiles(const TileShare& share) const {
+  std::vector<size_t> tiles;
+  for (size_t t = 0, n = count(); t < n; ++t)
+    if (share.owner(t) == share.index) tiles.push_back(t);
+  return tiles;
 }
 
 namespace {
@@ -35,9 +37,8 @@ size_t floats_per_pixel(const Framebuffer& fb) {
 template <class F>
 void for_each_share_pixel(const RenderSettings& settings, F&& f) {
   const TileGrid grid(settings);
-  const size_t tiles = grid.share_count(settings.share);
-  for (size_t k = 0; k < tiles; ++k) {
-    const TileRect r = grid.rect(grid.share_tile(settings.share, k));
+  for (size_t tile : grid.share_tiles(settings.share)) {
+    const TileRect r = grid.rect(tile);
     for (int y = r.y0; y < r.y1; ++y)
       for (int x = r.x0; x < r.x1; ++x) f(size_t(y) * size_t(settings.width) + size_t(x));
   }

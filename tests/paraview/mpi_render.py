@@ -6,7 +6,10 @@ rank).
                                   filter's LinearColor, Depth and ObjectId bytes)
                                   OUT_DIR/view.raw (the RayScope view's
                                   screenshot, RGB bytes) of scene.pvtp and
-                                  OUT_DIR/tree.raw (View Ray Tree of a pixel)
+                                  OUT_DIR/tree.raw (View Ray Tree of a pixel),
+                                  OUT_DIR/process.txt (pixels each rank traced)
+                                  and OUT_DIR/passes.txt (the view's
+                                  progressive passes, render by render)
     mpi_render.py OUT_DIR bad     the same Ray Trace with MaxDepth -1: exits 1
                                   when its output is empty, as it must be
     mpi_render.py OUT_DIR image HOST:PORT
@@ -95,6 +98,14 @@ if image.GetNumberOfPoints() != W * H:
 with open(os.path.join(out, "ray_trace.raw"), "wb") as f:
     for name in ("LinearColor", "Depth", "ObjectId", "Color"):
         f.write(bytes(memoryview(image.GetPointData().GetArray(name))))
+# Pixels per rank (the Process array, on several ranks): tiles handed out by
+# estimated cost, every rank tracing some.
+process = image.GetPointData().GetArray("Process")
+counts = [0] * ranks
+for i in range(process.GetNumberOfTuples() if process else 0):
+    counts[int(process.GetValue(i))] += 1
+with open(os.path.join(out, "process.txt"), "w") as f:
+    f.write(repr(counts))
 
 view = new_view((W, H), (0.1, 0.2, 0.3))
 for k, v in camera.items():
@@ -102,7 +113,17 @@ for k, v in camera.items():
 display = Show(scene, view)
 display.ColorArrayName = ["POINTS", ""]
 display.DiffuseColor = [0.9, 0.7, 0.2]
-Render(view)
+# Progressive refinement on the ranks: each still render adds a sample per
+# pixel (2 x 2 in all) until the image is complete; the screenshot then shows
+# the refined image.
+view.Samples = 2
+passes = []
+while not passes or (passes[-1][0] < passes[-1][1] and len(passes) < 10):
+    Render(view)
+    view.UpdatePropertyInformation()
+    passes.append(list(view.GetPropertyValue("ImagePasses")))
+with open(os.path.join(out, "passes.txt"), "w") as f:
+    f.write(repr(passes))
 png = os.path.join(out, "view.png")
 SaveScreenshot(png, view, ImageResolution=[W, H])
 reader = vtkPNGReader()

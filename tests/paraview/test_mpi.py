@@ -7,7 +7,9 @@ ParaView hands out piece by piece: on 2 ranks each rank holds one piece, on 3
 one rank holds nothing. The sphere's shadow and its reflections fall on the
 other piece, so an image traced from each rank's own piece (as compositing
 per-rank images does) differs from the serial one; the ranks' gathered scene
-gives the serial image exactly. The same again with pvpython as the client of
+gives the serial image exactly, the tiles handed out by estimated cost with
+every rank tracing some, and the view refines progressively on the ranks into
+the same image. The same again with pvpython as the client of
 a pvserver on 2 ranks, rendering on the server. Run by a plain python3:
 
     test_mpi.py PVBATCH PVPYTHON PVSERVER MPIEXEC OUT_DIR
@@ -84,13 +86,15 @@ for ranks in (1, 2, 3):
     ok = check(code == 0 and f"{ranks} ranks: images written" in text,
                f"{ranks} ranks: the run succeeds (exit {code}, {seconds:.1f} s)\n{text[-3000:]}")
     if ok:
-        images[ranks] = {name: read(folder, name) for name in ("ray_trace.raw", "view.raw", "tree.raw")}
+        images[ranks] = {name: read(folder, name) for name in ("ray_trace.raw", "view.raw", "tree.raw",
+                                                                "process.txt", "passes.txt")}
         print(f"{ranks} ranks: {seconds:.1f} s")
 
 code, text, seconds, folder = run_client_server(2)
 if check(code == 0 and "2 ranks: images written" in text,
          f"pvserver on 2 ranks, pvpython its client: the run succeeds (exit {code}, {seconds:.1f} s)\n{text[-3000:]}"):
-    images["client-server"] = {name: read(folder, name) for name in ("ray_trace.raw", "view.raw", "tree.raw")}
+    images["client-server"] = {name: read(folder, name) for name in ("ray_trace.raw", "view.raw", "tree.raw",
+                                                                "process.txt", "passes.txt")}
     print(f"pvserver on 2 ranks: {seconds:.1f} s")
 
 if 1 in images:
@@ -108,6 +112,15 @@ if 1 in images:
             check(len(a) == len(b) and differ == 0,
                   f"{ranks}: the {what} is the serial one bit for bit "
                   f"({differ} of {len(a)} bytes differ)")
+for ranks, files in images.items():
+    check(files["passes.txt"] == b"[[1, 4], [2, 4], [3, 4], [4, 4]]",
+          f"{ranks}: the view refines one sample per pixel per still render: {files['passes.txt'].decode()}")
+    if ranks == 1:
+        continue
+    counts = eval(files["process.txt"].decode())
+    n = 2 if ranks == "client-server" else ranks
+    check(len(counts) == n and sum(counts) == 160 * 120 and min(counts) > 0,
+          f"{ranks}: every rank traces tiles, the one with no data too (pixels per rank: {counts})")
 
 # A bad parameter (MaxDepth -1): one error, from one rank, and every rank ends
 # with a non-zero exit (the script exits 1 on the empty image; mpiexec then

@@ -151,6 +151,40 @@ Render(view)
 check(traced_samples() == 2, "the next still render traces the view's Samples again")
 check(traced_size() == [W, H], f"and every pixel ({traced_size()})")
 
+# Progressive refinement (Refine Progressively, on by default): while the
+# camera rests, each still render adds one sample per pixel to the image
+# (ParaView's GUI renders again until ImagePasses says it is complete; here the
+# script does), and the complete image is the one-render image bit for bit. A
+# screenshot completes the image at once; an interactive render starts again.
+def image_passes():
+    view.UpdatePropertyInformation()
+    return list(view.GetPropertyValue("ImagePasses"))
+
+
+GetActiveCamera().Elevation(15.0)
+Render(view)
+passes = [image_passes()]
+while passes[-1][0] < passes[-1][1] and len(passes) < 10:
+    Render(view)
+    passes.append(image_passes())
+check([p[0] for p in passes] == [1, 2, 3, 4] and all(p[1] == 4 for p in passes),
+      f"still renders refine the image one sample per pixel at a time: {passes}")
+refined = screenshot("rayscope_view_refined.png")
+check(image_passes() == [4, 4], f"a complete image stays as it is ({image_passes()})")
+view.RefineProgressively = 0
+one_render = screenshot("rayscope_view_one_render.png")
+check(image_passes() == [1, 1], f"without Refine Progressively one render traces all ({image_passes()})")
+differ = sum(1 for a, b in zip(refined, one_render) if a != b)
+check(differ == 0, f"the refined image is the one-render image ({differ} pixels differ)")
+view.RefineProgressively = 1
+GetActiveCamera().Elevation(-15.0)
+screenshot("rayscope_view_progressive.png")
+check(image_passes() == [4, 4], f"a screenshot completes the image at once ({image_passes()})")
+view.SMProxy.InteractiveRender()
+check(image_passes() == [1, 1], f"an interactive render is one pass ({image_passes()})")
+Render(view)
+check(image_passes() == [1, 4], f"and the next still render starts again ({image_passes()})")
+
 # The image follows the camera.
 GetActiveCamera().Azimuth(40.0)
 moved = screenshot("rayscope_view_moved.png")

@@ -10,11 +10,13 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <vtkActor.h>
 #include <vtkCamera.h>
 #include <vtkCompositeDataDisplayAttributes.h>
 #include <vtkCompositePolyDataMapper2.h>
+#include <vtkDataArray.h>
 #include <vtkElevationFilter.h>
 #include <vtkExecutive.h>
 #include <vtkFieldData.h>
@@ -237,6 +239,64 @@ TEST_F(VtkPass, ImageReductionTracesOnePixelPerBlock) {
   r.pass->GetLastImage()->GetDimensions(dims);
   EXPECT_EQ(dims[0], kWidth);
   EXPECT_EQ(dims[1], kHeight);
+}
+
+// The bytes of an image's LinearColor array (the float colors).
+std::string linear_bytes(vtkImageData* image) {
+  vtkDataArray* a = image ? image->GetPointData()->GetArray("LinearColor") : nullptr;
+  if (!a) return {};
+  const auto* p = static_cast<const char*>(a->GetVoidPointer(0));
+  return std::string(p, p + a->GetNumberOfValues() * a->GetDataTypeSize());
+}
+
+// Progressive rendering in a plain VTK window: each render adds a pass of one
+// sample per pixel while nothing changes, and after Samples x Samples passes
+// the image is the one-render image, bit for bit (its float colors); the
+// window shows each pass. A change starts again; FinishProgressive traces all
+// the passes an image lacks in one render.
+TEST_F(VtkPass, ProgressiveRefinesIntoTheOneRenderImage) {
+  RendererScene r;
+  vtkRayScopeImageAlgorithm* alg = r.pass->GetImageAlgorithm();
+  alg->SetSamples(2);
+  r.render_and_read();
+  const std::string whole = linear_bytes(r.pass->GetLastImage());
+  ASSERT_FALSE(whole.empty());
+  EXPECT_EQ(alg->GetImagePasses(), 1);
+  EXPECT_EQ(alg->GetImageTotalPasses(), 1);
+
+  alg->ProgressiveOn();
+  std::vector<int> passes;
+  std::string first;
+  for (int i = 0; i < 5; ++i) {
+    vtkSmartPointer<vtkImageData> shown = r.render_and_read();
+    passes.push_back(alg->GetImagePasses());
+    EXPECT_EQ(max_byte_difference(shown, r.pass->GetLastImage()), 0) << "render " << i;
+    if (i == 0) first = linear_bytes(r.pass->GetLastImage());
+  }
+  EXPECT_EQ(passes, (std::vector<int>{1, 2, 3, 4, 4}));
+  EXPECT_EQ(alg->GetImageTotalPasses(), 4);
+  EXPECT_NE(first, whole);
+  EXPECT_EQ(linear_bytes(r.pass->GetLastImage()), whole);
+  vtkDataArray* field = r.pass->GetLastImage()->GetFieldData()->GetArray("ProgressivePasses");
+  ASSERT_NE(field, nullptr);
+  EXPECT_EQ(field->GetComponent(0, 0), 4);
+  EXPECT_EQ(field->GetComponent(0, 1), 4);
+
+  // A property changed: the next render starts again.
+  r.floor_actor->GetProperty()->SetColor(0.3, 0.6, 0.9);
+  r.render_and_read();
+  EXPECT_EQ(alg->GetImagePasses(), 1);
+  // The camera moved, and FinishProgressive: all four passes in one render,
+  // the one-render image of the new camera.
+  r.renderer->GetActiveCamera()->Azimuth(20.0);
+  r.pass->FinishProgressiveOn();
+  r.render_and_read();
+  EXPECT_EQ(alg->GetImagePasses(), 4);
+  const std::string finished = linear_bytes(r.pass->GetLastImage());
+  alg->ProgressiveOff();
+  r.render_and_read();
+  EXPECT_EQ(linear_bytes(r.pass->GetLastImage()), finished);
+  EXPECT_NE(finished, whole);
 }
 
 // Moving the camera, changing a property and hiding an actor between renders

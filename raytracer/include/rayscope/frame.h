@@ -87,7 +87,8 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
   if (adaptive) fb.samples.assign(fb.color.size(), 0.0f);
   policy.begin(fb);
   const TileGrid grid(settings);
-  const size_t total = grid.share_count(settings.share);
+  const std::vector<size_t> tiles = grid.share_tiles(settings.share);
+  const size_t total = tiles.size();
   std::atomic<size_t> done{0};
   std::mutex progress_mutex;
   tbb::enumerable_thread_specific<RayCounters> local;
@@ -126,7 +127,7 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
     tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 1), [&](const auto& r) {
       RayCounters& cnt = local.local();
       for (size_t k = r.begin(); k != r.end(); ++k) {
-        const size_t tile = grid.share_tile(settings.share, k);
+        const size_t tile = tiles[k];
         const auto [x0, y0, x1, y1] = grid.rect(tile);
         bool check = false;
         if constexpr (Policy::kSelects) check = policy.tile_selected(tile);

@@ -68,7 +68,8 @@ void batch_strata(const RenderSettings& settings, const int* order, int j, int* 
 /// rendered alone (replayed) has exactly the color it has in the frame.
 /// `first_hit` receives the first sample's primary hit (for the AOVs): sample
 /// 0, the top-left stratum, which every render takes first. `samples_taken`
-/// receives the number of samples the pixel took (all, unless adaptive).
+/// receives the number of samples the pixel took (all, unless adaptive;
+/// one with settings.only_sample, whose color is that sample's alone).
 /// With settings.max_samples > 0 (adaptive sampling) the pixel takes batches
 /// (batch_strata()) until the standard error of its mean, estimated from the
 /// variance of the batches' means in each channel (the largest; at least two
@@ -119,6 +120,10 @@ Color render_pixel(const Scene& scene, const RenderSettings& settings, int x, in
     }
     return c;
   };
+  if (settings.only_sample >= 0) {  // a progressive pass: one sample, unscaled
+    if (samples_taken) *samples_taken = 1;
+    return sample(settings.only_sample);
+  }
   if (settings.max_samples == 0) {
     Color sum(0.0f);
     for (int k = 0; k < n * n; ++k) sum += sample(k);

@@ -5,21 +5,29 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace rayscope {
 
-/// One of `count` equal shares of an image's tiles (tiles.h numbers them row
-/// by row): the tiles t with t % count == index. Processes that render share
-/// 0, 1, ..., count-1 of the same settings render every pixel once between
-/// them, each pixel exactly as a render of the whole image does; interleaving
-/// the tiles spreads expensive regions of the image over all shares.
+/// One of `count` shares of an image's tiles (tiles.h numbers them row by
+/// row): the tiles whose owner() is index. Processes that render share 0, 1,
+/// ..., count-1 of the same settings render every pixel once between them,
+/// each pixel exactly as a render of the whole image does. Without `owners`
+/// the tiles are interleaved (tile t to share t % count), which spreads
+/// expensive regions of the image over all shares; with it (balance_shares()
+/// in share_balance.h hands tiles out by their estimated cost, so that a share
+/// of cheap tiles takes more of them) owners[t] renders tile t.
 struct TileShare {
   int index = 0;
   int count = 1;
+  /// The share of each tile (all in 0..count-1, one per tile of the image),
+  /// or null for the interleaved shares.
+  std::shared_ptr<const std::vector<int>> owners;
   /// The share (index) that renders `tile`.
-  int owner(size_t tile) const { return int(tile % size_t(count)); }
+  int owner(size_t tile) const { return owners ? (*owners)[tile] : int(tile % size_t(count)); }
   bool operator==(const TileShare&) const = default;
 };
 
@@ -54,7 +62,15 @@ struct RenderSettings {
   // --- Fields -------------------------------------------------------------
   int width = 640;
   int height = 480;
-  int samples = 1;    ///< N: each pixel takes N x N stratified samples (1..kMaxSamples).
+  int samples = 1;  ///< N: each pixel takes N x N stratified samples (1..kMaxSamples).
+  /// -1: each pixel takes all its samples. k in 0..N*N-1: each pixel traces
+  /// only sample k of its N x N grid and its color is that sample's (not
+  /// divided by N^2; traced with the weight 1 / N^2, so that the contribution
+  /// cutoff is the full render's): one pass of progressive rendering, which
+  /// ProgressiveImage (progressive.h) adds up into the N x N render bit for
+  /// bit. The AOVs (depth, normal, object id) come from sample 0, so only
+  /// pass 0 has them. Not with adaptive sampling.
+  int only_sample = -1;
   int max_depth = 5;  ///< Maximum recursion depth r (0..kMaxDepth).
   /// Secondary rays whose weight within their sample (the product of the
   /// reflection and transmission factors along their path, largest RGB
@@ -91,6 +107,7 @@ struct RenderSettings {
   /// N of the N x N grid a pixel's samples come from: max_samples with
   /// adaptive sampling, else samples.
   int sample_grid() const { return max_samples > 0 ? max_samples : samples; }
+  bool operator==(const RenderSettings&) const = default;
 
   /// Throws std::invalid_argument naming the first bad field, its range and
   /// the value, e.g. "samples must be in 1..64 (N for N x N per pixel), got 65".

@@ -28,12 +28,9 @@ class TileGrid {
     return size_t(y / size_) * size_t(tiles_x_) + size_t(x / size_);
   }
   TileRect rect(size_t tile) const;
-  /// Tiles in `share`, and its k-th tile (k < share_count(share)): the tiles
-  /// whose TileShare::owner() is share.index, in order.
-  size_t share_count(const TileShare& share) const;
-  size_t share_tile(const TileShare& share, size_t k) const {
-    return size_t(share.index) + k * size_t(share.count);
-  }
+  /// The tiles of `share` in order: those whose TileShare::owner() is
+  /// share.index.
+  std::vector<size_t> share_tiles(const TileShare& share) const;
 
  private:
   int width_, height_, size_, tiles_x_, tiles_y_;

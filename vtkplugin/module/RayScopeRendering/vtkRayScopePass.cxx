@@ -28,6 +28,7 @@ vtkStandardNewMacro(vtkRayScopePass);
 vtkRayScopePass::vtkRayScopePass()
     : DisplayMode(COLOR),
       ImageReduction(1),
+      FinishProgressive(false),
       Tracing(true),
       LastRenderTime(0.0),
       Algorithm(vtkRayScopeImageAlgorithm::New()),
@@ -87,8 +88,13 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
   const bool parallel = c && c->GetNumberOfProcesses() > 1;
   // Its update is then collective: every process traces on every render,
   // whatever changed on it (the gathered scene and its structure are kept
-  // while no process's geometry changes).
-  if (parallel) alg->Modified();
+  // while no process's geometry changes). A progressive image goes on if
+  // nothing changed since the last render (Refine() then marks it modified on
+  // every process too).
+  if (alg->GetProgressive())
+    alg->Refine(this->FinishProgressive);
+  else if (parallel)
+    alg->Modified();
   if (!alg->GetExecutive()->Update()) {
     if (!parallel) vtkErrorMacro(<< "ray tracing failed (see the vtkRayScopeImageAlgorithm error)");
     return;
@@ -151,6 +157,7 @@ void vtkRayScopePass::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "DisplayMode: " << (this->DisplayMode == COST ? "COST" : "COLOR") << "\n";
   os << indent << "ImageReduction: " << this->ImageReduction << "\n";
+  os << indent << "FinishProgressive: " << this->FinishProgressive << "\n";
   os << indent << "Tracing: " << this->Tracing << "\n";
   os << indent << "LastRenderTime: " << this->LastRenderTime << "\n";
   os << indent << "ImageAlgorithm:\n";

@@ -82,6 +82,18 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopePass : public vtkRenderPass {
   ///@}
 
   ///@{
+  /// With the image algorithm's Progressive on, each render adds a pass of
+  /// one sample per pixel to the image while the scene and camera stay as
+  /// they are (vtkRayScopeImageAlgorithm::Refine()), so that a view that
+  /// renders again while it rests refines its image; GetImagePasses() tells
+  /// how far it is. FinishProgressive (off by default): each render adds all
+  /// the passes the image lacks, as a screenshot needs.
+  vtkSetMacro(FinishProgressive, bool);
+  vtkGetMacro(FinishProgressive, bool);
+  vtkBooleanMacro(FinishProgressive, bool);
+  ///@}
+
+  ///@{
   /// Off: the pass only clears the viewport to the renderer's background and
   /// traces nothing (ParaView's client, whose image comes from the server's
   /// ranks, while its own renderer holds no data). On by default.
@@ -105,6 +117,7 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopePass : public vtkRenderPass {
 
   int DisplayMode;
   int ImageReduction;
+  bool FinishProgressive;
   bool Tracing;
   double LastRenderTime;
 

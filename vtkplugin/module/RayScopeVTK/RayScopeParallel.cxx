@@ -4,6 +4,7 @@
 #include <cstring>
 #include <map>
 #include <span>
+#include <stdexcept>
 #include <type_traits>
 
 #include "vtkAppendFilter.h"
@@ -19,6 +20,7 @@
 #include "vtkPolyData.h"
 #include "vtkUnstructuredGrid.h"
 
+#include "rayscope/share_balance.h"
 #include "rayscope/tiles.h"
 #include "rayscope_vtkio/data_arrays.h"
 
@@ -207,6 +209,27 @@ constexpr size_t kCounterWords = sizeof(rayscope::RayCounters) / sizeof(unsigned
 
 }  // namespace
 
+std::shared_ptr<const std::vector<int>> balanced_owners(vtkMultiProcessController* controller,
+                                                        rayscope::Scene& scene,
+                                                        const rayscope::RenderSettings& settings) {
+  rayscope::RenderSettings mine = settings;
+  mine.share = {process_index(controller), process_count(controller), nullptr};
+  std::vector<uint64_t> costs;
+  std::string failure;
+  try {
+    costs = rayscope::estimate_tile_costs(scene, mine);
+  } catch (const std::exception& e) {
+    failure = e.what();
+  }
+  if (on_any_process(controller, !failure.empty()))
+    throw std::runtime_error(failure.empty() ? "another process could not estimate its tiles"
+                                             : failure);
+  std::vector<vtkIdType> local(costs.begin(), costs.end()), all(costs.size());
+  controller->AllReduce(local.data(), all.data(), vtkIdType(all.size()), vtkCommunicator::SUM_OP);
+  return std::make_shared<const std::vector<int>>(rayscope::balance_shares(
+      std::vector<uint64_t>(all.begin(), all.end()), process_count(controller)));
+}
+
 bool assemble_image(vtkMultiProcessController* controller, const rayscope::RenderSettings& settings,
                     rayscope::Framebuffer& fb, rayscope::RayCounters& counters) {
   const int n = process_count(controller), me = process_index(controller);
@@ -227,7 +250,7 @@ bool assemble_image(vtkMultiProcessController* controller, const rayscope::Rende
   if (me != 0) return false;
   for (int r = 0; r < n; ++r) {
     rayscope::RenderSettings share = settings;
-    share.share = {r, n};
+    share.share.index = r;
     rayscope::unpack_share(
         fb, share,
         std::span<const float>(all.data() + offsets[size_t(r)], size_t(lengths[size_t(r)])));

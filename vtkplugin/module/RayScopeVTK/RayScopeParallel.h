@@ -1,13 +1,15 @@
 // A vtkRayScopeImageAlgorithm rendered by every process of a
 // vtkMultiProcessController (private header). Each process holds a piece of
 // every input. The pieces are gathered to every process when any changed,
-// each process builds the whole scene and traces an interleaved share of the
-// image's tiles over it (rayscope::TileShare), and process 0 assembles the
+// each process builds the whole scene and traces its share of the image's
+// tiles over it (rayscope::TileShare, handed out by balanced_owners()), and
+// process 0 assembles the
 // image. All calls here are collective: every process makes them in the same
 // order, whatever its data, so a process with nothing to draw still takes part
 // and an error on one process ends the render on all of them.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,7 @@
 
 #include "rayscope/image.h"
 #include "rayscope/render_settings.h"
+#include "rayscope/scene.h"
 #include "rayscope/stats.h"
 
 class vtkDataObject;
@@ -85,8 +88,20 @@ class GatheredInputs {
   size_t Gathers = 0;
 };
 
+/// The tiles of the image of `settings` handed out to the processes by
+/// estimated cost (rayscope::balance_shares()): each process estimates the
+/// tiles of its interleaved share (settings.share without owners) on its
+/// `scene` (every process holds the same), the estimates are summed over all
+/// processes, and every process makes the same map from them. Collective.
+/// Throws what the estimate throws on any process (std::runtime_error for
+/// the others), on every process.
+std::shared_ptr<const std::vector<int>> balanced_owners(vtkMultiProcessController* controller,
+                                                        rayscope::Scene& scene,
+                                                        const rayscope::RenderSettings& settings);
+
 /// Process 0 receives every process's share of the image (settings.share is
-/// this process's: {process_index, process_count}) and unpacks it into `fb`,
+/// this process's: process_index of process_count, with the owner map all
+/// processes render by) and unpacks it into `fb`,
 /// and the sum of all processes' counters into `counters`; returns true there
 /// and false on the others, whose fb and counters are unchanged. `fb` holds
 /// this process's render and has its channels (cost, samples).

@@ -50,7 +50,11 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 vtkCxxSetObjectMacro(vtkRayScopeImageAlgorithm, LookupTable, vtkScalarsToColors);
 
 vtkRayScopeImageAlgorithm::vtkRayScopeImageAlgorithm()
-    : ScalarColoring(COLOR_BY_MAPPER), LookupTable(nullptr), Internal(new Internals) {
+    : ScalarColoring(COLOR_BY_MAPPER),
+      LookupTable(nullptr),
+      BalanceTiles(true),
+      Progressive(false),
+      Internal(new Internals) {
   this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(1);
 }
@@ -476,10 +480,8 @@ int vtkRayScopeImageAlgorithm::RequestData(vtkInformation*, vtkInformationVector
     this->SetAmbientLight(colors + 3);
   }
   if (!this->BuildScene()) return 0;
-  // With several processes, this one traces its share of the tiles.
   const int processes = rayscope_vtkmodule::process_count(c);
   rayscope::RenderSettings settings = this->GetRenderSettings();
-  settings.share = {rayscope_vtkmodule::process_index(c), processes};
   if (!rayscope_vtkmodule::same_on_every_process(
           c, {settings.width, settings.height, settings.samples, settings.max_samples,
               settings.statistics ? 1 : 0})) {
@@ -489,36 +491,118 @@ int vtkRayScopeImageAlgorithm::RequestData(vtkInformation*, vtkInformationVector
                      "must trace its share of the same image");
     return 0;
   }
+  // Go on with the last progressive image, or start a new one: every process
+  // decides alike.
+  Internals& in = *this->Internal;
+  const bool progressive = this->Progressive && settings.max_samples == 0;
+  const bool asked = this->GetMTime() == in.refine_mtime;  // by Refine(), nothing since
+  bool go_on = progressive && asked && in.go_on && in.progressive.passes() > 0 &&
+               settings == in.image_settings &&
+               this->GetNumberOfGeometryConversions() == in.image_conversions &&
+               this->GetNumberOfSceneCommits() == in.image_commits;
+  bool to_the_end = asked && in.to_the_end;
+  in.go_on = in.to_the_end = false;
+  if (processes > 1) {
+    go_on = !rayscope_vtkmodule::on_any_process(c, !go_on);
+    to_the_end = rayscope_vtkmodule::on_any_process(c, to_the_end);
+  }
+  in.image_settings = settings;
+  in.image_conversions = this->GetNumberOfGeometryConversions();
+  in.image_commits = this->GetNumberOfSceneCommits();
+  rayscope::Scene& scene = *this->GetCoreScene();
+  bool failed = false;
+  if (!go_on) {
+    in.progressive = rayscope::ProgressiveImage{};
+    if (progressive) in.progressive.restart(settings);
+    in.owners = nullptr;
+    // With several processes, this one traces its share of the tiles.
+    if (processes > 1 && this->BalanceTiles) {
+      try {
+        in.owners = rayscope_vtkmodule::balanced_owners(c, scene, settings);
+      } catch (const std::exception& e) {
+        rayscope_vtkmodule::FirstProcessSpeaks once(c);
+        vtkErrorMacro(<< "render failed: " << e.what());
+        return 0;
+      }
+    }
+  }
+  settings.share = {rayscope_vtkmodule::process_index(c), processes, in.owners};
+  // The passes to trace now: the whole render, or the progressive image's
+  // next pass (or all it lacks; none when it is complete).
+  const int left = in.progressive.total() - in.progressive.passes();
+  const int passes = !progressive ? 1 : to_the_end ? left : std::min(left, 1);
   rayscope::RayCounters counters;
   rayscope::Framebuffer fb;
-  bool failed = false;
-  auto start = std::chrono::steady_clock::now();
-  try {
-    fb = rayscope_vtkmodule::render_relaying_progress(
-        *this->GetCoreScene(), settings, &counters, [this](double p) { this->UpdateProgress(p); });
-  } catch (const std::exception& e) {
-    vtkErrorMacro(<< "render failed: " << e.what());
-    failed = true;
+  for (int pass = 0; pass < passes; ++pass) {
+    const rayscope::RenderSettings traced =
+        progressive ? in.progressive.next_pass(settings) : settings;
+    rayscope::RayCounters pass_counters;
+    auto start = std::chrono::steady_clock::now();
+    try {
+      fb = rayscope_vtkmodule::render_relaying_progress(
+          scene, traced, &pass_counters,
+          [&](double p) { this->UpdateProgress((pass + p) / passes); });
+    } catch (const std::exception& e) {
+      vtkErrorMacro(<< "render failed: " << e.what());
+      failed = true;
+    }
+    in.seconds[2] += seconds_since(start);
+    if (processes > 1) {
+      if (rayscope_vtkmodule::on_any_process(c, failed)) failed = true;
+      if (failed) break;
+      // Process 0 makes the image; the others' outputs stay empty.
+      start = std::chrono::steady_clock::now();
+      rayscope_vtkmodule::assemble_image(c, traced, fb, pass_counters);
+      in.seconds[3] += seconds_since(start);
+    } else if (failed) {
+      break;
+    }
+    // Every process counts the passes (process 0's image is the assembled
+    // one; the others add their own shares, which nobody shows).
+    if (progressive) in.progressive.add(fb, pass_counters);
+    counters = pass_counters;
   }
-  this->Internal->seconds[2] = seconds_since(start);
-  if (processes > 1) {
-    if (rayscope_vtkmodule::on_any_process(c, failed)) return 0;
-    // Process 0 makes the image; the others' outputs stay empty.
-    start = std::chrono::steady_clock::now();
-    const bool assembled = rayscope_vtkmodule::assemble_image(c, settings, fb, counters);
-    this->Internal->seconds[3] = seconds_since(start);
-    if (!assembled) return 1;
-  } else if (failed) {
+  if (failed) {
+    in.progressive = rayscope::ProgressiveImage{};
     return 0;
   }
-  rayscope_vtkio::framebuffer_to_image(fb, counters, output);
+  in.image_mtime = this->GetMTime();
+  if (processes > 1 && rayscope_vtkmodule::process_index(c) != 0) return 1;
+  if (progressive)
+    rayscope_vtkio::framebuffer_to_image(in.progressive.image(), in.progressive.counters(), output);
+  else
+    rayscope_vtkio::framebuffer_to_image(fb, counters, output);
   if (processes > 1) rayscope_vtkmodule::add_process_array(output, settings);
-  const double* t = this->Internal->seconds;
+  const double* t = in.seconds;
   rayscope_vtkio::add_field_tuple<vtkDoubleArray>(output->GetFieldData(), "Seconds",
                                                   {t[0], t[1], t[2], t[3]});
+  if (progressive)
+    rayscope_vtkio::add_field_tuple<vtkIntArray>(output->GetFieldData(), "ProgressivePasses",
+                                                 {in.progressive.passes(), in.progressive.total()});
   this->AddObjectArrays(output);
   this->UpdateProgress(1.0);
   return 1;
+}
+
+void vtkRayScopeImageAlgorithm::Refine(bool to_the_end) {
+  Internals& in = *this->Internal;
+  const bool unchanged = this->GetMTime() == in.image_mtime;
+  in.go_on = unchanged;
+  in.to_the_end = to_the_end;
+  // A complete image of an unchanged scene is final on one process; with
+  // several, every update is collective (the others may have changed).
+  if (!unchanged || !in.progressive.complete() ||
+      rayscope_vtkmodule::process_count(in.controller) > 1)
+    this->Modified();
+  in.refine_mtime = this->GetMTime();
+}
+
+int vtkRayScopeImageAlgorithm::GetImagePasses() {
+  return this->Progressive ? this->Internal->progressive.passes() : 1;
+}
+
+int vtkRayScopeImageAlgorithm::GetImageTotalPasses() {
+  return this->Progressive ? this->Internal->progressive.total() : 1;
 }
 
 void vtkRayScopeImageAlgorithm::AddObjectArrays(vtkImageData* image) {
@@ -544,6 +628,8 @@ void vtkRayScopeImageAlgorithm::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "Settings:\n";
   this->Internal->settings->PrintSelf(os, indent.GetNextIndent());
   os << indent << "ScalarColoring: " << this->ScalarColoring << "\n";
+  os << indent << "BalanceTiles: " << this->BalanceTiles << "\n";
+  os << indent << "Progressive: " << this->Progressive << "\n";
   os << indent << "LookupTable: " << this->LookupTable << "\n";
   for (auto& [index, m] : this->Internal->input_materials) {
     os << indent << "Material of input " << index << ":\n";

@@ -379,7 +379,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   /// are requested as piece k of N) and the render is image-parallel over the
   /// whole scene: the pieces are gathered to every process when any changed
   /// (a camera move gathers nothing), each process builds the scene and traces
-  /// an interleaved share of the image's tiles, and process 0 assembles the
+  /// its share of the image's tiles (SetBalanceTiles()), and process 0 assembles the
   /// image, which is the one process's image bit for bit when the pieces put
   /// together (polydata appended in process order, other datasets as one
   /// unstructured grid, composite data leaf by leaf) are the serial input.
@@ -391,6 +391,44 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   void SetController(vtkMultiProcessController* controller);
   vtkMultiProcessController* GetController();
   ///@}
+
+  ///@{
+  /// With more than one process: hand the image's tiles out by estimated
+  /// cost (on, the default: each process traces a few pixels of its
+  /// interleaved tiles, one sample each, the estimates are summed, and
+  /// rayscope::balance_shares() gives every tile to the process with the least
+  /// estimated work so far, so that a process whose tiles are cheap takes more
+  /// of them), or off: tile t to process t % N. The image is the same either
+  /// way; the "Process" array shows the handout.
+  vtkSetMacro(BalanceTiles, bool);
+  vtkGetMacro(BalanceTiles, bool);
+  vtkBooleanMacro(BalanceTiles, bool);
+  ///@}
+
+  ///@{
+  /// Progressive rendering (off by default): the image of Samples x Samples
+  /// samples per pixel is traced in Samples^2 passes of one sample per pixel.
+  /// An update asked for by Refine() adds the next pass to the last image when
+  /// nothing that changes the image changed in between (inputs, camera,
+  /// lights, materials, settings); any other update starts again from the
+  /// first pass. The output is the mean of the passes so far with field data
+  /// "ProgressivePasses" (passes traced, passes in all), and after the last
+  /// pass the image of the whole render bit for bit (rayscope::ProgressiveImage).
+  /// Not with adaptive sampling (MaxSamples), which renders as without it.
+  vtkSetMacro(Progressive, bool);
+  vtkGetMacro(Progressive, bool);
+  vtkBooleanMacro(Progressive, bool);
+  ///@}
+
+  /// Asks the next update to go on with the last progressive image: to add
+  /// its next pass, or with `to_the_end` all the passes it lacks (what a
+  /// screenshot needs). Marks the algorithm modified, except when the image
+  /// is complete and nothing changed (on one process: its output is final).
+  void Refine(bool to_the_end = false);
+  /// Passes in the last image, and in the whole render (both 1 without
+  /// Progressive; equal once a progressive image is complete).
+  int GetImagePasses();
+  int GetImageTotalPasses();
 
   /// Includes the materials', converter's and mapper's modification times.
   vtkMTimeType GetMTime() override;
@@ -466,6 +504,8 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
 
   int ScalarColoring;
   vtkScalarsToColors* LookupTable;
+  bool BalanceTiles;
+  bool Progressive;
 
  private:
   vtkRayScopeImageAlgorithm(const vtkRayScopeImageAlgorithm&) = delete;

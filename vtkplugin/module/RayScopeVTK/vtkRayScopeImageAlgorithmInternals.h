@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <vector>
 
 #include "vtkCompositeDataDisplayAttributes.h"
@@ -15,6 +16,7 @@
 
 #include "RayScopeParallel.h"
 #include "RayScopeSceneBuilder.h"
+#include "rayscope/progressive.h"
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopeMaterial.h"
 #include "vtkRayScopeMeshConverter.h"
@@ -45,4 +47,15 @@ struct vtkRayScopeImageAlgorithm::Internals {
   bool use_gathered = false;
   // Seconds of the last update's steps: gather, build, trace, assemble.
   double seconds[4] = {0, 0, 0, 0};
+  // Tiles per process of the last image (BalanceTiles), kept while its
+  // progressive passes go on.
+  std::shared_ptr<const std::vector<int>> owners;
+  // Progressive rendering: the image so far, what it was made of, and what
+  // Refine() asked of the next update: to go on with this image (when
+  // nothing changed since), and to trace all the passes it lacks.
+  rayscope::ProgressiveImage progressive;
+  rayscope::RenderSettings image_settings;
+  vtkIdType image_conversions = -1, image_commits = -1;
+  vtkMTimeType image_mtime = 0, refine_mtime = 0;
+  bool go_on = false, to_the_end = false;
 };

@@ -1,5 +1,6 @@
 #include "vtkRayScopeRenderView.h"
 
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPVRenderViewSettings.h"
 #include "vtkPVSynchronizedRenderer.h"
@@ -7,6 +8,10 @@
 #include "vtkRayScopeImageAlgorithm.h"
 #include "vtkRayScopePass.h"
 #include "vtkRayScopeSceneSettings.h"
+#include "vtkRayScopeViewInformation.h"
+#include "vtkSMProxy.h"
+#include "vtkSMProxyIterator.h"
+#include "vtkSMSession.h"
 
 vtkRayScopeRenderView* vtkRayScopeRenderView::New() {
   // On several ranks, ParaView composites the ranks' images. Each rank here
@@ -26,7 +31,8 @@ vtkRayScopeRenderView* vtkRayScopeRenderView::New() {
   return view;
 }
 
-vtkRayScopeRenderView::vtkRayScopeRenderView() : Pass(vtkRayScopePass::New()) {
+vtkRayScopeRenderView::vtkRayScopeRenderView()
+    : TracedInfo(vtkSmartPointer<vtkRayScopeViewInformation>::New()), Pass(vtkRayScopePass::New()) {
   // The synchronized renderer puts the pass on the view's renderer (on every
   // rank that renders).
   this->SynchronizedRenderers->SetRenderPass(this->Pass);
@@ -74,6 +80,12 @@ void vtkRayScopeRenderView::SetRayScopeInteractiveReduction(int n) {
   this->Modified();
 }
 
+void vtkRayScopeRenderView::SetRayScopeProgressive(int on) {
+  if (bool(on) == this->Progressive) return;
+  this->Progressive = on != 0;
+  this->Modified();
+}
+
 void vtkRayScopeRenderView::SetRayScopeStructure(vtkRayScopeSceneSettings* structure) {
   if (structure == this->Structure) return;
   this->Structure = structure;
@@ -100,23 +112,47 @@ void vtkRayScopeRenderView::SetRayScopeDisplayMode(int mode) {
   this->Pass->SetDisplayMode(mode);
 }
 
+vtkRayScopeViewInformation* vtkRayScopeRenderView::Traced() {
+  this->TracedInfo->CopyFromObject(this);
+  // A client whose image the server's ranks trace asks the server's root:
+  // its own algorithm traced nothing.
+  if (this->Pass->GetTracing()) return this->TracedInfo;
+  auto* session = vtkSMSession::SafeDownCast(this->GetSession());
+  vtkNew<vtkSMProxyIterator> views;
+  views->SetSession(session);
+  views->SetModeToOneGroup();
+  for (views->Begin("views"); session && !views->IsAtEnd(); views->Next()) {
+    vtkSMProxy* proxy = views->GetProxy();
+    if (proxy->GetClientSideObject() != this) continue;
+    proxy->GatherInformation(this->TracedInfo, vtkPVSession::RENDER_SERVER);
+    break;
+  }
+  return this->TracedInfo;
+}
+
 int vtkRayScopeRenderView::GetRayScopeTracedSamples() {
-  return this->GetImageAlgorithm()->GetSamples();
+  return this->Traced()->GetSamples();
 }
 
 int* vtkRayScopeRenderView::GetRayScopeTracedSize() {
-  this->TracedSize[0] = this->GetImageAlgorithm()->GetWidth();
-  this->TracedSize[1] = this->GetImageAlgorithm()->GetHeight();
+  this->Traced()->GetSize(this->TracedSize);
   return this->TracedSize;
 }
 
+int* vtkRayScopeRenderView::GetRayScopeImagePasses() {
+  this->Traced()->GetPasses(this->ImagePasses);
+  return this->ImagePasses;
+}
+
 double vtkRayScopeRenderView::GetRayScopeLastRenderSeconds() {
-  return this->Pass->GetLastRenderTime();
+  return this->Traced()->GetSeconds();
 }
 
 void vtkRayScopeRenderView::StillRender() {
   this->TakeStructure();
   this->GetImageAlgorithm()->SetSamples(this->Samples);
+  this->GetImageAlgorithm()->SetProgressive(this->Progressive);
+  this->Pass->SetFinishProgressive(this->GetInCaptureScreenshot());
   this->Pass->SetImageReduction(1);
   this->Superclass::StillRender();
 }
@@ -124,6 +160,7 @@ void vtkRayScopeRenderView::StillRender() {
 void vtkRayScopeRenderView::InteractiveRender() {
   this->TakeStructure();
   this->GetImageAlgorithm()->SetSamples(1);
+  this->GetImageAlgorithm()->SetProgressive(false);
   this->Pass->SetImageReduction(this->InteractiveReduction);
   this->Superclass::InteractiveRender();
 }
@@ -143,4 +180,5 @@ void vtkRayScopeRenderView::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Samples: " << this->Samples << "\n";
   os << indent << "InteractiveReduction: " << this->InteractiveReduction << "\n";
+  os << indent << "Progressive: " << this->Progressive << "\n";
 }

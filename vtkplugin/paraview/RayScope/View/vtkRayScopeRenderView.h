@@ -14,14 +14,18 @@
  *
  * While the camera moves (ParaView's interactive renders) the view traces one
  * sample per pixel, and one pixel per InteractiveReduction x InteractiveReduction
- * block (2 x 2 by default); a still render traces Samples x Samples for every pixel. The render
+ * block (2 x 2 by default); a still render traces Samples x Samples for every pixel: with
+ * Progressive on (the default) one sample per pixel per still render, each
+ * added to the image while the camera rests (ParaView's client renders again
+ * until ImagePasses says the image is complete), and all of them at once for
+ * a screenshot; the complete image is the one-render image bit for bit. The render
  * settings are the pass's image algorithm's (GetImageAlgorithm()), which
  * validates them: the setters below forward to it.
  *
  * On several ranks (pvbatch or pvserver under MPI) the ranks render
  * together: the image algorithm gathers the representations' pieces from
- * every rank when they change, every rank traces an interleaved share of the
- * pixels over the whole scene, and rank 0 assembles the image, which ParaView
+ * every rank when they change, every rank traces a share of the image's
+ * tiles (handed out by estimated cost) over the whole scene, and rank 0 assembles the image, which ParaView
  * delivers as its composited image (vtkRayScopeImageAlgorithm::SetController()).
  * Shadows and reflections between pieces on different ranks are there, and
  * the image is the one-rank image.
@@ -36,6 +40,7 @@
 class vtkRayScopeImageAlgorithm;
 class vtkRayScopePass;
 class vtkRayScopeSceneSettings;
+class vtkRayScopeViewInformation;
 class vtkView;
 
 class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView {
@@ -53,6 +58,9 @@ class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView
   /// pixel. 1: every pixel while moving too.
   void SetRayScopeInteractiveReduction(int n);
   int GetRayScopeInteractiveReduction() { return this->InteractiveReduction; }
+  /// Still renders refine the image one sample per pixel at a time (on, the
+  /// default), or trace all Samples x Samples in one render (off).
+  void SetRayScopeProgressive(int on);
   /// Bounces after the primary hit, the smallest contribution a secondary ray
   /// must carry to be traced, and hard shadows on or off
   /// (vtkRayScopeImageAlgorithm's MaxDepth, MinContribution, Shadows).
@@ -67,12 +75,18 @@ class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView
   /// map).
   void SetRayScopeDisplayMode(int mode);
 
-  /// Samples per pixel (N of N x N) the last render traced: Samples after a
-  /// still render, 1 after an interactive one.
+  /// What the last render traced, on this process or, on a client whose
+  /// image the server's ranks trace, on the server (vtkRayScopeViewInformation).
+  /// Samples per pixel (N of N x N): Samples after a still render, 1 after
+  /// an interactive one.
   int GetRayScopeTracedSamples();
   /// Width and height of the last traced image: the view's size after a
   /// still render, InteractiveReduction times smaller after an interactive one.
   int* GetRayScopeTracedSize() VTK_SIZEHINT(2);
+  /// Passes (samples per pixel) in the image shown, and in the complete image:
+  /// equal once a progressive image is complete (1 and 1 after an interactive
+  /// render, or without Progressive).
+  int* GetRayScopeImagePasses() VTK_SIZEHINT(2);
   /// Wall-clock seconds of the last ray-traced image, conversion included
   /// (vtkRayScopePass::GetLastRenderTime()).
   double GetRayScopeLastRenderSeconds();
@@ -99,10 +113,15 @@ class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView
 
   // A client whose images come from the server's ranks traces nothing.
   void Render(bool interactive, bool skip_rendering) override;
+  // What the last render traced (see GetRayScopeTracedSamples()).
+  vtkRayScopeViewInformation* Traced();
 
   int Samples = 1;
   int InteractiveReduction = 2;
+  bool Progressive = true;
   int TracedSize[2] = {0, 0};
+  int ImagePasses[2] = {1, 1};
+  vtkSmartPointer<vtkRayScopeViewInformation> TracedInfo;
 
  private:
   vtkRayScopeRenderView(const vtkRayScopeRenderView&) = delete;
