@@ -5,7 +5,7 @@ A sphere in a solid red and a Wavelet contour colored by elevation through a
 lookup table are shown. The view's screenshot shows the red sphere and the
 contour in several colors of the map; a still render traces the view's
 Samples, an interactive one 1 sample per 2 x 2 block; moving the camera changes the image; the
-Cost display mode shows another image (the heat map). The ray tree of a pixel
+Cost, Normals, Depth and Object Ids display modes show other images. The ray tree of a pixel
 of the view (View Ray Tree) replays the view's own scene: its pixel
 color is the color the view shows there; the structure its rays walk (View
 Acceleration Structure) counts that pixel's node visits. A representation's Metallic and Base
@@ -196,6 +196,19 @@ view.DisplayMode = "Cost"
 cost = screenshot("rayscope_view_cost.png")
 changed = sum(1 for a, b in zip(moved, cost) if a != b)
 check(changed > W * H // 20, f"the Cost display mode shows the heat map ({changed} pixels differ)")
+
+# Normals, Depth and Object Ids: three more images, and Object Ids shows
+# one color per object (the sphere, the contour) and black misses.
+modes = {}
+for mode in ("Normals", "Depth", "Object Ids"):
+    view.DisplayMode = mode
+    modes[mode] = screenshot("rayscope_view_" + mode.replace(" ", "_").lower() + ".png")
+    changed = sum(1 for a, b in zip(moved, modes[mode]) if a != b)
+    check(changed > W * H // 20, f"the {mode} display mode shows another image ({changed} pixels differ)")
+check(modes["Normals"] != modes["Depth"], "Normals and Depth are different images")
+ids = {p for p in modes["Object Ids"]}
+check(3 <= len(ids) <= 4, f"Object Ids: one color per object and black ({len(ids)} colors)")
+check((0, 0, 0) in ids, "Object Ids: misses are black")
 
 # Reflectivity and index of refraction per representation: ParaView's Metallic
 # and Base IOR (Surface's advanced properties). The ray tree of a pixel on the

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "vtkCamera.h"
@@ -45,7 +46,12 @@ vtkRayScopeImageAlgorithm* vtkRayScopePass::GetImageAlgorithm() {
 }
 
 void vtkRayScopePass::SetDisplayMode(int mode) {
-  mode = std::clamp(mode, int(COLOR), int(COST));
+  mode = std::clamp(mode, int(COLOR), int(OBJECT_IDS));
+  static_assert(int(COLOR) == rayscope_vtkmodule::kDisplayColor &&
+                int(COST) == rayscope_vtkmodule::kDisplayCost &&
+                int(NORMALS) == rayscope_vtkmodule::kDisplayNormal &&
+                int(DEPTH) == rayscope_vtkmodule::kDisplayDepth &&
+                int(OBJECT_IDS) == rayscope_vtkmodule::kDisplayObjectId);
   if (mode == COST) this->Algorithm->ComputeCostOn();
   if (mode == this->DisplayMode) return;
   this->DisplayMode = mode;
@@ -109,18 +115,19 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
   int dims[3];
   image->GetDimensions(dims);
 
-  std::vector<unsigned char> heat;
+  std::vector<unsigned char> shown;  // the display mode's bytes, when not the colors
   void* pixels = nullptr;
-  if (this->DisplayMode == COST) {
-    heat = rayscope_vtkmodule::display_pixels(image, rayscope_vtkmodule::kDisplayCost);
-    if (!heat.empty()) pixels = heat.data();
+  if (this->DisplayMode != COLOR) {
+    shown = rayscope_vtkmodule::display_pixels(image, this->DisplayMode);
+    if (!shown.empty()) pixels = shown.data();
   } else if (auto* color = vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetScalars()))
     pixels = color->GetVoidPointer(0);
   if (!pixels) {
     vtkErrorMacro(<< (this->DisplayMode == COST
                           ? "the ray-traced image has no Cost array: turn the image algorithm's "
                             "ComputeCost on for DisplayMode COST"
-                          : "the ray-traced image has no color array"));
+                          : std::string("the ray-traced image has no array for the display mode ") +
+                                rayscope_vtkmodule::display_mode_name(this->DisplayMode)));
     return;
   }
   // The image is as large as the renderer (or F times smaller: each pixel is
@@ -155,7 +162,8 @@ void vtkRayScopePass::Render(const vtkRenderState* s) {
 
 void vtkRayScopePass::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "DisplayMode: " << (this->DisplayMode == COST ? "COST" : "COLOR") << "\n";
+  os << indent << "DisplayMode: " << rayscope_vtkmodule::display_mode_name(this->DisplayMode)
+     << "\n";
   os << indent << "ImageReduction: " << this->ImageReduction << "\n";
   os << indent << "FinishProgressive: " << this->FinishProgressive << "\n";
   os << indent << "Tracing: " << this->Tracing << "\n";

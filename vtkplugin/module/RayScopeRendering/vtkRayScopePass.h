@@ -60,17 +60,24 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopePass : public vtkRenderPass {
   /// Ray-traces the renderer of `s` and draws the image into its viewport.
   void Render(const vtkRenderState* s) override;
 
-  /// What the window shows.
+  /// What the window shows (the values of vtkRayScopeViewer's image modes).
   enum DisplayModes {
-    COLOR = 0,  ///< the ray-traced colors (default)
-    COST = 1    ///< BVH nodes visited per pixel as a heat map
+    COLOR = 0,      ///< the ray-traced colors (default)
+    COST = 1,       ///< structure nodes visited per pixel as a heat map
+    NORMALS = 2,    ///< the first hit's shading normal, (n + 1) / 2; misses black
+    DEPTH = 3,      ///< the first hit's distance, near white to far dark; misses black
+    OBJECT_IDS = 4  ///< one color per object; misses black
   };
   /// Setting COST switches the image algorithm's ComputeCost on (the heat map
-  /// needs the "Cost" array); COLOR leaves it as it is.
+  /// needs the "Cost" array); the others leave it as it is. Clamped to the
+  /// modes above.
   virtual void SetDisplayMode(int mode);
   vtkGetMacro(DisplayMode, int);
   void SetDisplayModeToColor() { this->SetDisplayMode(COLOR); }
   void SetDisplayModeToCost() { this->SetDisplayMode(COST); }
+  void SetDisplayModeToNormals() { this->SetDisplayMode(NORMALS); }
+  void SetDisplayModeToDepth() { this->SetDisplayMode(DEPTH); }
+  void SetDisplayModeToObjectIds() { this->SetDisplayMode(OBJECT_IDS); }
 
   ///@{
   /// Traces one pixel for each F x F block of the viewport (an image F times

@@ -71,8 +71,8 @@ class RAYSCOPEPARAVIEWVIEW_EXPORT vtkRayScopeRenderView : public vtkPVRenderView
   /// KdSplit and GridResolution of `structure` (the view proxy's Structure
   /// subproxy, whose properties are the filters'), taken at each render.
   void SetRayScopeStructure(vtkRayScopeSceneSettings* structure);
-  /// What the view shows: vtkRayScopePass::COLOR or COST (the BVH cost heat
-  /// map).
+  /// What the view shows: vtkRayScopePass::COLOR, COST (the structure's cost
+  /// heat map), NORMALS, DEPTH or OBJECT_IDS.
   void SetRayScopeDisplayMode(int mode);
 
   /// What the last render traced, on this process or, on a client whose
