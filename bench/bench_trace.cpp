@@ -565,6 +565,30 @@ Check compare_shadow(const std::vector<uint8_t>& a, const std::vector<uint8_t>& 
 // ---------------------------------------------------------------------------
 // One mesh
 
+// Every byte Aggregate::memory_bytes() counts, by what holds it (the same
+// terms; test_aggregate's MemoryCountsEveryStructure checks the sum), for the
+// 8-wide walk renders use: what a plain render walks and what only the
+// teaching views, statistics and recording need.
+std::vector<std::pair<std::string, size_t>> memory_parts(const Aggregate& a) {
+  std::vector<std::pair<std::string, size_t>> parts = {
+      {"binary nodes", a.bvh().nodes.size() * sizeof(BvhNode)},
+      {"leaf order", a.bvh().prim_indices.size() * sizeof(uint32_t)},
+  };
+  if (a.kind() == AccelKind::Bvh) {
+    const BvhWalk& w = a.structure_as<BvhWalk>();
+    parts.push_back({"wide nodes", w.walk().nodes.size() * sizeof(WideBvhNode)});
+    parts.push_back({"wide slot sources", w.walk().slot_source.size() * sizeof(uint32_t)});
+    parts.push_back({"triangle blocks", w.triangle_blocks().size() * sizeof(TriangleBlock)});
+  }
+  parts.push_back({"leaf records", a.records().size() * sizeof(PrimRecord)});
+  parts.push_back({"planes", a.plane_records().size() * sizeof(PlaneRecord)});
+  size_t counted = 0;
+  for (const auto& [name, bytes] : parts) counted += bytes;
+  if (counted != a.memory_bytes())
+    parts.push_back({"other", a.memory_bytes() - counted});  // a term added to memory_bytes()
+  return parts;
+}
+
 struct BuildRow {
   std::string mesh;
   size_t tris = 0;
@@ -572,7 +596,9 @@ struct BuildRow {
   // device's "threads=N".
   std::vector<std::pair<int, double>> commit_ms, bvh_ms, embree_ms;
   BvhQuality quality;
-  size_t ours_bytes = 0;     ///< Scene::accel().memory_bytes(): nodes, leaf order, records.
+  size_t ours_bytes = 0;  ///< Scene::accel().memory_bytes(): nodes, leaf order, records.
+  /// Where ours_bytes go, part by part (memory_parts()); they sum to it.
+  std::vector<std::pair<std::string, size_t>> ours_parts;
   int64_t embree_bytes = 0;  ///< What Embree's memory monitor counted for the scene.
 };
 
@@ -661,6 +687,7 @@ void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options
   scene.commit(opt.accel);
   build.quality = scene.bvh().quality();
   build.ours_bytes = scene.accel().memory_bytes();
+  build.ours_parts = memory_parts(scene.accel());
 
   RTCDevice dev = new_device("");  // default: no thread cap
   rtcSetDeviceMemoryMonitorFunction(dev, embree_memory, nullptr);
@@ -751,6 +778,17 @@ void print_tables(const Results& r, const Options& opt) {
                 b.quality.nodes, b.quality.depth, b.quality.mean_leaf_prims,
                 b.quality.max_leaf_prims, b.quality.sah_cost, b.quality.sah_cost_1to1,
                 double(b.ours_bytes) / double(b.tris), double(b.embree_bytes) / double(b.tris));
+  std::printf("Where our bytes go (bytes per triangle)\n%-11s", "mesh");
+  if (!r.builds.empty())
+    for (const auto& [name, bytes] : r.builds.front().ours_parts)
+      std::printf(" %18s", name.c_str());
+  std::printf("\n");
+  for (const BuildRow& b : r.builds) {
+    std::printf("%-11s", b.mesh.c_str());
+    for (const auto& [name, bytes] : b.ours_parts)
+      std::printf(" %18.1f", double(bytes) / double(b.tris));
+    std::printf("\n");
+  }
   std::printf(
       "(commit = Scene::commit(): validation, bounds, Bvh::build, WideBvh collapse, leaf "
       "records;\n bvh = Bvh::build() alone; ours limited to N threads by tbb::global_control;\n "
