@@ -26,6 +26,12 @@
 // used with default scene flags (not RTC_SCENE_FLAG_ROBUST) unless
 // --embree-robust, and BUILD_QUALITY_MEDIUM (binned SAH, like ours) unless
 // --embree-quality says otherwise.
+//  - Embree's packet calls on the same rays: rtcIntersect8/16 and
+//    rtcOccluded8/16 with the coherent flag, 8 or 16 consecutive rays of a
+//    block per call (half a row or a row of a 16x16 tile of primary rays), as
+//    an Embree user traces coherent rays; reported against its single-ray
+//    calls and ours, with the rays whose packet answer differs from its
+//    single-ray one.
 // Finally the two tracers' answers are compared ray by ray.
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
@@ -509,6 +515,102 @@ double trace_embree_shadow(tbb::task_arena& arena, RTCScene scene, const std::ve
   });
 }
 
+// Embree's packet calls: N consecutive rays of a block per call (N = 8: half a
+// row of a 16x16 tile of primary rays, 16: a row; the shadow rays of
+// neighbouring hits), lanes past the block's end invalid, with the coherent
+// flag, as an Embree user traces primary rays and shadow rays of a tile.
+template <int N>
+struct EmbreePacket;
+template <>
+struct EmbreePacket<8> {
+  using RayHit = RTCRayHit8;
+  using RayN = RTCRay8;
+  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* rh) {
+    rtcIntersect8(v, s, c, rh);
+  }
+  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, RayN* r) {
+    rtcOccluded8(v, s, c, r);
+  }
+};
+template <>
+struct EmbreePacket<16> {
+  using RayHit = RTCRayHit16;
+  using RayN = RTCRay16;
+  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* rh) {
+    rtcIntersect16(v, s, c, rh);
+  }
+  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, RayN* r) {
+    rtcOccluded16(v, s, c, r);
+  }
+};
+
+template <int N, class RayN>
+void fill_packet(RayN& p, const std::vector<Ray>& rays, size_t first, size_t end, int* valid) {
+  for (int k = 0; k < N; ++k) {
+    const size_t i = first + size_t(k);
+    const Ray& r = rays[std::min(i, end - 1)];
+    valid[k] = i < end ? -1 : 0;
+    p.org_x[k] = r.origin.x;
+    p.org_y[k] = r.origin.y;
+    p.org_z[k] = r.origin.z;
+    p.tnear[k] = 0.0f;
+    p.dir_x[k] = r.dir.x;
+    p.dir_y[k] = r.dir.y;
+    p.dir_z[k] = r.dir.z;
+    p.time[k] = 0.0f;
+    p.tfar[k] = r.tmax;
+    p.mask[k] = ~0u;
+    p.id[k] = 0;
+    p.flags[k] = 0;
+  }
+}
+
+RTCIntersectContext coherent_context() {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  return ctx;
+}
+
+template <int N>
+double trace_embree_primary_packets(tbb::task_arena& arena, RTCScene scene,
+                                    const std::vector<Ray>& rays, PrimaryResult& out) {
+  return run_blocks(arena, rays.size(), [&](size_t begin, size_t end) {
+    RTCIntersectContext ctx = coherent_context();
+    alignas(64) typename EmbreePacket<N>::RayHit rh;
+    alignas(64) int valid[N];
+    for (size_t first = begin; first < end; first += N) {
+      fill_packet<N>(rh.ray, rays, first, end, valid);
+      for (int k = 0; k < N; ++k) {
+        rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+      }
+      EmbreePacket<N>::intersect(valid, scene, &ctx, &rh);
+      for (int k = 0; k < N && first + size_t(k) < end; ++k) {
+        const bool hit = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+        out.t[first + size_t(k)] = hit ? rh.ray.tfar[k] : kInfinity;
+        out.prim[first + size_t(k)] = hit ? rh.hit.primID[k] : ~0u;
+      }
+    }
+  });
+}
+
+template <int N>
+double trace_embree_shadow_packets(tbb::task_arena& arena, RTCScene scene,
+                                   const std::vector<Ray>& rays, std::vector<uint8_t>& occluded) {
+  return run_blocks(arena, rays.size(), [&](size_t begin, size_t end) {
+    RTCIntersectContext ctx = coherent_context();
+    alignas(64) typename EmbreePacket<N>::RayN ray;
+    alignas(64) int valid[N];
+    for (size_t first = begin; first < end; first += N) {
+      fill_packet<N>(ray, rays, first, end, valid);
+      EmbreePacket<N>::occluded(valid, scene, &ctx, &ray);
+      for (int k = 0; k < N && first + size_t(k) < end; ++k)
+        occluded[first + size_t(k)] = ray.tfar[k] < 0.0f ? 1 : 0;
+    }
+  });
+}
+
 // ---------------------------------------------------------------------------
 // Validation
 
@@ -607,6 +709,11 @@ struct TraceRow {
   size_t tris = 0, rays = 0;
   int threads = 0;
   double ours = 0.0, embree = 0.0;  // Mrays/s
+  /// Embree's packet calls with the coherent flag on the same rays
+  /// (rtcIntersect8/16 or rtcOccluded8/16), Mrays/s; and the rays whose
+  /// answer differs from its single-ray call's.
+  double embree8 = 0.0, embree16 = 0.0;
+  size_t packet_differs = 0;
 };
 
 struct Results {
@@ -725,6 +832,18 @@ void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options
         [&] { return trace_embree_primary(arena, escene, primary, embree_p); });
     p.ours = mrays(primary.size(), po);
     p.embree = mrays(primary.size(), pe);
+    {
+      PrimaryResult packet_p(primary.size());
+      p.embree8 = mrays(primary.size(), median_seconds(opt.runs, [&] {
+                          return trace_embree_primary_packets<8>(arena, escene, primary, packet_p);
+                        }));
+      p.embree16 =
+          mrays(primary.size(), median_seconds(opt.runs, [&] {
+                  return trace_embree_primary_packets<16>(arena, escene, primary, packet_p);
+                }));
+      for (size_t i = 0; i < primary.size(); ++i)
+        p.packet_differs += packet_p.prim[i] != embree_p.prim[i] || packet_p.t[i] != embree_p.t[i];
+    }
     res.traces.push_back(p);
     std::fprintf(stderr, "[%s] %dT primary: ours %.2f, Embree %.2f Mrays/s\n", name.c_str(), n,
                  p.ours, p.embree);
@@ -735,6 +854,19 @@ void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options
         [&] { return trace_embree_shadow(arena, escene, shadow.rays, embree_s); });
     s.ours = mrays(shadow.rays.size(), so);
     s.embree = mrays(shadow.rays.size(), se);
+    {
+      std::vector<uint8_t> packet_s(shadow.rays.size());
+      s.embree8 =
+          mrays(shadow.rays.size(), median_seconds(opt.runs, [&] {
+                  return trace_embree_shadow_packets<8>(arena, escene, shadow.rays, packet_s);
+                }));
+      s.embree16 =
+          mrays(shadow.rays.size(), median_seconds(opt.runs, [&] {
+                  return trace_embree_shadow_packets<16>(arena, escene, shadow.rays, packet_s);
+                }));
+      for (size_t i = 0; i < shadow.rays.size(); ++i)
+        s.packet_differs += packet_s[i] != embree_s[i];
+    }
     res.traces.push_back(s);
     std::fprintf(stderr, "[%s] %dT shadow:  ours %.2f, Embree %.2f Mrays/s\n", name.c_str(), n,
                  s.ours, s.embree);
@@ -812,6 +944,20 @@ void print_tables(const Results& r, const Options& opt) {
                 t.kind.c_str(), t.rays, t.ours, t.embree, t.ours / t.embree);
   for (const std::string& n : r.notes) std::printf("  %s\n", n.c_str());
 
+  std::printf(
+      "\nEmbree's packet calls on the same rays (Mrays/s, median of %d; coherent flag, 8 or 16\n"
+      "consecutive rays of a block per call) against its single-ray call and ours\n",
+      opt.runs);
+  std::printf("%-11s %7s %-8s %10s %10s %10s %10s %12s %9s\n", "mesh", "threads", "kind", "ours",
+              "Embree 1", "Embree 8", "Embree 16", "ours/best", "differ");
+  for (const TraceRow& t : r.traces)
+    std::printf("%-11s %7d %-8s %10.2f %10.2f %10.2f %10.2f %12.3f %9zu\n", t.mesh.c_str(),
+                t.threads, t.kind.c_str(), t.ours, t.embree, t.embree8, t.embree16,
+                t.ours / std::max({t.embree, t.embree8, t.embree16}), t.packet_differs);
+  std::printf(
+      "(ours/best = ours against Embree's fastest call; differ = rays whose packet answer is not\n"
+      " its single-ray answer: hit or miss, t and triangle for primary rays)\n");
+
   std::printf("\nValidation (ours vs Embree; agree = same hit/miss and |dt|/t < %g)\n",
               kRelTolerance);
   std::printf("%-11s %7s %-8s %9s %9s %9s %9s %9s %9s %10s %9s %5s\n", "mesh", "threads", "kind",
@@ -858,6 +1004,10 @@ void write_csv(const Results& r, const std::string& path) {
   for (const TraceRow& t : r.traces)
     f << t.mesh << ',' << t.tris << ',' << t.kind << ',' << t.threads << ',' << t.rays << ','
       << t.ours << ',' << t.embree << ',' << t.ours / t.embree << ",Mrays/s\n";
+  for (const TraceRow& t : r.traces)
+    for (const auto& [calls, rate] : {std::pair{"8", t.embree8}, std::pair{"16", t.embree16}})
+      f << t.mesh << ',' << t.tris << ',' << t.kind << "_embree_packet" << calls << ',' << t.threads
+        << ',' << t.rays << ',' << t.ours << ',' << rate << ',' << t.ours / rate << ",Mrays/s\n";
   for (const Check& c : r.checks)
     f << c.mesh << ",," << c.kind << "_agree," << c.threads << ',' << c.rays << ',' << c.ours << ','
       << c.embree << ',' << c.agree() << ",fraction\n";
