@@ -519,30 +519,20 @@ double trace_embree_shadow(tbb::task_arena& arena, RTCScene scene, const std::ve
 // row of a 16x16 tile of primary rays, 16: a row; the shadow rays of
 // neighbouring hits), lanes past the block's end invalid, with the coherent
 // flag, as an Embree user traces primary rays and shadow rays of a tile.
+template <class RayHitN, class RayN_, auto kIntersect, auto kOccluded>
+struct EmbreePacketCalls {
+  using RayHit = RayHitN;
+  using RayN = RayN_;
+  static constexpr auto intersect = kIntersect;
+  static constexpr auto occluded = kOccluded;
+};
 template <int N>
 struct EmbreePacket;
 template <>
-struct EmbreePacket<8> {
-  using RayHit = RTCRayHit8;
-  using RayN = RTCRay8;
-  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* rh) {
-    rtcIntersect8(v, s, c, rh);
-  }
-  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, RayN* r) {
-    rtcOccluded8(v, s, c, r);
-  }
-};
+struct EmbreePacket<8> : EmbreePacketCalls<RTCRayHit8, RTCRay8, &rtcIntersect8, &rtcOccluded8> {};
 template <>
-struct EmbreePacket<16> {
-  using RayHit = RTCRayHit16;
-  using RayN = RTCRay16;
-  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* rh) {
-    rtcIntersect16(v, s, c, rh);
-  }
-  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, RayN* r) {
-    rtcOccluded16(v, s, c, r);
-  }
-};
+struct EmbreePacket<16>
+    : EmbreePacketCalls<RTCRayHit16, RTCRay16, &rtcIntersect16, &rtcOccluded16> {};
 
 template <int N, class RayN>
 void fill_packet(RayN& p, const std::vector<Ray>& rays, size_t first, size_t end, int* valid) {
