@@ -38,7 +38,10 @@ void pqRayScopeRefinement::renderedOne() {
   vtkSMProxy* proxy = view->getProxy();
   proxy->UpdatePropertyInformation(proxy->GetProperty("ImagePasses"));
   vtkSMPropertyHelper passes(proxy, "ImagePasses");
-  if (passes.GetAsInt(0) >= passes.GetAsInt(1)) return;
+  // Only an image under way: a failed render leaves none (0 passes), and
+  // rendering it again would fail again.
+  const int done = passes.GetAsInt(0), total = passes.GetAsInt(1);
+  if (done < 1 || done >= total) return;
   // After the events already queued (a mouse press starts an interactive
   // render instead).
   QTimer::singleShot(0, view, [view] { view->render(); });
