@@ -8,9 +8,9 @@
  * while an image under way lacks passes (none after a failed render), asks for
  * another still render through the client's render scheduling
  * (pqView::render()), so the GUI stays responsive and a camera move (an
- * interactive render, which starts the image again) takes over at once. The plugin starts it with ParaView's GUI; pvpython
- * and pvbatch render the passes themselves (Render() again, or a screenshot,
- * which completes the image).
+ * interactive render, which starts the image again) takes over at once. The plugin starts it with
+ * ParaView's GUI; pvpython and pvbatch render the passes themselves (Render() again, or a
+ * screenshot, which completes the image).
  */
 #ifndef pqRayScopeRefinement_h
 #define pqRayScopeRefinement_h

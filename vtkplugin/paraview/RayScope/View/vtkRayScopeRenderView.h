@@ -25,10 +25,9 @@
  * On several ranks (pvbatch or pvserver under MPI) the ranks render
  * together: the image algorithm gathers the representations' pieces from
  * every rank when they change, every rank traces a share of the image's
- * tiles (handed out by estimated cost) over the whole scene, and rank 0 assembles the image, which ParaView
- * delivers as its composited image (vtkRayScopeImageAlgorithm::SetController()).
- * Shadows and reflections between pieces on different ranks are there, and
- * the image is the one-rank image.
+ * tiles (handed out by estimated cost) over the whole scene, and rank 0 assembles the image, which
+ * ParaView delivers as its composited image (vtkRayScopeImageAlgorithm::SetController()). Shadows
+ * and reflections between pieces on different ranks are there, and the image is the one-rank image.
  */
 #ifndef vtkRayScopeRenderView_h
 #define vtkRayScopeRenderView_h
