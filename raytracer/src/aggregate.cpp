@@ -64,4 +64,56 @@ std::string Aggregate::walk_legend() const {
   return std::visit([](const auto& s) { return s.walk_legend(); }, structure_);
 }
 
+unsigned Aggregate::intersect_packet(std::span<const Ray> rays, PrimHit* hits) const {
+  if (rays.size() > size_t(kPacketRays))
+    throw std::invalid_argument("Aggregate::intersect_packet: more rays than a packet holds");
+  NullTraversalObserver obs;
+  const BvhWalk* w = use_walk_ ? std::get_if<BvhWalk>(&structure_) : nullptr;
+  RayPacket packet;
+  unsigned found = 0;
+  if (w == nullptr || !packet.load(rays)) {
+    for (size_t k = 0; k < rays.size(); ++k)
+      if (intersect(rays[k], hits[k], obs)) found |= 1u << k;
+    return found;
+  }
+  TrianglePrecomp pre[kPacketRays];
+  ClosestSoFar closest[kPacketRays];
+  for (size_t k = 0; k < rays.size(); ++k) pre[k] = TrianglePrecomp(rays[k]);
+  auto prim = [&](unsigned lane, uint32_t i, float& t, const TriangleHit* decided)
+      __attribute__((always_inline)) {
+    return offer_closest(i, rays[lane], pre[lane], t, decided, closest[lane], obs);
+  };
+  w->traverse_packet<false>(packet, pre, prim);
+  for (size_t k = 0; k < rays.size(); ++k)
+    if (closest_with_planes(rays[k], packet.tmax[k], closest[k], hits[k], obs)) found |= 1u << k;
+  return found;
+}
+
+unsigned Aggregate::occluded_packet(std::span<const Ray> rays) const {
+  if (rays.size() > size_t(kPacketRays))
+    throw std::invalid_argument("Aggregate::occluded_packet: more rays than a packet holds");
+  NullTraversalObserver obs;
+  const BvhWalk* w = use_walk_ ? std::get_if<BvhWalk>(&structure_) : nullptr;
+  RayPacket packet;
+  unsigned found = 0;
+  if (w == nullptr || !packet.load(rays)) {
+    for (size_t k = 0; k < rays.size(); ++k)
+      if (occluded(rays[k], obs)) found |= 1u << k;
+    return found;
+  }
+  TrianglePrecomp pre[kPacketRays];
+  for (size_t k = 0; k < rays.size(); ++k) {
+    float tp;
+    if (first_plane_hit(rays[k], tp) >= 0) found |= 1u << k;
+    pre[k] = TrianglePrecomp(rays[k]);
+  }
+  packet.valid &= ~found;
+  auto prim = [&](unsigned lane, uint32_t i, float& t, const TriangleHit* decided)
+      __attribute__((always_inline)) {
+    TriangleHit th;
+    return decided != nullptr || test_prim(records_[i], rays[lane], pre[lane], t, false, th);
+  };
+  return found | w->traverse_packet<true>(packet, pre, prim);
+}
+
 }  // namespace rayscope

@@ -34,6 +34,7 @@ struct TrianglePrecomp {
   Vec3 origin_k;  ///< The origin permuted to (kx, ky, kz).
   Vec3 dir_k;     ///< The direction permuted to (kx, ky, kz), for the exact test.
 
+  TrianglePrecomp() = default;  ///< Uninitialised: for arrays filled ray by ray.
   explicit TrianglePrecomp(const Ray& ray) : origin(ray.origin) {
     kz = max_dimension(glm::abs(ray.dir));
     kx = kz + 1 == 3 ? 0 : kz + 1;

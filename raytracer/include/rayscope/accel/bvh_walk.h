@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <new>
 #include <span>
 #include <string>
 #include <vector>
@@ -16,7 +17,9 @@
 #include "rayscope/accel/bvh.h"
 #include "rayscope/accel/prim_record.h"
 #include "rayscope/accel/triangle_block.h"
+#include "rayscope/accel/triangle_packet.h"
 #include "rayscope/accel/wide_bvh.h"
+#include "rayscope/accel/wide_bvh_packet.h"
 
 namespace rayscope {
 
@@ -47,6 +50,12 @@ class BvhWalk {
   template <bool AnyHit, class Observer, class PrimFn>
   [[gnu::always_inline]] bool traverse(const Ray& ray, const TrianglePrecomp& pre, float& tmax,
                                        PrimFn&& prim, Observer& obs) const;
+  /// traverse() for the rays of a packet (wide_bvh_packet.h), with each
+  /// lane's triangle-test constants (pre[lane]): `prim(lane, record, tmax,
+  /// decided)` is traverse()'s prim for the ray in `lane`. Returns the lanes
+  /// that hit something; packet.tmax holds their closest hits.
+  template <bool AnyHit, class PrimFn>
+  unsigned traverse_packet(RayPacket& packet, const TrianglePrecomp* pre, PrimFn&& prim) const;
   /// The binary tree's range walk (Bvh::walk_range).
   template <class Range, class Observer, class PrimFn>
   void walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
@@ -69,6 +78,15 @@ class BvhWalk {
   const std::vector<TriangleBlock>& triangle_blocks() const { return blocks_; }
 
  private:
+  /// A leaf's `count` records from its first block `block` on, through the
+  /// block test: `prim(record, tmax, decided)` for the records the block test
+  /// hits (`decided`: that hit) or leaves undecided (null), in record order,
+  /// so that it finds what the plain loop finds.
+  template <bool AnyHit, class PrimFn>
+  [[gnu::always_inline]] bool test_blocks(uint32_t block, uint32_t count,
+                                          const TriangleBlockRay& block_ray, float& tmax,
+                                          PrimFn&& prim) const;
+
   AccelKind kind_ = AccelKind::Bvh;
   std::shared_ptr<const Bvh> hierarchy_;
   WideBvh walk_;
@@ -91,31 +109,103 @@ inline bool BvhWalk::traverse(const Ray& ray, const TrianglePrecomp& pre, float&
   } else {
     const TriangleBlockRay block_ray(pre);
     auto blocks = [&](uint32_t block, uint32_t count, float& t) __attribute__((always_inline)) {
-      bool found = false;
-      const TriangleBlock* b = &blocks_[block];
-      const uint32_t first = b->first;
-      TriangleBlockResult res;
-      for (uint32_t base = first; base < first + count; base += TriangleBlock::kLanes, ++b) {
-        test_triangle_block<!AnyHit>(*b, block_ray, t, res);
+      return test_blocks<AnyHit>(block, count, block_ray, t, prim);
+    };
+    return walk_.traverse<AnyHit>(ray, tmax, blocks, obs);
+  }
+}
+
+template <bool AnyHit, class PrimFn>
+[[gnu::always_inline]] inline bool BvhWalk::test_blocks(uint32_t block, uint32_t count,
+                                                        const TriangleBlockRay& block_ray,
+                                                        float& tmax, PrimFn&& prim) const {
+  bool found = false;
+  const TriangleBlock* b = &blocks_[block];
+  const uint32_t first = b->first;
+  TriangleBlockResult res;
+  for (uint32_t base = first; base < first + count; base += TriangleBlock::kLanes, ++b) {
+    test_triangle_block<!AnyHit>(*b, block_ray, tmax, res);
+    for (unsigned m = res.hits | res.undecided; m != 0; m &= m - 1) {
+      const unsigned k = unsigned(__builtin_ctz(m));
+      TriangleHit th;
+      const TriangleHit* decided = nullptr;
+      if ((res.hits >> k) & 1u) {
+        th = res.hit(k);
+        if (!(th.t <= tmax)) continue;  // beyond a hit found in this block
+        decided = &th;
+      }
+      if (prim(base + k, tmax, decided)) {
+        found = true;
+        if constexpr (AnyHit) return true;
+      }
+    }
+  }
+  return found;
+}
+
+template <bool AnyHit, class PrimFn>
+inline unsigned BvhWalk::traverse_packet(RayPacket& packet, const TrianglePrecomp* pre,
+                                         PrimFn&& prim) const {
+  TrianglePacketRays together;
+  if (together.load(pre, packet.valid)) {
+    // The rays share the triangle test's axes: each triangle is tested for
+    // all of them at once, in record order.
+    auto leaf = [&](unsigned lanes, uint32_t block, uint32_t count) __attribute__((always_inline)) {
+      unsigned found = 0;
+      const uint32_t first = blocks_[block].first;
+      TrianglePacketResult res;
+      for (uint32_t j = 0; j < count; ++j) {
+        const TriangleBlock& b = blocks_[block + j / TriangleBlock::kLanes];
+        test_triangle_packet(b, j % TriangleBlock::kLanes, together, packet.tmax, lanes, res);
         for (unsigned m = res.hits | res.undecided; m != 0; m &= m - 1) {
           const unsigned k = unsigned(__builtin_ctz(m));
           TriangleHit th;
           const TriangleHit* decided = nullptr;
           if ((res.hits >> k) & 1u) {
             th = res.hit(k);
-            if (!(th.t <= t)) continue;  // beyond a hit found in this block
             decided = &th;
           }
-          if (prim(base + k, t, decided)) {
-            found = true;
-            if constexpr (AnyHit) return true;
+          float t = packet.tmax[k];
+          if (prim(k, first + j, t, decided)) {
+            packet.tmax[k] = t;
+            found |= 1u << k;
+            if constexpr (AnyHit) lanes &= ~(1u << k);
           }
         }
+        if constexpr (AnyHit)
+          if (lanes == 0) break;
       }
       return found;
     };
-    return walk_.traverse<AnyHit>(ray, tmax, blocks, obs);
+    return walk_.traverse_packet<AnyHit>(packet, leaf);
   }
+  // Otherwise each ray's leaves go through the block test, ray by ray, with
+  // each lane's block-test constants made once per packet.
+  union Lane {
+    TriangleBlockRay ray;
+    Lane() {}
+  } rays[kPacketRays];
+  for (unsigned m = packet.valid; m != 0; m &= m - 1) {
+    const unsigned k = unsigned(__builtin_ctz(m));
+    new (&rays[k].ray) TriangleBlockRay(pre[k]);
+  }
+  auto leaf = [&](unsigned lanes, uint32_t block, uint32_t count) __attribute__((always_inline)) {
+    unsigned found = 0;
+    for (; lanes != 0; lanes &= lanes - 1) {
+      const unsigned k = unsigned(__builtin_ctz(lanes));
+      auto lane_prim = [&](uint32_t record, float& t, const TriangleHit* decided)
+          __attribute__((always_inline)) {
+        return prim(k, record, t, decided);
+      };
+      float t = packet.tmax[k];
+      if (test_blocks<AnyHit>(block, count, rays[k].ray, t, lane_prim)) {
+        packet.tmax[k] = t;
+        found |= 1u << k;
+      }
+    }
+    return found;
+  };
+  return walk_.traverse_packet<AnyHit>(packet, leaf);
 }
 
 }  // namespace rayscope

@@ -34,6 +34,7 @@
 #endif
 
 #include "rayscope/accel/bvh.h"
+#include "rayscope/accel/ray_packet.h"
 #include "rayscope/traversal.h"
 
 namespace rayscope {
@@ -115,6 +116,16 @@ class WideBvh {
   /// boxes of each inner node tested.
   template <bool AnyHit, class Observer, class LeafFn>
   bool traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs) const;
+
+  /// traverse() for the rays of a packet at once (wide_bvh_packet.h):
+  /// `leaf(lanes, label, count)` tests the leaf's primitives for the rays in
+  /// `lanes`, as traverse()'s leaf does for one ray, lowers their tmax in
+  /// packet.tmax at each hit, and returns the lanes that hit. Each ray tests
+  /// every leaf its own walk would reach, and maybe a few more; with AnyHit a
+  /// ray leaves the packet at its first hit. Returns the lanes that hit
+  /// something.
+  template <bool AnyHit, class LeafFn>
+  unsigned traverse_packet(RayPacket& packet, LeafFn&& leaf) const;
 
   std::vector<WideBvhNode> nodes;  ///< nodes[0] is the root unless the root is a leaf.
   /// Binary node id of child slot k of wide node n at [kWidth n + k]; ~0u for

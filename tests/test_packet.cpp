@@ -1,0 +1,283 @@
+// Packets (ray_packet.h, wide_bvh_packet.h, triangle_packet.h): rays traced
+// together give the single-ray walk's answers bit for bit (t, barycentrics,
+// record and primitive, plane; occluded or not), on every scene in
+// data/scenes/ (primary rays in 4x4 blocks and in rows of 16, shadow rays from
+// their hits toward each light) and on adversarial rays (through vertices and
+// shared edges, where the tie rule decides; mixed direction signs and dominant
+// axes; short tmax; packets of 1 to 16 rays; rays from inside a closed mesh).
+//
+// This file is compiled three times (tests/CMakeLists.txt): for the build
+// machine, without AVX-512 and without AVX, so that the packet walk of every
+// instruction set is run here. The Aggregate's packet calls are compiled in
+// the core for the build machine; the walk itself, a header template, is
+// instantiated in this file by PacketWalkOfThisFile with this file's
+// instruction set.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "rayscope/accel/bvh_walk.h"
+#include "rayscope/camera.h"
+#include "rayscope/scene.h"
+#include "rayscope/scene_io.h"
+#include "rayscope/shapes.h"
+#include "rayscope_vtkio/mesh_files.h"
+#include "test_util.h"
+
+#if defined(RAYSCOPE_PACKET_TEST_NO_AVX512) && defined(__AVX512F__)
+#error "this build of test_packet must be compiled without AVX-512"
+#endif
+#if defined(RAYSCOPE_PACKET_TEST_NO_AVX) && defined(__AVX__)
+#error "this build of test_packet must be compiled without AVX"
+#endif
+
+namespace {
+
+using namespace rayscope;
+
+bool same_bits(float a, float b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+/// Whether two closest hits are the same, bit for bit.
+::testing::AssertionResult same_hit(const PrimHit& a, const PrimHit& b) {
+  if (same_bits(a.t, b.t) && same_bits(a.b0, b.b0) && same_bits(a.b1, b.b1) &&
+      same_bits(a.b2, b.b2) && a.record == b.record && a.prim == b.prim && a.plane == b.plane)
+    return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure()
+         << "t " << a.t << " vs " << b.t << ", prim " << a.prim << " vs " << b.prim << ", plane "
+         << a.plane << " vs " << b.plane << ", b0 " << a.b0 << " vs " << b.b0;
+}
+
+/// The closest hits of up to kPacketRays rays through the packet walk
+/// instantiated in this file (its instruction set), for scenes of triangles
+/// only, with the aggregate's tie rule written out: at equal t the higher
+/// triangle index wins. Returns the lanes hit; hits[k].t and .prim filled.
+unsigned packet_walk_of_this_file(const Scene& scene, std::span<const Ray> rays, PrimHit* hits) {
+  const Aggregate& a = scene.accel();
+  RayPacket packet;
+  if (!packet.load(rays)) return ~0u;
+  TrianglePrecomp pre[kPacketRays];
+  uint32_t best[kPacketRays];
+  for (size_t k = 0; k < rays.size(); ++k) {
+    pre[k] = TrianglePrecomp(rays[k]);
+    best[k] = ~0u;
+  }
+  auto prim = [&](unsigned lane, uint32_t i, float& t, const TriangleHit* decided) {
+    const PrimRecord& r = a.records()[i];
+    TriangleHit th;
+    if (!(decided ? (th = *decided, true) : intersect_triangle(pre[lane], t, r.a, r.b, r.c, th)))
+      return false;
+    if (!(th.t < t || best[lane] == ~0u || r.id > a.records()[best[lane]].id)) return false;
+    t = th.t;
+    best[lane] = i;
+    hits[lane].b0 = th.b0;
+    hits[lane].b1 = th.b1;
+    hits[lane].b2 = th.b2;
+    return true;
+  };
+  const unsigned found = a.structure_as<BvhWalk>().traverse_packet<false>(packet, pre, prim);
+  for (size_t k = 0; k < rays.size(); ++k) {
+    if (!((found >> k) & 1u)) continue;
+    hits[k].t = packet.tmax[k];
+    hits[k].record = best[k];
+    hits[k].prim = a.records()[best[k]].id;
+    hits[k].plane = -1;
+  }
+  return found;
+}
+
+/// Checks Scene::intersect_packet and occluded_packet against the single-ray
+/// calls for `rays`, taken `n` at a time. Adds to `walked` the number of
+/// packets the packet walk took (the others are traced ray by ray).
+void check_packets(const Scene& scene, const std::vector<Ray>& rays, size_t n,
+                   const std::string& what, size_t* walked = nullptr) {
+  for (size_t first = 0; first < rays.size(); first += n) {
+    const std::span<const Ray> part(rays.data() + first, std::min(n, rays.size() - first));
+    if (RayPacket probe; walked && probe.load(part)) ++*walked;
+    PrimHit hits[kPacketRays];
+    const unsigned found = scene.intersect_packet(part, hits);
+    const unsigned occluded = scene.occluded_packet(part);
+    for (size_t k = 0; k < part.size(); ++k) {
+      PrimHit single;
+      const bool hit = scene.intersect(part[k], single);
+      ASSERT_EQ(hit, bool((found >> k) & 1u)) << what << ", ray " << first + k;
+      if (hit) {
+        ASSERT_TRUE(same_hit(hits[k], single)) << what << ", ray " << first + k;
+      }
+      ASSERT_EQ(scene.occluded(part[k]), bool((occluded >> k) & 1u))
+          << what << ", ray " << first + k;
+    }
+  }
+}
+
+/// The primary rays of `cam` at w x h, in blocks of bw x bh pixels (each
+/// block's rays row by row), blocks row by row.
+std::vector<Ray> primary_blocks(Camera cam, int w, int h, int bw, int bh) {
+  cam.prepare(w, h);
+  std::vector<Ray> rays;
+  for (int by = 0; by < h; by += bh)
+    for (int bx = 0; bx < w; bx += bw)
+      for (int y = by; y < std::min(by + bh, h); ++y)
+        for (int x = bx; x < std::min(bx + bw, w); ++x)
+          rays.push_back(cam.generate_ray(float(x) + 0.5f, float(y) + 0.5f));
+  return rays;
+}
+
+/// Shadow rays from the hits of `primary` toward each light, spawned as the
+/// integrator spawns them, in the primary rays' order (so neighbouring hits'
+/// rays share a packet).
+std::vector<Ray> shadow_rays(const Scene& scene, const std::vector<Ray>& primary) {
+  std::vector<Ray> rays;
+  for (const Light& light : scene.lights)
+    for (const Ray& r : primary) {
+      SurfaceHit h;
+      if (!scene.intersect(r, h)) continue;
+      const Vec3 ng = glm::dot(r.dir, h.ng) < 0.0f ? h.ng : -h.ng;
+      if (light.type == Light::Type::Point)
+        rays.push_back(spawn_ray_to(h.p, h.p_error, ng, light.position));
+      else
+        rays.push_back(spawn_ray(h.p, h.p_error, ng, -light.direction));
+    }
+  return rays;
+}
+
+TEST(Packets, EveryDataSceneGivesTheSingleRayHits) {
+  const std::filesystem::path dir = std::filesystem::path(RAYSCOPE_SOURCE_DIR) / "data/scenes";
+  size_t scenes = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".json") continue;
+    SCOPED_TRACE(entry.path().filename().string());
+    LoadedScene ls = load_scene(entry.path(), rayscope_vtkio::load_meshes);
+    Scene& scene = ls.scene;
+    scene.commit();
+    ++scenes;
+    const std::string name = entry.path().filename().string();
+    const std::vector<Ray> blocks = primary_blocks(scene.camera, 96, 72, 4, 4);
+    const std::vector<Ray> rows = primary_blocks(scene.camera, 96, 72, 16, 1);
+    size_t walked = 0;
+    check_packets(scene, blocks, kPacketRays, name + " 4x4", &walked);
+    check_packets(scene, rows, kPacketRays, name + " rows");
+    check_packets(scene, shadow_rays(scene, blocks), kPacketRays, name + " shadow");
+    // Coherent primary rays take the packet walk (unless the structure is too
+    // small to walk): most blocks agree on their directions' signs.
+    if (scene.accel().walks_structure()) {
+      EXPECT_GT(walked, blocks.size() / kPacketRays / 2) << name;
+    }
+  }
+  EXPECT_GE(scenes, 8u);
+}
+
+/// A closed icosphere and a flat grid of triangles with shared edges and
+/// vertices, over a floor plane.
+Scene adversarial_scene() {
+  Scene s;
+  Material m;
+  m.name = "m";
+  s.materials = {m};
+  TriangleMesh ball = make_icosphere(Vec3(0.0f), 1.0f, 3);
+  ball.material = 0;
+  TriangleMesh grid;
+  const int n = 8;
+  for (int y = 0; y <= n; ++y)
+    for (int x = 0; x <= n; ++x)
+      grid.positions.push_back(Vec3(float(x) - 4.0f, float(y) - 4.0f, -2.0f));
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const unsigned i = unsigned(y * (n + 1) + x);
+      grid.triangles.push_back({i, i + 1, i + unsigned(n) + 2});
+      grid.triangles.push_back({i, i + unsigned(n) + 2, i + unsigned(n) + 1});
+    }
+  grid.material = 0;
+  s.meshes = {ball, grid};
+  s.planes = {Plane{"floor", Vec3(0.0f, -3.0f, 0.0f), Vec3(0.0f, 1.0f, 0.0f), 0}};
+  Light l;
+  l.position = Vec3(0.0f, 5.0f, 5.0f);
+  s.lights = {l};
+  return s;
+}
+
+TEST(Packets, AdversarialRaysGiveTheSingleRayHits) {
+  Scene scene = adversarial_scene();
+  scene.commit();
+  rstest::Rng rng(7);
+  std::vector<Ray> rays;
+  // Through the grid's vertices and edge midpoints from one eye: exact ties.
+  const Vec3 eye(0.0f, 0.0f, 6.0f);
+  for (int y = -4; y <= 4; ++y)
+    for (int x = -4; x <= 4; ++x)
+      for (const Vec3 off : {Vec3(0.0f), Vec3(0.5f, 0.0f, 0.0f), Vec3(0.5f, 0.5f, 0.0f)})
+        rays.push_back(Ray{eye, Vec3(float(x), float(y), -2.0f) + off - eye, kInfinity});
+  // From inside the ball, every direction (mixed signs).
+  for (int i = 0; i < 160; ++i)
+    rays.push_back(Ray{Vec3(0.1f, -0.2f, 0.05f), Vec3(rng.unit_vector()), kInfinity});
+  // Coherent rays with short and shrinking tmax, and axis-aligned directions
+  // (zero components: infinite reciprocals of both signs).
+  for (int i = 0; i < 160; ++i) {
+    const float x = -1.5f + 3.0f * float(i % 16) / 15.0f;
+    rays.push_back(Ray{Vec3(x, 0.3f, 5.0f), Vec3(0.0f, 0.0f, -1.0f), 3.0f + 0.05f * float(i)});
+  }
+  for (int i = 0; i < 48; ++i)
+    rays.push_back(Ray{Vec3(-5.0f, 0.25f * float(i % 8) - 1.0f, 0.0f),
+                       Vec3(i % 2 ? 1.0f : -1.0f, 0.0f, i % 3 ? 0.0f : -0.0f), kInfinity});
+  // Rays whose dominant axis differs within a packet.
+  for (int i = 0; i < 64; ++i)
+    rays.push_back(
+        Ray{Vec3(0.0f, 0.0f, 4.0f), Vec3(0.02f * float(i), -0.01f * float(i), -1.0f), kInfinity});
+  for (size_t n = 1; n <= size_t(kPacketRays); ++n)
+    check_packets(scene, rays, n, "adversarial, " + std::to_string(n) + " per packet");
+  check_packets(scene, shadow_rays(scene, rays), kPacketRays, "adversarial shadow");
+}
+
+TEST(Packets, PacketWalkOfThisFileGivesTheSingleRayHits) {
+  // Triangles only (the walk's own tie rule above), a mesh the size of a
+  // small model, viewed from several sides.
+  Scene scene;
+  Material m;
+  m.name = "m";
+  scene.materials = {m};
+  TriangleMesh ball = subdivide(make_icosphere(Vec3(0.0f), 1.0f, 3));
+  for (Vec3& p : ball.positions) p *= Vec3(1.0f + 0.3f * std::sin(7.0f * p.y), 1.0f, 1.0f);
+  ball.material = 0;
+  scene.meshes = {ball};
+  scene.commit();
+  ASSERT_TRUE(scene.accel().walks_structure());
+  size_t walked = 0;
+  for (const Vec3 eye :
+       {Vec3(0.2f, 0.3f, 3.0f), Vec3(-3.0f, 1.0f, -0.5f), Vec3(0.1f, -2.5f, 0.4f)}) {
+    Camera cam;
+    cam.eye = eye;
+    const std::vector<Ray> rays = primary_blocks(cam, 64, 64, 4, 4);
+    for (size_t first = 0; first < rays.size(); first += kPacketRays) {
+      const std::span<const Ray> part(rays.data() + first, kPacketRays);
+      PrimHit hits[kPacketRays];
+      const unsigned found = packet_walk_of_this_file(scene, part, hits);
+      if (found == ~0u) continue;  // signs differ: not a packet
+      ++walked;
+      for (size_t k = 0; k < part.size(); ++k) {
+        PrimHit single;
+        const bool hit = scene.intersect(part[k], single);
+        ASSERT_EQ(hit, bool((found >> k) & 1u)) << "ray " << first + k;
+        if (hit) {
+          ASSERT_TRUE(same_hit(hits[k], single)) << "ray " << first + k;
+        }
+      }
+    }
+  }
+  EXPECT_GT(walked, 3 * 64 * 64 / kPacketRays / 2);
+}
+
+TEST(Packets, TooManyRaysAreRefused) {
+  Scene scene = adversarial_scene();
+  scene.commit();
+  std::vector<Ray> rays(kPacketRays + 1);
+  PrimHit hits[kPacketRays + 1];
+  EXPECT_THROW(scene.intersect_packet(rays, hits), std::invalid_argument);
+  EXPECT_THROW(scene.occluded_packet(rays), std::invalid_argument);
+  EXPECT_EQ(scene.intersect_packet({}, hits), 0u);
+}
+
+}  // namespace
