@@ -54,7 +54,7 @@ using LaneBits = int32_t __attribute__((vector_size(kPacketRays * sizeof(int32_t
 /// sets, which GCC warns about.)
 [[gnu::always_inline]] inline unsigned lane_mask(const LaneBits& c) {
 #if defined(__AVX512F__)
-  return _mm512_movepi32_mask(reinterpret_cast<const __m512i&>(c));
+  return _mm512_cmplt_epi32_mask(reinterpret_cast<const __m512i&>(c), _mm512_setzero_si512());
 #elif defined(__AVX__)
   const __m256* h = reinterpret_cast<const __m256*>(&c);
   return unsigned(_mm256_movemask_ps(h[0])) | unsigned(_mm256_movemask_ps(h[1])) << 8;
