@@ -1,6 +1,7 @@
 #include "rayscope/aggregate.h"
 
 #include <stdexcept>
+#include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -64,14 +65,20 @@ std::string Aggregate::walk_legend() const {
   return std::visit([](const auto& s) { return s.walk_legend(); }, structure_);
 }
 
-unsigned Aggregate::intersect_packet(std::span<const Ray> rays, PrimHit* hits) const {
+const BvhWalk* Aggregate::packet_walk(std::span<const Ray> rays, RayPacket& packet) const {
   if (rays.size() > size_t(kPacketRays))
-    throw std::invalid_argument("Aggregate::intersect_packet: more rays than a packet holds");
-  NullTraversalObserver obs;
+    throw std::invalid_argument("Aggregate: " + std::to_string(rays.size()) +
+                                " rays for a packet of at most " + std::to_string(kPacketRays));
   const BvhWalk* w = use_walk_ ? std::get_if<BvhWalk>(&structure_) : nullptr;
+  return w != nullptr && packet.load(rays) ? w : nullptr;
+}
+
+unsigned Aggregate::intersect_packet(std::span<const Ray> rays, PrimHit* hits) const {
+  NullTraversalObserver obs;
   RayPacket packet;
+  const BvhWalk* w = packet_walk(rays, packet);
   unsigned found = 0;
-  if (w == nullptr || !packet.load(rays)) {
+  if (w == nullptr) {
     for (size_t k = 0; k < rays.size(); ++k)
       if (intersect(rays[k], hits[k], obs)) found |= 1u << k;
     return found;
@@ -90,13 +97,11 @@ unsigned Aggregate::intersect_packet(std::span<const Ray> rays, PrimHit* hits) c
 }
 
 unsigned Aggregate::occluded_packet(std::span<const Ray> rays) const {
-  if (rays.size() > size_t(kPacketRays))
-    throw std::invalid_argument("Aggregate::occluded_packet: more rays than a packet holds");
   NullTraversalObserver obs;
-  const BvhWalk* w = use_walk_ ? std::get_if<BvhWalk>(&structure_) : nullptr;
   RayPacket packet;
+  const BvhWalk* w = packet_walk(rays, packet);
   unsigned found = 0;
-  if (w == nullptr || !packet.load(rays)) {
+  if (w == nullptr) {
     for (size_t k = 0; k < rays.size(); ++k)
       if (occluded(rays[k], obs)) found |= 1u << k;
     return found;

@@ -166,6 +166,12 @@ class Aggregate {
     return a < num_triangles_ ? (b >= num_triangles_ || a > b) : (b >= num_triangles_ && a < b);
   }
 
+  /// The walk a packet of `rays` takes: the BVH's, with the rays loaded into
+  /// `packet`; null when they are traced one at a time (another structure,
+  /// or rays that disagree on a direction sign). Throws std::invalid_argument
+  /// for more than kPacketRays rays.
+  const BvhWalk* packet_walk(std::span<const Ray> rays, RayPacket& packet) const;
+
   /// The closest hit so far of one ray: its record, global primitive index
   /// and triangle hit (record ~0u: nothing yet).
   struct ClosestSoFar {

@@ -21,6 +21,7 @@
 #include <immintrin.h>
 #endif
 
+#include "rayscope/isa.h"
 #include "rayscope/math.h"
 #include "rayscope/ray.h"
 
@@ -31,18 +32,7 @@ inline constexpr int kPacketRays = 16;
 
 namespace packet_detail {
 
-// The instruction set names the namespace, so that translation units compiled
-// for different instruction sets (the tests build the packet walk for each)
-// never share an inline function or type whose code depends on it.
-#if defined(__AVX512F__)
-inline namespace avx512 {
-#elif defined(__AVX__)
-inline namespace avx {
-#elif defined(__SSE2__)
-inline namespace sse {
-#else
-inline namespace scalar {
-#endif
+inline namespace RAYSCOPE_ISA {  // isa.h
 
 /// One float per ray of a packet.
 using Lanes = float __attribute__((vector_size(kPacketRays * sizeof(float))));
@@ -121,7 +111,7 @@ struct alignas(64) RayPacket {
   }
 };
 
-}  // namespace avx512 / avx / sse / scalar
+}  // namespace RAYSCOPE_ISA
 }  // namespace packet_detail
 
 using packet_detail::RayPacket;

@@ -18,19 +18,12 @@
 #include "rayscope/accel/ray_packet.h"
 #include "rayscope/accel/triangle_block.h"
 #include "rayscope/intersect.h"
+#include "rayscope/isa.h"
 
 namespace rayscope {
 namespace packet_detail {
 
-#if defined(__AVX512F__)
-inline namespace avx512 {
-#elif defined(__AVX__)
-inline namespace avx {
-#elif defined(__SSE2__)
-inline namespace sse {
-#else
-inline namespace scalar {
-#endif
+inline namespace RAYSCOPE_ISA {  // isa.h
 
 /// The packet's rays as the triangle test sees them (TrianglePrecomp, per lane).
 struct alignas(64) TrianglePacketRays {
@@ -151,7 +144,7 @@ struct alignas(64) TrianglePacketResult {
   out.b2 = e2 * inv_det;
 }
 
-}  // namespace avx512 / avx / sse / scalar
+}  // namespace RAYSCOPE_ISA
 }  // namespace packet_detail
 
 using packet_detail::TrianglePacketRays;

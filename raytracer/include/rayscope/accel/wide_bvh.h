@@ -35,6 +35,7 @@
 
 #include "rayscope/accel/bvh.h"
 #include "rayscope/accel/ray_packet.h"
+#include "rayscope/isa.h"
 #include "rayscope/traversal.h"
 
 namespace rayscope {
@@ -148,17 +149,7 @@ class WideBvh {
 
 namespace wide_bvh_detail {
 
-// The box test's instruction set names the namespace its code lives in, so
-// that translation units compiled for different instruction sets (the tests
-// build this walk without AVX too, to run the fallback) never share an
-// inline function or a RayBoxes layout.
-#if defined(__AVX__)
-inline namespace avx {
-#elif defined(__SSE2__)
-inline namespace sse {
-#else
-inline namespace scalar {
-#endif
+inline namespace RAYSCOPE_ISA {  // isa.h: the tests build this walk without AVX too
 
 /// Per-ray constants of the 8-wide box test.
 struct RayBoxes {
@@ -285,7 +276,22 @@ inline unsigned intersect_boxes_scalar(const WideBvhNode& n, const RayBoxes& r, 
 #endif
 }
 
-}  // namespace avx / sse / scalar
+/// Sorts the child slots ks[0 .. m) by key[slot], farthest first; of equal
+/// keys the later slot first, so that the earlier is visited first (the
+/// binary tree's order). Insertion sort: m is at most eight.
+[[gnu::always_inline]] inline void sort_farthest_first(unsigned* ks, int m, const float* key) {
+  for (int a = 1; a < m; ++a) {
+    const unsigned x = ks[a];
+    int b = a - 1;
+    while (b >= 0 && key[ks[b]] <= key[x]) {
+      ks[b + 1] = ks[b];
+      --b;
+    }
+    ks[b + 1] = x;
+  }
+}
+
+}  // namespace RAYSCOPE_ISA
 }  // namespace wide_bvh_detail
 
 template <bool AnyHit, class Observer, class LeafFn>
@@ -373,15 +379,7 @@ bool WideBvh::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs
         unsigned ks[WideBvhNode::kWidth] = {k0, k1};
         int m = 2;
         for (; mask != 0; mask &= mask - 1) ks[m++] = unsigned(__builtin_ctz(mask));
-        for (int a = 1; a < m; ++a) {
-          const unsigned x = ks[a];
-          int b = a - 1;
-          while (b >= 0 && d[ks[b]] <= d[x]) {
-            ks[b + 1] = ks[b];
-            --b;
-          }
-          ks[b + 1] = x;
-        }
+        wide_bvh_detail::sort_farthest_first(ks, m, d);
         for (int a = 0; a < m - 1; ++a) {
           const unsigned k = ks[a];
           assert(sp < kStackSize);

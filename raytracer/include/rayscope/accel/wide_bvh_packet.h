@@ -106,17 +106,9 @@ unsigned WideBvh::traverse_packet(RayPacket& p, LeafFn&& leaf) const {
       }
       if (m != 0) {
         if constexpr (!AnyHit) {
-          // Farthest first (of equal keys the later slot first), so that the
-          // nearest is visited next and the others are pushed.
-          for (int a = 1; a < m; ++a) {
-            const unsigned x = ks[a];
-            int b = a - 1;
-            while (b >= 0 && key[ks[b]] <= key[x]) {
-              ks[b + 1] = ks[b];
-              --b;
-            }
-            ks[b + 1] = x;
-          }
+          // Farthest first, so that the nearest is visited next and the
+          // others are pushed.
+          wide_bvh_detail::sort_farthest_first(ks, m, key);
         }
         for (int a = 0; a < m - 1; ++a) {
           const unsigned k = ks[a];
