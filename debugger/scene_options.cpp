@@ -12,6 +12,7 @@
 
 #include "rayscope/input_file.h"
 #include "rayscope/intersect_capsule.h"
+#include "rayscope/render_block.h"
 #include "rayscope/shapes.h"
 #include "rayscope_vtkio/dataset_leaves.h"
 #include "rayscope_vtkio/mesh_conversion.h"
@@ -128,6 +129,11 @@ void SceneOptions::add_to(CLI::App* cmd, bool render_settings, bool walk_option)
     cmd->add_flag("--texture-filter", texture_filter,
                   "Box-filter the checkerboard over each primary sample's footprint (ray "
                   "differentials) instead of point sampling it");
+    cmd->add_flag("--single-rays", single_rays,
+                  "Trace every ray alone, not the primary rays of " + std::to_string(kBlockSide) +
+                      "x" + std::to_string(kBlockSide) +
+                      " pixel blocks and their shadow rays as packets (the same image, slower; "
+                      "for comparing the walks)");
     cmd->add_option("--seed", seed, "Seed of the sample jitter" + in(0, RS::kMaxSeed));
     cmd->add_option("-t,--threads", threads, "Threads, 0: all" + in(0, RS::kMaxThreads));
   }
@@ -250,6 +256,7 @@ LoadedScene SceneOptions::load() const {
   if (max_samples) set("--max-spp", [&] { rs.max_samples = *max_samples; });
   if (target_error) set("--target-error", [&] { rs.target_error = *target_error; });
   if (texture_filter) rs.texture_filter = true;
+  if (single_rays) rs.packets = false;
   set("--threads", [&] { rs.threads = threads; });
   if (mesh) frame_mesh(loaded.scene, rs);
   AccelConfig accel_config;

@@ -35,6 +35,7 @@ struct SceneOptions {
   std::optional<int> max_samples;
   std::optional<float> target_error;
   bool texture_filter = false;
+  bool single_rays = false;
   int threads = 0;
   /// The structure rays walk (rayscope::parse_accel_kind names it): "bvh",
   /// "bvh2" (the binary teaching walk), "kdtree", "grid", "octree", "bsp",

@@ -4,6 +4,9 @@
 // the recorder its policy gives it. It is the only loop over an image's pixels
 // in RayScope: plain renders, statistics, renders that record selected pixels'
 // ray trees, and the VTK BVH source's visit counts are policies of it.
+// Pixels of a policy without a recorder (Recorder = NullRecorder) are
+// rendered in blocks whose primary and shadow rays are traced as packets
+// (render_block.h, when renders_in_blocks()); the others one by one.
 //
 // A policy derives from FramePolicy and overrides what it needs:
 //   using Recorder = ...;                  the integrator's recorder for a pixel
@@ -33,6 +36,7 @@
 #include <algorithm>
 #include <atomic>
 #include <mutex>
+#include <type_traits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -40,6 +44,7 @@
 #include <tbb/task_arena.h>
 
 #include "rayscope/render.h"
+#include "rayscope/render_block.h"
 #include "rayscope/tiles.h"
 
 namespace rayscope {
@@ -92,8 +97,21 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
   std::atomic<size_t> done{0};
   std::mutex progress_mutex;
   tbb::enumerable_thread_specific<RayCounters> local;
+  const bool blocks = std::is_same_v<Recorder, NullRecorder> && renders_in_blocks(scene, settings);
 
   auto frame = [&]<bool kShadows, bool kSecondary>() {
+    // A pixel's results into the framebuffer.
+    auto store = [&](int x, int y, size_t i, const Color& c, const SurfaceHit& hit, bool any,
+                     int taken) {
+      fb.color[i] = c;
+      if (adaptive) fb.samples[i] = float(taken);
+      if (any) {
+        const Vec2 s = sample_position(x, y, 0, settings.sample_grid(), settings.seed);
+        fb.depth[i] = hit.t * glm::length(scene.camera.generate_ray(s.x, s.y).dir);
+        fb.normal[i] = hit.ns;
+        fb.object_id[i] = float(hit.object);
+      }
+    };
     // One tile's pixels. With kCheck, each pixel first asks the policy whether
     // it renders the pixel itself.
     auto tile_pixels = [&]<bool kCheck>(int x0, int y0, int x1, int y1, RayCounters& cnt) {
@@ -114,14 +132,25 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
                                                              &any, &taken);
             policy.finish(i, rec, cnt, fb);
           }
-          fb.color[i] = c;
-          if (adaptive) fb.samples[i] = float(taken);
-          if (any) {
-            const Vec2 s = sample_position(x, y, 0, settings.sample_grid(), settings.seed);
-            fb.depth[i] = hit.t * glm::length(scene.camera.generate_ray(s.x, s.y).dir);
-            fb.normal[i] = hit.ns;
-            fb.object_id[i] = float(hit.object);
-          }
+          store(x, y, i, c, hit, any, taken);
+        }
+    };
+    // One tile's pixels in blocks (render_block.h): for policies without a
+    // recorder, whose pixels depend on nothing but the integrator.
+    auto tile_blocks = [&](int x0, int y0, int x1, int y1, RayCounters& cnt) {
+      BlockPixel px[kBlockSide * kBlockSide];
+      for (int by = y0; by < y1; by += kBlockSide)
+        for (int bx = x0; bx < x1; bx += kBlockSide) {
+          const int ex = std::min(bx + kBlockSide, x1), ey = std::min(by + kBlockSide, y1);
+          render_block<kShadows, kSecondary>(scene, settings, bx, by, ex, ey, cnt, px);
+          const BlockPixel* p = px;
+          for (int y = by; y < ey; ++y)
+            for (int x = bx; x < ex; ++x, ++p) {
+              const size_t i = fb.index(x, y);
+              Recorder rec = policy.recorder();
+              policy.finish(i, rec, cnt, fb);
+              store(x, y, i, p->color, p->first_hit, p->hit_anything, settings.sample_grid());
+            }
         }
     };
     tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 1), [&](const auto& r) {
@@ -133,6 +162,8 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
         if constexpr (Policy::kSelects) check = policy.tile_selected(tile);
         if (check)
           tile_pixels.template operator()<true>(x0, y0, x1, y1, cnt);
+        else if (blocks)
+          tile_blocks(x0, y0, x1, y1, cnt);
         else
           tile_pixels.template operator()<false>(x0, y0, x1, y1, cnt);
         policy.tile_done(x0, y0, x1, y1, fb);

@@ -71,6 +71,58 @@ struct NullRecorder {
   void end_ray(int /*node*/, const Color& /*returned*/) {}
 };
 
+/// The directions and normals shading uses at a hit reached along ray.dir:
+/// d (unit ray direction), v = -d, and both normals turned to face the
+/// incoming ray (ns falls back to ng where it faces away from v).
+struct ShadingNormals {
+  Vec3 d, v, ng, ns;
+  bool front;  ///< The ray meets the side the geometric normal points to.
+};
+inline ShadingNormals shading_normals(const Ray& ray, const SurfaceHit& hit) {
+  ShadingNormals s;
+  s.d = glm::normalize(ray.dir);
+  s.v = -s.d;
+  s.front = glm::dot(s.d, hit.ng) < 0.0f;
+  s.ng = s.front ? hit.ng : -hit.ng;
+  s.ns = s.front ? hit.ns : -hit.ns;
+  if (glm::dot(s.ns, s.v) <= 0.0f) s.ns = s.ng;
+  return s;
+}
+
+/// A light as seen from a hit (normals from shading_normals()).
+struct LightView {
+  enum class Status : uint8_t {
+    Absent,  ///< A point light at the hit itself: no direction, no light.
+    Behind,  ///< Behind the surface (N.L <= 0): no shadow ray, no light.
+    Facing,  ///< Lights the hit unless a shadow ray finds an occluder.
+  };
+  Status status;
+  Vec3 l{0.0f};       ///< Unit direction toward the light.
+  float dist = 0.0f;  ///< Distance to a point light; infinite for directional ones.
+};
+inline LightView light_view(const Light& light, const SurfaceHit& hit, const Vec3& ng,
+                            const Vec3& ns) {
+  LightView v{LightView::Status::Facing};
+  if (light.type == Light::Type::Point) {
+    const Vec3 to = light.position - hit.p;
+    v.dist = glm::length(to);
+    if (!(v.dist > 0.0f)) return LightView{LightView::Status::Absent};
+    v.l = to / v.dist;
+  } else {
+    v.l = -glm::normalize(light.direction);
+    v.dist = kInfinity;
+  }
+  if (glm::dot(ng, v.l) <= 0.0f || glm::dot(ns, v.l) <= 0.0f) v.status = LightView::Status::Behind;
+  return v;
+}
+
+/// The shadow ray from a hit toward `light` (direction l from light_view()),
+/// leaving the surface on the side of ng.
+inline Ray shadow_ray(const SurfaceHit& hit, const Vec3& ng, const Light& light, const Vec3& l) {
+  return light.type == Light::Type::Point ? spawn_ray_to(hit.p, hit.p_error, ng, light.position)
+                                          : spawn_ray(hit.p, hit.p_error, ng, l);
+}
+
 /// kShadows == false: the scene has no lights, so no light loop and no shadow rays.
 /// kSecondary == false: no reflective or refractive material, so no secondary rays.
 template <class Recorder = NullRecorder, bool kShadows = true, bool kSecondary = true>
@@ -93,7 +145,6 @@ class WhittedIntegrator {
   /// for primary rays only).
   Color trace(const Ray& ray, RayKind kind, int depth, const Color& weight, int parent,
               SurfaceHit* first_hit = nullptr, const RayDifferential* diff = nullptr) {
-    counters_.rays[int(kind)]++;
     int node = -1;
     if constexpr (Recorder::kActive) node = rec_.begin_ray(kind, ray, depth, weight, parent);
     PrimHit ph;
@@ -104,30 +155,50 @@ class WhittedIntegrator {
     } else {
       found = scene_.intersect(ray, ph);
     }
-    if (!found) {
-      if constexpr (Recorder::kActive) rec_.end_ray(node, scene_.background);
-      return scene_.background;
-    }
+    if (!found) return traced(ray, kind, depth, weight, node, nullptr, first_hit, diff);
     const SurfaceHit hit = scene_.surface_hit(ray, ph);
-    if constexpr (Recorder::kActive) rec_.on_hit(node, hit);
-    if (first_hit) *first_hit = hit;
-    counters_.hits++;
-    if (kind == RayKind::Primary) counters_.primary_hits++;
-    Color c = shade(ray, hit, depth, weight, node, diff);
-    if constexpr (Recorder::kActive) rec_.end_ray(node, c);
+    return traced(ray, kind, depth, weight, node, &hit, first_hit, diff);
+  }
+
+  /// trace() of a primary ray whose closest hit a packet found (`hit`, or
+  /// null for a miss), with weight `weight`: the same color. Bit li of
+  /// `occluded` answers the shadow ray from the hit toward light li (lights
+  /// whose shadow ray is traced: light_view() Facing and casts_shadows),
+  /// which a packet traced too (render_block.h). Lights < kMaxPacketLights.
+  Color trace_from_packet(const Ray& ray, const SurfaceHit* hit, const Color& weight,
+                          SurfaceHit* first_hit, const RayDifferential* diff,
+                          uint64_t occluded) requires(!Recorder::kActive) {
+    primary_occluded_ = occluded;
+    primary_answered_ = true;
+    const Color c = traced(ray, RayKind::Primary, 0, weight, -1, hit, first_hit, diff);
+    primary_answered_ = false;
     return c;
   }
 
  private:
+  // A ray whose closest hit is known (null: it escaped): counted, shaded.
+  Color traced(const Ray& ray, RayKind kind, int depth, const Color& weight, int node,
+               const SurfaceHit* hit, SurfaceHit* first_hit, const RayDifferential* diff) {
+    counters_.rays[int(kind)]++;
+    if (!hit) {
+      if constexpr (Recorder::kActive) rec_.end_ray(node, scene_.background);
+      return scene_.background;
+    }
+    if constexpr (Recorder::kActive) rec_.on_hit(node, *hit);
+    if (first_hit) *first_hit = *hit;
+    counters_.hits++;
+    if (kind == RayKind::Primary) counters_.primary_hits++;
+    Color c = shade(ray, *hit, depth, weight, node, diff);
+    if constexpr (Recorder::kActive) rec_.end_ray(node, c);
+    return c;
+  }
+
   Color shade(const Ray& ray, const SurfaceHit& hit, int depth, const Color& weight, int node,
               const RayDifferential* diff) {
     const Material& m = scene_.materials[hit.material];
-    const Vec3 d = glm::normalize(ray.dir);
-    const Vec3 v = -d;
-    const bool front = glm::dot(d, hit.ng) < 0.0f;
-    const Vec3 ng = front ? hit.ng : -hit.ng;  // both normals face the incoming ray
-    Vec3 ns = front ? hit.ns : -hit.ns;
-    if (glm::dot(ns, v) <= 0.0f) ns = ng;
+    const ShadingNormals sn = shading_normals(ray, hit);
+    const Vec3 &d = sn.d, &v = sn.v, &ng = sn.ng, &ns = sn.ns;
+    const bool front = sn.front;
     const Color albedo = hit.has_vertex_color ? hit.vertex_color
                          : diff && m.checker  ? filtered_albedo(m, footprint(*diff, hit.p, hit.ng))
                                               : material_color(m, hit.p, scene_.origin);
@@ -146,42 +217,32 @@ class WhittedIntegrator {
                     int node, Color& c) {
     for (uint32_t li = 0; li < scene_.lights.size(); ++li) {
       const Light& light = scene_.lights[li];
-      Vec3 l;
-      float dist;
-      const bool point = light.type == Light::Type::Point;
-      if (point) {
-        Vec3 to = light.position - hit.p;
-        dist = glm::length(to);
-        if (!(dist > 0.0f)) continue;
-        l = to / dist;
-      } else {
-        l = -glm::normalize(light.direction);
-        dist = kInfinity;
-      }
-      auto shadow_ray = [&] {
-        return point ? spawn_ray_to(hit.p, hit.p_error, ng, light.position)
-                     : spawn_ray(hit.p, hit.p_error, ng, l);
-      };
-      if (glm::dot(ng, l) <= 0.0f || glm::dot(ns, l) <= 0.0f) {  // light behind the surface
+      const LightView lv = light_view(light, hit, ng, ns);
+      if (lv.status == LightView::Status::Absent) continue;
+      const Vec3& l = lv.l;
+      const float dist = lv.dist;
+      if (lv.status == LightView::Status::Behind) {
         counters_.shadow_skipped_backfacing++;
         if constexpr (Recorder::kActive)
-          rec_.skip_ray(RayKind::Shadow, shadow_ray(), depth + 1, weight, node,
+          rec_.skip_ray(RayKind::Shadow, shadow_ray(hit, ng, light, l), depth + 1, weight, node,
                         SkipReason::Backfacing, int(li));
         continue;
       }
-      const Ray shadow = shadow_ray();
       if (light.casts_shadows) {
         counters_.rays[int(RayKind::Shadow)]++;
         bool blocked;
-        uint32_t occluder = ~0u;
         if constexpr (Recorder::kActive) {
+          const Ray shadow = shadow_ray(hit, ng, light, l);
+          uint32_t occluder = ~0u;
           int sn = rec_.begin_ray(RayKind::Shadow, shadow, depth + 1, weight, node);
           auto obs = rec_.traversal(sn);
           blocked = scene_.occluded(shadow, obs, &occluder);
           rec_.on_shadow(sn, li, blocked, occluder);
           rec_.end_ray(sn, blocked ? Color(0.0f) : light.radiance_at(dist));
+        } else if (depth == 0 && primary_answered_) {
+          blocked = (primary_occluded_ >> li) & 1u;
         } else {
-          blocked = scene_.occluded(shadow);
+          blocked = scene_.occluded(shadow_ray(hit, ng, light, l));
         }
         if (blocked) {
           counters_.shadow_occluded++;
@@ -264,6 +325,10 @@ class WhittedIntegrator {
   Recorder& rec_;
   /// min_contribution as a weight in the pixel: divided by the sample count.
   const float cutoff_;
+  /// trace_from_packet(): the primary ray's shadow rays are answered by
+  /// primary_occluded_ (bit per light).
+  bool primary_answered_ = false;
+  uint64_t primary_occluded_ = 0;
 };
 
 }  // namespace rayscope

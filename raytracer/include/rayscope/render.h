@@ -64,6 +64,26 @@ void spread_order(int count, int* order);
 /// spread_order(K). Writes B * B indices to out, in row order.
 void batch_strata(const RenderSettings& settings, const int* order, int j, int* out);
 
+/// The primary ray of sample k of pixel (x, y). With settings.texture_filter
+/// and diff not null, *diff receives the differentials of the sample's cell
+/// of the pixel: the strata of the N x N grid, or with adaptive sampling the
+/// B x B strata of a batch (a sample stands for that much of the pixel until
+/// more batches come, and the samples of one cell then share their texture
+/// footprint).
+inline Ray primary_ray(const Scene& scene, const RenderSettings& settings, int x, int y, int k,
+                       RayDifferential* diff) {
+  const int n = settings.sample_grid();
+  const Vec2 s = sample_position(x, y, k, n, settings.seed);
+  if (settings.texture_filter && diff) {
+    const int cells = settings.max_samples > 0 ? settings.samples : n, per_cell = n / cells;
+    const float side = 1.0f / float(cells);
+    const int cx = (k % n) / per_cell, cy = (k / n) / per_cell;
+    *diff = scene.camera.generate_differential(float(x) + (float(cx) + 0.5f) * side,
+                                               float(y) + (float(cy) + 0.5f) * side, side);
+  }
+  return scene.camera.generate_ray(s.x, s.y);
+}
+
 /// One pixel, all its samples: what the frame loop does per pixel, so a pixel
 /// rendered alone (replayed) has exactly the color it has in the frame.
 /// `first_hit` receives the first sample's primary hit (for the AOVs): sample
@@ -92,28 +112,15 @@ Color render_pixel(const Scene& scene, const RenderSettings& settings, int x, in
   WhittedIntegrator<Recorder, kShadows, kSecondary> integrator(scene, settings, counters, recorder);
   const int n = settings.sample_grid();
   const Color w(1.0f / float(n * n));
-  // The texture filter's cells: the strata of the N x N grid, or with
-  // adaptive sampling the B x B strata of a batch (a sample stands for that
-  // much of the pixel until more batches come, and the samples of one cell
-  // then share their texture footprint).
-  const int cells = settings.max_samples > 0 ? settings.samples : n, per_cell = n / cells;
-  const float side = 1.0f / float(cells);
   auto sample = [&](int k) {
     if constexpr (Recorder::kActive) recorder.begin_sample(k);
-    Vec2 s = sample_position(x, y, k, n, settings.seed);
-    Ray ray = scene.camera.generate_ray(s.x, s.y);
+    RayDifferential diff;
+    const Ray ray = primary_ray(scene, settings, x, y, k, &diff);
     SurfaceHit hit;
     hit.t = kInfinity;
     SurfaceHit* h = k == 0 ? &hit : nullptr;
-    Color c;
-    if (settings.texture_filter) {
-      const int cx = (k % n) / per_cell, cy = (k / n) / per_cell;
-      const RayDifferential d = scene.camera.generate_differential(
-          float(x) + (float(cx) + 0.5f) * side, float(y) + (float(cy) + 0.5f) * side, side);
-      c = integrator.trace(ray, RayKind::Primary, 0, w, -1, h, &d);
-    } else {
-      c = integrator.trace(ray, RayKind::Primary, 0, w, -1, h);
-    }
+    const Color c = integrator.trace(ray, RayKind::Primary, 0, w, -1, h,
+                                     settings.texture_filter ? &diff : nullptr);
     if (k == 0) {
       if (first_hit) *first_hit = hit;
       if (hit_anything) *hit_anything = hit.t != kInfinity;

@@ -103,6 +103,10 @@ struct RenderSettings {
   /// Gather traversal statistics and per-pixel cost AOVs (a separate compiled
   /// path; the plain path has no counting code at all).
   bool statistics = false;
+  /// Trace the primary rays of blocks of neighbouring pixels, and their hits'
+  /// shadow rays, as packets (render_block.h); false: every ray alone. The
+  /// image is the same bit for bit either way.
+  bool packets = true;
 
   /// N of the N x N grid a pixel's samples come from: max_samples with
   /// adaptive sampling, else samples.

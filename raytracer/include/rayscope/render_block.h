@@ -1,0 +1,116 @@
+// A block of pixels rendered together, the frame loop's path for coherent
+// rays (lecture: "in practice: coherence"): for each sample, the primary rays
+// of a block of up to kBlockSide x kBlockSide neighbouring pixels are traced
+// as one packet (Scene::intersect_packet), then the shadow rays of their hits
+// toward each light as one packet per light (Scene::occluded_packet); the
+// hits are then shaded one by one by the integrator, whose secondary rays
+// (reflection, refraction, and their shadow rays) are incoherent and take the
+// single-ray walk. The packet calls give the single-ray walk's answers bit
+// for bit, so every pixel has render_pixel()'s color, bit for bit.
+#pragma once
+
+#include <span>
+
+#include "rayscope/accel/ray_packet.h"
+#include "rayscope/render.h"
+
+namespace rayscope {
+
+/// Side of the square blocks of pixels whose primary rays form one packet.
+inline constexpr int kBlockSide = 4;
+static_assert(kBlockSide * kBlockSide <= kPacketRays);
+
+/// Most lights whose shadow rays render_block() traces as packets (one bit per
+/// light); scenes with more lights render pixel by pixel.
+inline constexpr size_t kMaxPacketLights = 64;
+
+/// Whether the frame loop renders `settings` in blocks: settings.packets,
+/// every pixel takes the same samples (no adaptive sampling) and the scene has
+/// at most kMaxPacketLights lights. Recording and statistics policies always
+/// render pixel by pixel (their observers follow one ray's walk).
+inline bool renders_in_blocks(const Scene& scene, const RenderSettings& settings) {
+  return settings.packets && settings.max_samples == 0 && scene.lights.size() <= kMaxPacketLights;
+}
+
+/// What render_block() gives for each pixel: render_pixel()'s color, its
+/// sample 0's primary hit, and whether that sample hit anything.
+struct BlockPixel {
+  Color color;
+  SurfaceHit first_hit;
+  bool hit_anything = false;
+};
+
+/// Renders the pixels [x0, x1) x [y0, y1) (at most kBlockSide on a side) into
+/// out, row by row. renders_in_blocks(scene, settings) must hold.
+template <bool kShadows, bool kSecondary>
+void render_block(const Scene& scene, const RenderSettings& settings, int x0, int y0, int x1,
+                  int y1, RayCounters& counters, BlockPixel* out) {
+  constexpr int kMax = kBlockSide * kBlockSide;
+  NullRecorder recorder;
+  WhittedIntegrator<NullRecorder, kShadows, kSecondary> integrator(scene, settings, counters,
+                                                                   recorder);
+  const int n = settings.sample_grid(), w = x1 - x0, count = w * (y1 - y0);
+  const Color weight(1.0f / float(n * n));
+  Color sum[kMax];
+  RayDifferential diffs[kMax];  // only with the texture filter
+  Ray rays[kMax];
+  PrimHit ph[kMax];
+  SurfaceHit hits[kMax];
+  uint64_t occluded[kMax];
+  auto trace_sample = [&](int k) {
+    for (int i = 0; i < count; ++i)
+      rays[i] = primary_ray(scene, settings, x0 + i % w, y0 + i / w, k, &diffs[i]);
+    const unsigned found = scene.intersect_packet(std::span<const Ray>(rays, size_t(count)), ph);
+    for (int i = 0; i < count; ++i) {
+      occluded[i] = 0;
+      if (found >> i & 1u) hits[i] = scene.surface_hit(rays[i], ph[i]);
+    }
+    if constexpr (kShadows) {
+      // One packet per light: the shadow rays the integrator would trace from
+      // these hits (light_view() Facing, casts_shadows), with their lanes.
+      Ray shadows[kMax];
+      int lane[kMax];
+      for (size_t li = 0; li < scene.lights.size(); ++li) {
+        const Light& light = scene.lights[li];
+        if (!light.casts_shadows) continue;
+        int m = 0;
+        for (int i = 0; i < count; ++i) {
+          if (!(found >> i & 1u)) continue;
+          const ShadingNormals sn = shading_normals(rays[i], hits[i]);
+          const LightView lv = light_view(light, hits[i], sn.ng, sn.ns);
+          if (lv.status != LightView::Status::Facing) continue;
+          shadows[m] = shadow_ray(hits[i], sn.ng, light, lv.l);
+          lane[m++] = i;
+        }
+        if (m == 0) continue;
+        const unsigned blocked = scene.occluded_packet(std::span<const Ray>(shadows, size_t(m)));
+        for (int j = 0; j < m; ++j)
+          if (blocked >> j & 1u) occluded[lane[j]] |= uint64_t(1) << li;
+      }
+    }
+    for (int i = 0; i < count; ++i) {
+      const bool hit = found >> i & 1u;
+      const Color c =
+          integrator.trace_from_packet(rays[i], hit ? &hits[i] : nullptr, weight, nullptr,
+                                       settings.texture_filter ? &diffs[i] : nullptr, occluded[i]);
+      if (settings.only_sample >= 0)
+        sum[i] = c;
+      else
+        sum[i] += c;
+      if (k == 0) {
+        out[i].hit_anything = hit;
+        if (hit) out[i].first_hit = hits[i];
+      }
+    }
+  };
+  if (settings.only_sample >= 0) {  // a progressive pass: one sample, unscaled
+    trace_sample(settings.only_sample);
+    for (int i = 0; i < count; ++i) out[i].color = sum[i];
+    return;
+  }
+  for (int i = 0; i < count; ++i) sum[i] = Color(0.0f);
+  for (int k = 0; k < n * n; ++k) trace_sample(k);
+  for (int i = 0; i < count; ++i) out[i].color = sum[i] * weight;
+}
+
+}  // namespace rayscope
