@@ -81,6 +81,15 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
     row("nodes culled", c.nodes_culled);
     row("hits", c.hits);
     row("shadow skipped N.L<=0", c.shadow_skipped_backfacing);
+    if (c.packets > 0) {
+      std::printf("%-22s %14s\n", "Packets", "count");
+      std::printf("  %-20s %14llu\n", "traced", (unsigned long long)c.packets);
+      std::printf("  %-20s %14llu\n", "as single rays", (unsigned long long)c.packet_fallbacks);
+      std::printf("  %-20s %14llu\n", "node visits", (unsigned long long)c.packet_node_visits);
+      std::printf(
+          "  %-20s %14.2f\n", "rays per node visit",
+          double(c.packet_active_lanes) / double(std::max<uint64_t>(1, c.packet_node_visits)));
+    }
   }
   std::printf(
       "Time:      %.3f s loading (scene, meshes, structures), %.3f s render, %.2f Mrays/s\n",

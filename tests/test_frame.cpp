@@ -76,8 +76,12 @@ TEST_P(FrameWalk, StatisticsAndRecordingObserveThePlainWalk) {
   RenderSettings rs = rstest::small_render(96, 72, 2);
   RayCounters plain_counters, stats_counters, record_counters;
   const Framebuffer plain = render(scene, rs, &plain_counters);
+  // Recordings follow each ray's own walk; statistics follow the packets'
+  // walks when the render traces packets (StatisticsCountThePacketWalks), so
+  // they are compared here with every ray alone.
   RenderSettings with_stats = rs;
   with_stats.statistics = true;
+  with_stats.packets = false;
   const Framebuffer stats = render(scene, with_stats, &stats_counters);
   const std::vector<glm::ivec2> pixels = some_pixels(rs);
   std::vector<PixelRecord> records;
@@ -122,6 +126,63 @@ TEST_P(FrameWalk, StatisticsAndRecordingObserveThePlainWalk) {
     ASSERT_EQ(alone.rays.size(), records[k].rays.size());
     for (size_t r = 0; r < alone.rays.size(); ++r)
       EXPECT_EQ(alone.rays[r].traversal.nodes(), records[k].rays[r].traversal.nodes());
+  }
+}
+
+TEST_P(FrameWalk, StatisticsCountThePacketWalks) {
+  // With packets (the default), statistics count the walks that rendered:
+  // the same image and rays as without, each pixel's cost AOV the sum of its
+  // rays' work (each packet's work split by lane), the counters the AOV's
+  // sums, and the packets' own figures. Only the BVH walks packets; the
+  // other structures trace every packet one ray at a time, and count exactly
+  // what single rays count.
+  Scene scene = make_default_scene();
+  AccelConfig cfg;
+  cfg.kind = GetParam();
+  scene.commit(cfg);
+  RenderSettings rs = rstest::small_render(96, 72, 2);
+  rs.statistics = true;
+  RayCounters packet_counters, single_counters;
+  const Framebuffer packets = render(scene, rs, &packet_counters);
+  rs.packets = false;
+  const Framebuffer single = render(scene, rs, &single_counters);
+  expect_same_image(packets, single, "packets vs single rays, with statistics");
+  EXPECT_EQ(packet_counters.rays, single_counters.rays);
+  ASSERT_EQ(packets.cost.size(), single.cost.size());
+  PixelCost sum;
+  for (size_t i = 0; i < packets.cost.size(); ++i) {
+    ASSERT_EQ(packets.cost[i].rays, single.cost[i].rays) << "pixel " << i;
+    sum.nodes += packets.cost[i].nodes;
+    sum.boxes += packets.cost[i].boxes;
+    sum.prims += packets.cost[i].prims;
+    sum.culled += packets.cost[i].culled;
+  }
+  EXPECT_EQ(packet_counters.nodes_visited, sum.nodes);
+  EXPECT_EQ(packet_counters.boxes_tested, sum.boxes);
+  EXPECT_EQ(packet_counters.prims_tested, sum.prims);
+  EXPECT_EQ(packet_counters.nodes_culled, sum.culled);
+  EXPECT_EQ(single_counters.packets, 0u);
+  // One primary packet per 4x4 block and sample, and at least one shadow
+  // packet per lit block (the scene has lights).
+  const uint64_t blocks = uint64_t((96 + 3) / 4) * uint64_t((72 + 3) / 4) * 4;
+  EXPECT_GT(packet_counters.packets, blocks);
+  const bool walks_packets = GetParam() == AccelKind::Bvh || GetParam() == AccelKind::BinaryBvh;
+  if (walks_packets) {
+    EXPECT_LT(packet_counters.packet_fallbacks, packet_counters.packets / 4);
+    ASSERT_GT(packet_counters.packet_node_visits, 0u);
+    const double lanes =
+        double(packet_counters.packet_active_lanes) / double(packet_counters.packet_node_visits);
+    EXPECT_GT(lanes, 1.0);
+    EXPECT_LE(lanes, double(kPacketRays));
+    // A packet enters a node once for all its rays: fewer visits than the
+    // rays' own walks make.
+    EXPECT_LT(packet_counters.packet_node_visits, single_counters.nodes_visited);
+  } else {
+    EXPECT_EQ(packet_counters.packet_fallbacks, packet_counters.packets);
+    EXPECT_EQ(packet_counters.nodes_visited, single_counters.nodes_visited);
+    EXPECT_EQ(packet_counters.boxes_tested, single_counters.boxes_tested);
+    EXPECT_EQ(packet_counters.prims_tested, single_counters.prims_tested);
+    EXPECT_EQ(packet_counters.nodes_culled, single_counters.nodes_culled);
   }
 }
 

@@ -326,6 +326,47 @@ TEST(Packets, PacketWalkOfThisFileGivesTheSingleRayHits) {
   EXPECT_GT(walked, 3 * 64 * 64 / kPacketRays / 2);
 }
 
+/// A single-ray walk's counts, as the statistics observer counts them.
+struct WalkCount : TraversalHooks {
+  static constexpr bool kActive = true;
+  uint32_t nodes = 0, boxes = 0, prims = 0, culled = 0;
+  void on_node(uint32_t) { ++nodes; }
+  void on_box_test(uint32_t, bool) { ++boxes; }
+  void on_cull(uint32_t) { ++culled; }
+  void on_prim_test(uint32_t) { ++prims; }
+};
+
+// The walk of a packet of one ray, counted (PacketWalkCost), is the
+// single-ray walk the statistics observer counts, for closest hits: the same
+// nodes, boxes, primitives and culls.
+TEST(Packets, OneRayPacketCountsTheSingleRayWalk) {
+  Scene scene = adversarial_scene();
+  scene.commit();
+  Camera cam;
+  cam.eye = Vec3(0.5f, 1.0f, 6.0f);
+  cam.look_at = Vec3(0.0f);
+  size_t tested = 0, culls = 0;
+  for (const Ray& r : primary_blocks(cam, 40, 30, 1, 1)) {
+    PacketWalkCost cost;
+    PrimHit hit;
+    ASSERT_LE(scene.intersect_packet(std::span<const Ray>(&r, 1), &hit, &cost), 1u);
+    ASSERT_FALSE(cost.fell_back);
+    WalkCount single;
+    PrimHit alone;
+    scene.intersect(r, alone, single);
+    ASSERT_EQ(cost.nodes[0], single.nodes);
+    ASSERT_EQ(cost.boxes[0], single.boxes);
+    ASSERT_EQ(cost.prims[0], single.prims);
+    ASSERT_EQ(cost.culled[0], single.culled);
+    ASSERT_EQ(cost.node_visits, single.nodes);
+    ASSERT_EQ(cost.active_lanes, single.nodes);
+    ++tested;
+    culls += single.culled;
+  }
+  EXPECT_EQ(tested, 1200u);
+  EXPECT_GT(culls, 0u);
+}
+
 TEST(Packets, TooManyRaysAreRefused) {
   Scene scene = adversarial_scene();
   scene.commit();

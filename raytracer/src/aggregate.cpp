@@ -73,14 +73,44 @@ const BvhWalk* Aggregate::packet_walk(std::span<const Ray> rays, RayPacket& pack
   return w != nullptr && packet.load(rays) ? w : nullptr;
 }
 
-unsigned Aggregate::intersect_packet(std::span<const Ray> rays, PrimHit* hits) const {
+namespace {
+
+// A packet's lane as a single-ray observer: the walk of a ray traced alone,
+// counted in its lane of a PacketWalkCost.
+struct LaneCost : TraversalHooks {
+  static constexpr bool kActive = true;
+  PacketWalkCost* c;
+  unsigned lane;
+  void on_node(uint32_t) { c->nodes[lane]++; }
+  void on_box_test(uint32_t, bool) { c->boxes[lane]++; }
+  void on_cull(uint32_t) { c->culled[lane]++; }
+  void on_prim_test(uint32_t) { c->prims[lane]++; }
+};
+
+// The single-ray observer of lane k: a LaneCost, or none.
+template <class Cost>
+auto lane_observer(Cost& cost, size_t k) {
+  if constexpr (Cost::kActive) {
+    cost.fell_back = true;
+    return LaneCost{{}, &cost, unsigned(k)};
+  } else {
+    return NullTraversalObserver{};
+  }
+}
+
+}  // namespace
+
+template <class Cost>
+unsigned Aggregate::intersect_packet(std::span<const Ray> rays, PrimHit* hits, Cost& cost) const {
   NullTraversalObserver obs;
   RayPacket packet;
   const BvhWalk* w = packet_walk(rays, packet);
   unsigned found = 0;
   if (w == nullptr) {
-    for (size_t k = 0; k < rays.size(); ++k)
-      if (intersect(rays[k], hits[k], obs)) found |= 1u << k;
+    for (size_t k = 0; k < rays.size(); ++k) {
+      auto lane = lane_observer(cost, k);
+      if (intersect(rays[k], hits[k], lane)) found |= 1u << k;
+    }
     return found;
   }
   TrianglePrecomp pre[kPacketRays];
@@ -90,20 +120,22 @@ unsigned Aggregate::intersect_packet(std::span<const Ray> rays, PrimHit* hits) c
       __attribute__((always_inline)) {
     return offer_closest(i, rays[lane], pre[lane], t, decided, closest[lane], obs);
   };
-  w->traverse_packet<false>(packet, pre, prim);
+  w->traverse_packet<false>(packet, pre, prim, cost);
   for (size_t k = 0; k < rays.size(); ++k)
     if (closest_with_planes(rays[k], packet.tmax[k], closest[k], hits[k], obs)) found |= 1u << k;
   return found;
 }
 
-unsigned Aggregate::occluded_packet(std::span<const Ray> rays) const {
-  NullTraversalObserver obs;
+template <class Cost>
+unsigned Aggregate::occluded_packet(std::span<const Ray> rays, Cost& cost) const {
   RayPacket packet;
   const BvhWalk* w = packet_walk(rays, packet);
   unsigned found = 0;
   if (w == nullptr) {
-    for (size_t k = 0; k < rays.size(); ++k)
-      if (occluded(rays[k], obs)) found |= 1u << k;
+    for (size_t k = 0; k < rays.size(); ++k) {
+      auto lane = lane_observer(cost, k);
+      if (occluded(rays[k], lane)) found |= 1u << k;
+    }
     return found;
   }
   TrianglePrecomp pre[kPacketRays];
@@ -118,7 +150,20 @@ unsigned Aggregate::occluded_packet(std::span<const Ray> rays) const {
     TriangleHit th;
     return decided != nullptr || test_prim(records_[i], rays[lane], pre[lane], t, false, th);
   };
-  return found | w->traverse_packet<true>(packet, pre, prim);
+  return found | w->traverse_packet<true>(packet, pre, prim, cost);
+}
+
+unsigned Aggregate::intersect_packet(std::span<const Ray> rays, PrimHit* hits,
+                                     PacketWalkCost* cost) const {
+  if (cost) return intersect_packet(rays, hits, *cost);
+  NoPacketWalkCost none;
+  return intersect_packet(rays, hits, none);
+}
+
+unsigned Aggregate::occluded_packet(std::span<const Ray> rays, PacketWalkCost* cost) const {
+  if (cost) return occluded_packet(rays, *cost);
+  NoPacketWalkCost none;
+  return occluded_packet(rays, none);
 }
 
 }  // namespace rayscope

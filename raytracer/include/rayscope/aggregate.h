@@ -80,11 +80,13 @@ class Aggregate {
   /// (wide_bvh_packet.h); rays that disagree on a direction component's sign,
   /// and every other structure, are traced one at a time. Returns the rays
   /// that hit something, bit k for rays[k]. Throws std::invalid_argument for
-  /// more than kPacketRays rays.
-  unsigned intersect_packet(std::span<const Ray> rays, PrimHit* hits) const;
+  /// more than kPacketRays rays. With `cost`, the walk's work for each ray
+  /// is added to it (PacketWalkCost, which must start cleared).
+  unsigned intersect_packet(std::span<const Ray> rays, PrimHit* hits,
+                            PacketWalkCost* cost = nullptr) const;
   /// occluded() for up to kPacketRays rays at once (shadow rays of neighbouring
   /// hits toward one light): bit k set when rays[k] is occluded.
-  unsigned occluded_packet(std::span<const Ray> rays) const;
+  unsigned occluded_packet(std::span<const Ray> rays, PacketWalkCost* cost = nullptr) const;
 
   /// Range queries (range_query.h): the objects (bounded primitives, then the
   /// planes beside the structure) that intersect the closed box, in
@@ -171,6 +173,12 @@ class Aggregate {
   /// or rays that disagree on a direction sign). Throws std::invalid_argument
   /// for more than kPacketRays rays.
   const BvhWalk* packet_walk(std::span<const Ray> rays, RayPacket& packet) const;
+  /// intersect_packet() and occluded_packet() counting with `cost`
+  /// (PacketWalkCost or NoPacketWalkCost).
+  template <class Cost>
+  unsigned intersect_packet(std::span<const Ray> rays, PrimHit* hits, Cost& cost) const;
+  template <class Cost>
+  unsigned occluded_packet(std::span<const Ray> rays, Cost& cost) const;
 
   /// The closest hit so far of one ray: its record, global primitive index
   /// and triangle hit (record ~0u: nothing yet).

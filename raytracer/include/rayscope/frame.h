@@ -4,9 +4,10 @@
 // the recorder its policy gives it. It is the only loop over an image's pixels
 // in RayScope: plain renders, statistics, renders that record selected pixels'
 // ray trees, and the VTK BVH source's visit counts are policies of it.
-// Pixels of a policy without a recorder (Recorder = NullRecorder) are
-// rendered in blocks whose primary and shadow rays are traced as packets
-// (render_block.h, when renders_in_blocks()); the others one by one.
+// Pixels of a policy without a recorder (Recorder = NullRecorder), or with
+// one that counts packets (statistics), are rendered in blocks whose primary
+// and shadow rays are traced as packets (render_block.h, when
+// renders_in_blocks()); the others one by one.
 //
 // A policy derives from FramePolicy and overrides what it needs:
 //   using Recorder = ...;                  the integrator's recorder for a pixel
@@ -97,7 +98,9 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
   std::atomic<size_t> done{0};
   std::mutex progress_mutex;
   tbb::enumerable_thread_specific<RayCounters> local;
-  const bool blocks = std::is_same_v<Recorder, NullRecorder> && renders_in_blocks(scene, settings);
+  constexpr bool kRecorderInBlocks =
+      std::is_same_v<Recorder, NullRecorder> || counts_packets<Recorder>;
+  const bool blocks = kRecorderInBlocks && renders_in_blocks(scene, settings);
 
   auto frame = [&]<bool kShadows, bool kSecondary>() {
     // A pixel's results into the framebuffer.
@@ -135,21 +138,24 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
           store(x, y, i, c, hit, any, taken);
         }
     };
-    // One tile's pixels in blocks (render_block.h): for policies without a
-    // recorder, whose pixels depend on nothing but the integrator.
-    auto tile_blocks = [&](int x0, int y0, int x1, int y1, RayCounters& cnt) {
+    // One tile's pixels in blocks (render_block.h), for recorders that
+    // follow packets (a template, instantiated only for them).
+    auto tile_blocks = [&]<class R = Recorder>(int x0, int y0, int x1, int y1, RayCounters& cnt) {
       BlockPixel px[kBlockSide * kBlockSide];
+      R recs[kBlockSide * kBlockSide];
       for (int by = y0; by < y1; by += kBlockSide)
         for (int bx = x0; bx < x1; bx += kBlockSide) {
           const int ex = std::min(bx + kBlockSide, x1), ey = std::min(by + kBlockSide, y1);
-          render_block<kShadows, kSecondary>(scene, settings, bx, by, ex, ey, cnt, px);
-          const BlockPixel* p = px;
+          const int count = (ex - bx) * (ey - by);
+          for (int k = 0; k < count; ++k) recs[k] = policy.recorder();
+          render_block<R, kShadows, kSecondary>(scene, settings, bx, by, ex, ey, cnt, recs, px);
+          int k = 0;
           for (int y = by; y < ey; ++y)
-            for (int x = bx; x < ex; ++x, ++p) {
+            for (int x = bx; x < ex; ++x, ++k) {
               const size_t i = fb.index(x, y);
-              Recorder rec = policy.recorder();
-              policy.finish(i, rec, cnt, fb);
-              store(x, y, i, p->color, p->first_hit, p->hit_anything, settings.sample_grid());
+              policy.finish(i, recs[k], cnt, fb);
+              store(x, y, i, px[k].color, px[k].first_hit, px[k].hit_anything,
+                    settings.sample_grid());
             }
         }
     };
@@ -162,10 +168,14 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
         if constexpr (Policy::kSelects) check = policy.tile_selected(tile);
         if (check)
           tile_pixels.template operator()<true>(x0, y0, x1, y1, cnt);
-        else if (blocks)
-          tile_blocks(x0, y0, x1, y1, cnt);
-        else
+        else if constexpr (kRecorderInBlocks) {
+          if (blocks)
+            tile_blocks(x0, y0, x1, y1, cnt);
+          else
+            tile_pixels.template operator()<false>(x0, y0, x1, y1, cnt);
+        } else {
           tile_pixels.template operator()<false>(x0, y0, x1, y1, cnt);
+        }
         policy.tile_done(x0, y0, x1, y1, fb);
         const size_t d = ++done;
         if (progress) {

@@ -123,6 +123,14 @@ inline Ray shadow_ray(const SurfaceHit& hit, const Vec3& ng, const Light& light,
                                           : spawn_ray(hit.p, hit.p_error, ng, l);
 }
 
+/// Whether a recorder can follow rays traced in packets (render_block.h):
+/// it defines kCountsPackets (StatsRecorder), counting their walks from the
+/// packets' costs instead of observing each ray's walk.
+template <class Recorder>
+inline constexpr bool counts_packets = requires {
+  requires Recorder::kCountsPackets;
+};
+
 /// kShadows == false: the scene has no lights, so no light loop and no shadow rays.
 /// kSecondary == false: no reflective or refractive material, so no secondary rays.
 template <class Recorder = NullRecorder, bool kShadows = true, bool kSecondary = true>
@@ -161,16 +169,20 @@ class WhittedIntegrator {
   }
 
   /// trace() of a primary ray whose closest hit a packet found (`hit`, or
-  /// null for a miss), with weight `weight`: the same color. Bit li of
+  /// null for a miss), with weight `weight`: the same color. A recorder sees
+  /// the ray and its shadow rays without their walks (counts_packets). Bit li of
   /// `occluded` answers the shadow ray from the hit toward light li (lights
   /// whose shadow ray is traced: light_view() Facing and casts_shadows),
   /// which a packet traced too (render_block.h). Lights < kMaxPacketLights.
   Color trace_from_packet(const Ray& ray, const SurfaceHit* hit, const Color& weight,
                           SurfaceHit* first_hit, const RayDifferential* diff,
-                          uint64_t occluded) requires(!Recorder::kActive) {
+                          uint64_t occluded) requires(!Recorder::kActive ||
+                                                      counts_packets<Recorder>) {
+    int node = -1;
+    if constexpr (Recorder::kActive) node = rec_.begin_ray(RayKind::Primary, ray, 0, weight, -1);
     primary_occluded_ = occluded;
     primary_answered_ = true;
-    const Color c = traced(ray, RayKind::Primary, 0, weight, -1, hit, first_hit, diff);
+    const Color c = traced(ray, RayKind::Primary, 0, weight, node, hit, first_hit, diff);
     primary_answered_ = false;
     return c;
   }
@@ -231,7 +243,15 @@ class WhittedIntegrator {
       if (light.casts_shadows) {
         counters_.rays[int(RayKind::Shadow)]++;
         bool blocked;
-        if constexpr (Recorder::kActive) {
+        if (depth == 0 && primary_answered_) {
+          blocked = (primary_occluded_ >> li) & 1u;
+          if constexpr (Recorder::kActive) {
+            const int sn = rec_.begin_ray(RayKind::Shadow, shadow_ray(hit, ng, light, l), depth + 1,
+                                          weight, node);
+            rec_.on_shadow(sn, li, blocked, ~0u);
+            rec_.end_ray(sn, blocked ? Color(0.0f) : light.radiance_at(dist));
+          }
+        } else if constexpr (Recorder::kActive) {
           const Ray shadow = shadow_ray(hit, ng, light, l);
           uint32_t occluder = ~0u;
           int sn = rec_.begin_ray(RayKind::Shadow, shadow, depth + 1, weight, node);
@@ -239,8 +259,6 @@ class WhittedIntegrator {
           blocked = scene_.occluded(shadow, obs, &occluder);
           rec_.on_shadow(sn, li, blocked, occluder);
           rec_.end_ray(sn, blocked ? Color(0.0f) : light.radiance_at(dist));
-        } else if (depth == 0 && primary_answered_) {
-          blocked = (primary_occluded_ >> li) & 1u;
         } else {
           blocked = scene_.occluded(shadow_ray(hit, ng, light, l));
         }

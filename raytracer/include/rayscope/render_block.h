@@ -26,8 +26,9 @@ inline constexpr size_t kMaxPacketLights = 64;
 
 /// Whether the frame loop renders `settings` in blocks: settings.packets,
 /// every pixel takes the same samples (no adaptive sampling) and the scene has
-/// at most kMaxPacketLights lights. Recording and statistics policies always
-/// render pixel by pixel (their observers follow one ray's walk).
+/// at most kMaxPacketLights lights. Policies whose recorder observes each
+/// ray's walk (recording ray trees, the structure views' visit counts)
+/// render pixel by pixel; statistics count the packets' walks.
 inline bool renders_in_blocks(const Scene& scene, const RenderSettings& settings) {
   return settings.packets && settings.max_samples == 0 && scene.lights.size() <= kMaxPacketLights;
 }
@@ -41,14 +42,16 @@ struct BlockPixel {
 };
 
 /// Renders the pixels [x0, x1) x [y0, y1) (at most kBlockSide on a side) into
-/// out, row by row. renders_in_blocks(scene, settings) must hold.
-template <bool kShadows, bool kSecondary>
+/// out, row by row, pixel i with recorder recs[i]: NullRecorder, or one that
+/// counts_packets, which receives each packet's walk for its pixel's rays
+/// (and the frame's packet counters go to `counters`).
+/// renders_in_blocks(scene, settings) must hold.
+template <class Recorder, bool kShadows, bool kSecondary>
 void render_block(const Scene& scene, const RenderSettings& settings, int x0, int y0, int x1,
-                  int y1, RayCounters& counters, BlockPixel* out) {
+                  int y1, RayCounters& counters, Recorder* recs, BlockPixel* out) {
+  constexpr bool kCount = Recorder::kActive;
+  static_assert(!kCount || counts_packets<Recorder>);
   constexpr int kMax = kBlockSide * kBlockSide;
-  NullRecorder recorder;
-  WhittedIntegrator<NullRecorder, kShadows, kSecondary> integrator(scene, settings, counters,
-                                                                   recorder);
   const int n = settings.sample_grid(), w = x1 - x0, count = w * (y1 - y0);
   const Color weight(1.0f / float(n * n));
   Color sum[kMax];
@@ -57,19 +60,34 @@ void render_block(const Scene& scene, const RenderSettings& settings, int x0, in
   PrimHit ph[kMax];
   SurfaceHit hits[kMax];
   uint64_t occluded[kMax];
+  // A packet's walk, counted for the recorders: the frame's packet figures,
+  // and the work for the ray in `lane` to the recorder of pixel[lane].
+  PacketWalkCost cost;
+  PacketWalkCost* const counted = kCount ? &cost : nullptr;
+  auto take_cost = [&](const int* pixel, int lanes) {
+    if constexpr (kCount) {
+      Recorder::add_packet(cost, counters);
+      for (int j = 0; j < lanes; ++j) recs[pixel[j]].add_packet_walk(cost, unsigned(j));
+      cost = PacketWalkCost{};
+    }
+  };
+  int identity[kMax];
+  for (int i = 0; i < kMax; ++i) identity[i] = i;
   auto trace_sample = [&](int k) {
     for (int i = 0; i < count; ++i)
       rays[i] = primary_ray(scene, settings, x0 + i % w, y0 + i / w, k, &diffs[i]);
-    const unsigned found = scene.intersect_packet(std::span<const Ray>(rays, size_t(count)), ph);
+    const unsigned found =
+        scene.intersect_packet(std::span<const Ray>(rays, size_t(count)), ph, counted);
+    take_cost(identity, count);
     for (int i = 0; i < count; ++i) {
       occluded[i] = 0;
       if (found >> i & 1u) hits[i] = scene.surface_hit(rays[i], ph[i]);
     }
     if constexpr (kShadows) {
       // One packet per light: the shadow rays the integrator would trace from
-      // these hits (light_view() Facing, casts_shadows), with their lanes.
+      // these hits (light_view() Facing, casts_shadows), with their pixels.
       Ray shadows[kMax];
-      int lane[kMax];
+      int pixel[kMax];
       for (size_t li = 0; li < scene.lights.size(); ++li) {
         const Light& light = scene.lights[li];
         if (!light.casts_shadows) continue;
@@ -80,16 +98,20 @@ void render_block(const Scene& scene, const RenderSettings& settings, int x0, in
           const LightView lv = light_view(light, hits[i], sn.ng, sn.ns);
           if (lv.status != LightView::Status::Facing) continue;
           shadows[m] = shadow_ray(hits[i], sn.ng, light, lv.l);
-          lane[m++] = i;
+          pixel[m++] = i;
         }
         if (m == 0) continue;
-        const unsigned blocked = scene.occluded_packet(std::span<const Ray>(shadows, size_t(m)));
+        const unsigned blocked =
+            scene.occluded_packet(std::span<const Ray>(shadows, size_t(m)), counted);
+        take_cost(pixel, m);
         for (int j = 0; j < m; ++j)
-          if (blocked >> j & 1u) occluded[lane[j]] |= uint64_t(1) << li;
+          if (blocked >> j & 1u) occluded[pixel[j]] |= uint64_t(1) << li;
       }
     }
     for (int i = 0; i < count; ++i) {
       const bool hit = found >> i & 1u;
+      WhittedIntegrator<Recorder, kShadows, kSecondary> integrator(scene, settings, counters,
+                                                                   recs[i]);
       const Color c =
           integrator.trace_from_packet(rays[i], hit ? &hits[i] : nullptr, weight, nullptr,
                                        settings.texture_filter ? &diffs[i] : nullptr, occluded[i]);

@@ -258,12 +258,16 @@ class Scene {
   /// intersect(ray, PrimHit&) for up to kPacketRays coherent rays at once
   /// (Aggregate::intersect_packet): the same hits, bit for bit; bit k of the
   /// result set when rays[k] hit.
-  unsigned intersect_packet(std::span<const Ray> rays, PrimHit* hits) const {
-    return accel_.intersect_packet(rays, hits);
+  /// `cost`, when not null, receives the walk's work per ray.
+  unsigned intersect_packet(std::span<const Ray> rays, PrimHit* hits,
+                            PacketWalkCost* cost = nullptr) const {
+    return accel_.intersect_packet(rays, hits, cost);
   }
   /// occluded() for up to kPacketRays rays at once (Aggregate::occluded_packet):
   /// bit k set when rays[k] is occluded.
-  unsigned occluded_packet(std::span<const Ray> rays) const { return accel_.occluded_packet(rays); }
+  unsigned occluded_packet(std::span<const Ray> rays, PacketWalkCost* cost = nullptr) const {
+    return accel_.occluded_packet(rays, cost);
+  }
 
   /// Hit point, error bound, normals, ids, material and vertex color of a hit
   /// found by intersect(ray, PrimHit&) for the same ray.

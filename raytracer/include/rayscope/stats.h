@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 
+#include "rayscope/accel/ray_packet.h"
 #include "rayscope/ray.h"
 #include "rayscope/traversal.h"
 
@@ -27,6 +28,11 @@ struct RayCounters {
   uint64_t boxes_tested = 0;
   uint64_t prims_tested = 0;
   uint64_t nodes_culled = 0;  ///< Skipped by early termination (beyond the closest hit).
+  // Packets (render_block.h), gathered only with statistics on.
+  uint64_t packets = 0;              ///< Packets traced (primary and shadow).
+  uint64_t packet_node_visits = 0;   ///< Nodes they entered.
+  uint64_t packet_active_lanes = 0;  ///< Their rays active in those nodes, summed.
+  uint64_t packet_fallbacks = 0;     ///< Packets traced one ray at a time.
 
   uint64_t total_rays() const {
     uint64_t s = 0;
@@ -46,6 +52,10 @@ struct RayCounters {
     boxes_tested += o.boxes_tested;
     prims_tested += o.prims_tested;
     nodes_culled += o.nodes_culled;
+    packets += o.packets;
+    packet_node_visits += o.packet_node_visits;
+    packet_active_lanes += o.packet_active_lanes;
+    packet_fallbacks += o.packet_fallbacks;
     return *this;
   }
 };
@@ -63,7 +73,25 @@ struct PixelCost {
 /// AOVs). Same interface as NullRecorder; every hook is a counter increment.
 struct StatsRecorder {
   static constexpr bool kActive = true;
+  /// Primary and shadow rays traced in packets are counted from the
+  /// packet's walk (add_packet_walk), not observed ray by ray.
+  static constexpr bool kCountsPackets = true;
   PixelCost cost;
+
+  /// The work a packet's walk did for the ray in `lane`.
+  void add_packet_walk(const PacketWalkCost& c, unsigned lane) {
+    cost.nodes += c.nodes[lane];
+    cost.boxes += c.boxes[lane];
+    cost.prims += c.prims[lane];
+    cost.culled += c.culled[lane];
+  }
+  /// A packet's figures into the frame's counters.
+  static void add_packet(const PacketWalkCost& c, RayCounters& counters) {
+    counters.packets++;
+    counters.packet_node_visits += c.node_visits;
+    counters.packet_active_lanes += c.active_lanes;
+    counters.packet_fallbacks += c.fell_back;
+  }
 
   struct Observer : TraversalHooks {
     static constexpr bool kActive = true;

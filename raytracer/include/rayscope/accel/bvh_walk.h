@@ -54,8 +54,15 @@ class BvhWalk {
   /// lane's triangle-test constants (pre[lane]): `prim(lane, record, tmax,
   /// decided)` is traverse()'s prim for the ray in `lane`. Returns the lanes
   /// that hit something; packet.tmax holds their closest hits.
+  /// `cost` counts the walk's work per ray (PacketWalkCost), or nothing.
+  template <bool AnyHit, class PrimFn, class Cost>
+  unsigned traverse_packet(RayPacket& packet, const TrianglePrecomp* pre, PrimFn&& prim,
+                           Cost& cost) const;
   template <bool AnyHit, class PrimFn>
-  unsigned traverse_packet(RayPacket& packet, const TrianglePrecomp* pre, PrimFn&& prim) const;
+  unsigned traverse_packet(RayPacket& packet, const TrianglePrecomp* pre, PrimFn&& prim) const {
+    NoPacketWalkCost none;
+    return traverse_packet<AnyHit>(packet, pre, prim, none);
+  }
   /// The binary tree's range walk (Bvh::walk_range).
   template <class Range, class Observer, class PrimFn>
   void walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
@@ -143,9 +150,9 @@ template <bool AnyHit, class PrimFn>
   return found;
 }
 
-template <bool AnyHit, class PrimFn>
+template <bool AnyHit, class PrimFn, class Cost>
 inline unsigned BvhWalk::traverse_packet(RayPacket& packet, const TrianglePrecomp* pre,
-                                         PrimFn&& prim) const {
+                                         PrimFn&& prim, Cost& cost) const {
   TrianglePacketRays together;
   if (together.load(pre, packet.valid)) {
     // The rays share the triangle test's axes: each triangle is tested for
@@ -177,7 +184,7 @@ inline unsigned BvhWalk::traverse_packet(RayPacket& packet, const TrianglePrecom
       }
       return found;
     };
-    return walk_.traverse_packet<AnyHit>(packet, leaf);
+    return walk_.traverse_packet<AnyHit>(packet, leaf, cost);
   }
   // Otherwise each ray's leaves go through the block test, ray by ray, with
   // each lane's block-test constants made once per packet.
@@ -205,7 +212,7 @@ inline unsigned BvhWalk::traverse_packet(RayPacket& packet, const TrianglePrecom
     }
     return found;
   };
-  return walk_.traverse_packet<AnyHit>(packet, leaf);
+  return walk_.traverse_packet<AnyHit>(packet, leaf, cost);
 }
 
 }  // namespace rayscope

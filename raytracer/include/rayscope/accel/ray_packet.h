@@ -116,4 +116,37 @@ struct alignas(64) RayPacket {
 
 using packet_detail::RayPacket;
 
+/// The work a packet's walk did for each of its rays (statistics and cost
+/// AOVs), in the single-ray observer's units, per lane: the nodes the packet
+/// entered while the lane's ray was active in them, the boxes tested for it
+/// (the root's, then every child slot of those inner nodes), the primitives
+/// tested for it (every record of the leaves it was active in) and the nodes
+/// it took from the stack but skipped (beyond its closest hit). For a packet
+/// of one ray and a closest hit these are the single-ray walk's counts. A
+/// packet traced one ray at a time (fell_back) counts the single-ray walks.
+struct PacketWalkCost {
+  static constexpr bool kActive = true;
+  uint32_t nodes[kPacketRays] = {}, boxes[kPacketRays] = {}, prims[kPacketRays] = {},
+           culled[kPacketRays] = {};
+  uint32_t node_visits = 0;   ///< Nodes the packet entered.
+  uint32_t active_lanes = 0;  ///< The rays active in them, summed over the visits.
+  bool fell_back = false;     ///< Its rays were traced one at a time.
+
+  /// Adds n to field[k] for each lane k in `lanes`.
+  static void add(uint32_t* field, unsigned lanes, uint32_t n) {
+    for (; lanes != 0; lanes &= lanes - 1) field[__builtin_ctz(lanes)] += n;
+  }
+  /// The packet enters a node with the rays in `lanes` active.
+  void enter(unsigned lanes) {
+    ++node_visits;
+    active_lanes += unsigned(__builtin_popcount(lanes));
+    add(nodes, lanes, 1);
+  }
+};
+
+/// The plain walk's stand-in for PacketWalkCost: counts nothing.
+struct NoPacketWalkCost {
+  static constexpr bool kActive = false;
+};
+
 }  // namespace rayscope

@@ -124,9 +124,10 @@ class WideBvh {
   /// packet.tmax at each hit, and returns the lanes that hit. Each ray tests
   /// every leaf its own walk would reach, and maybe a few more; with AnyHit a
   /// ray leaves the packet at its first hit. Returns the lanes that hit
-  /// something.
-  template <bool AnyHit, class LeafFn>
-  unsigned traverse_packet(RayPacket& packet, LeafFn&& leaf) const;
+  /// something. `cost` counts the walk's work per ray (PacketWalkCost) or
+  /// nothing (NoPacketWalkCost).
+  template <bool AnyHit, class LeafFn, class Cost = NoPacketWalkCost>
+  unsigned traverse_packet(RayPacket& packet, LeafFn&& leaf, Cost& cost) const;
 
   std::vector<WideBvhNode> nodes;  ///< nodes[0] is the root unless the root is a leaf.
   /// Binary node id of child slot k of wide node n at [kWidth n + k]; ~0u for

@@ -24,8 +24,8 @@
 
 namespace rayscope {
 
-template <bool AnyHit, class LeafFn>
-unsigned WideBvh::traverse_packet(RayPacket& p, LeafFn&& leaf) const {
+template <bool AnyHit, class LeafFn, class Cost>
+unsigned WideBvh::traverse_packet(RayPacket& p, LeafFn&& leaf, Cost& cost) const {
   using packet_detail::Lanes;
   using packet_detail::lanes_le;
   if (root_child_ == kNone || p.valid == 0) return 0;
@@ -59,6 +59,7 @@ unsigned WideBvh::traverse_packet(RayPacket& p, LeafFn&& leaf) const {
                  neg_y ? root_hi_.y : root_lo_.y, neg_y ? root_lo_.y : root_hi_.y,
                  neg_z ? root_hi_.z : root_lo_.z, neg_z ? root_lo_.z : root_hi_.z, alive, tn);
   }
+  if constexpr (Cost::kActive) cost.add(cost.boxes, alive, 1);
   if (mask == 0) return 0;
   // Byte offsets of the near and far plane rows in a WideBvhNode, as in
   // wide_bvh_detail::RayBoxes.
@@ -77,6 +78,10 @@ unsigned WideBvh::traverse_packet(RayPacket& p, LeafFn&& leaf) const {
   for (;;) {
     if (child & WideBvhNode::kLeaf) {
       if (count != 0) {
+        if constexpr (Cost::kActive) {
+          cost.enter(mask);
+          cost.add(cost.prims, mask, count);
+        }
         const unsigned found = leaf(mask, child & ~WideBvhNode::kLeaf, count);
         hits |= found;
         if constexpr (AnyHit) {
@@ -97,8 +102,10 @@ unsigned WideBvh::traverse_packet(RayPacket& p, LeafFn&& leaf) const {
       float key[WideBvhNode::kWidth];  // entry distance of the first ray that hits
       unsigned ks[WideBvhNode::kWidth];
       int m = 0;
+      if constexpr (Cost::kActive) cost.enter(mask);
       for (int k = 0; k < WideBvhNode::kWidth; ++k) {
         if (n.child[k] == WideBvhNode::kLeaf && n.count[k] == 0) break;  // empty slots
+        if constexpr (Cost::kActive) cost.add(cost.boxes, mask, 1);
         lanes[k] = boxes(nx[k], fx[k], ny[k], fy[k], nz[k], fz[k], mask, tn[k]);
         if (lanes[k] == 0) continue;
         key[k] = tn[k][__builtin_ctz(lanes[k])];
@@ -131,7 +138,9 @@ unsigned WideBvh::traverse_packet(RayPacket& p, LeafFn&& leaf) const {
       mask = stack[sp].mask & alive;
       if constexpr (!AnyHit) {
         const Lanes reach = p.tmax * kBoxFarScale;
+        const unsigned pushed = mask;
         mask &= lanes_le(stack_tn[sp], reach);
+        if constexpr (Cost::kActive) cost.add(cost.culled, pushed & ~mask, 1);
       }
       if (mask != 0) {
         child = stack[sp].child;
