@@ -16,6 +16,7 @@
 // answers are the single-ray walk's.
 #pragma once
 
+#include <algorithm>
 #include <cassert>
 #include <cstdint>
 
@@ -66,6 +67,67 @@ unsigned WideBvh::traverse_packet(RayPacket& p, LeafFn&& leaf, Cost& cost) const
   const wide_bvh_detail::RayBoxes rb(
       Vec3(0.0f), Vec3(neg_x ? -1.0f : 1.0f, neg_y ? -1.0f : 1.0f, neg_z ? -1.0f : 1.0f));
 
+  // The packet's frustum, for a test of a node's child boxes against all
+  // its rays at once before the rays' own tests: along each axis the range
+  // of the rays' origins and of their reciprocal directions (one sign), and
+  // the largest tmax. Float subtraction and multiplication round
+  // monotonically, so the bounds computed from the ranges' ends bound every
+  // ray's own float results, and a child the frustum misses is missed by
+  // every ray's test (see frustum_misses).
+  using Slots = float __attribute__((vector_size(WideBvhNode::kWidth * sizeof(float))));
+  struct AxisRange {
+    float olo, ohi, ilo, ihi;
+  };
+  auto axis_range = [&](const Lanes& o, const Lanes& i) {
+    AxisRange r{o[0], o[0], i[0], i[0]};
+    for (int k = 1; k < kPacketRays; ++k) {
+      r.olo = std::min(r.olo, o[k]);
+      r.ohi = std::max(r.ohi, o[k]);
+      r.ilo = std::min(r.ilo, i[k]);
+      r.ihi = std::max(r.ihi, i[k]);
+    }
+    return r;
+  };
+  const AxisRange ax = axis_range(p.ox, p.ix), ay = axis_range(p.oy, p.iy),
+                  az = axis_range(p.oz, p.iz);
+  float tmax_hi = p.tmax[0];
+  for (int k = 1; k < kPacketRays; ++k) tmax_hi = std::max(tmax_hi, p.tmax[k]);
+  const Slots inf = Slots{} + kInfinity, zero8 = {};
+  // The lowest entry and highest exit distance of any ray along one axis,
+  // for each slot's near planes nv and far planes fv. Where a product is
+  // NaN (0 * inf) the ray's own test ignores that axis, and so does this.
+  auto axis_bounds = [&](const float* nv, const float* fv, const AxisRange& r, bool neg, Slots& lo,
+                         Slots& hi) __attribute__((always_inline)) {
+    Slots n, f;
+    __builtin_memcpy(&n, nv, sizeof n);
+    __builtin_memcpy(&f, fv, sizeof f);
+    const Slots x = n - (neg ? r.olo : r.ohi), y = f - (neg ? r.ohi : r.olo);
+    const Slots a = x * r.ilo, b = x * r.ihi, c = y * r.ilo, d = y * r.ihi;
+    lo = a < b ? a : b;
+    lo = (a == a) & (b == b) ? lo : -inf;
+    hi = c > d ? c : d;
+    hi = (c == c) & (d == d) ? hi : inf;
+  };
+  // Bit k set when every ray of the packet misses child slot k.
+  auto frustum_misses = [&](const float* nx, const float* fx, const float* ny, const float* fy,
+                            const float* nz, const float* fz) __attribute__((always_inline)) {
+    Slots lo, hi, l, h;
+    axis_bounds(nx, fx, ax, neg_x, lo, hi);
+    lo = lo > zero8 ? lo : zero8;
+    axis_bounds(ny, fy, ay, neg_y, l, h);
+    lo = l > lo ? l : lo;
+    hi = h < hi ? h : hi;
+    axis_bounds(nz, fz, az, neg_z, l, h);
+    lo = l > lo ? l : lo;
+    hi = h < hi ? h : hi;
+    hi = hi < tmax_hi ? hi : tmax_hi;
+    hi = hi * kBoxFarScale;
+    const auto miss = lo > hi;
+    unsigned m = 0;
+    for (int k = 0; k < WideBvhNode::kWidth; ++k) m |= unsigned(miss[k] != 0) << k;
+    return m;
+  };
+
   struct Entry {
     uint32_t child, count;
     unsigned mask;
@@ -103,9 +165,11 @@ unsigned WideBvh::traverse_packet(RayPacket& p, LeafFn&& leaf, Cost& cost) const
       unsigned ks[WideBvhNode::kWidth];
       int m = 0;
       if constexpr (Cost::kActive) cost.enter(mask);
+      const unsigned missed = frustum_misses(nx, fx, ny, fy, nz, fz);
       for (int k = 0; k < WideBvhNode::kWidth; ++k) {
         if (n.child[k] == WideBvhNode::kLeaf && n.count[k] == 0) break;  // empty slots
         if constexpr (Cost::kActive) cost.add(cost.boxes, mask, 1);
+        if ((missed >> k) & 1u) continue;
         lanes[k] = boxes(nx[k], fx[k], ny[k], fy[k], nz[k], fz[k], mask, tn[k]);
         if (lanes[k] == 0) continue;
         key[k] = tn[k][__builtin_ctz(lanes[k])];
