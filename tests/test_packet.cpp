@@ -279,6 +279,12 @@ TEST(Packets, AdversarialRaysGiveTheSingleRayHits) {
   for (int i = 0; i < 48; ++i)
     rays.push_back(Ray{Vec3(-5.0f, 0.25f * float(i % 8) - 1.0f, 0.0f),
                        Vec3(i % 2 ? 1.0f : -1.0f, 0.0f, i % 3 ? 0.0f : -0.0f), kInfinity});
+  // Axis-aligned rays from the grid's vertex coordinates: their origins lie
+  // on box planes of the structure, where 0 * inf makes a slab NaN (which
+  // the rays' tests and the packet's frustum test both ignore).
+  for (int i = 0; i < 81; ++i)
+    rays.push_back(Ray{Vec3(float(i % 9) - 4.0f, float(i / 9) - 4.0f, 5.0f),
+                       Vec3(i < 40 ? 0.0f : -0.0f, 0.0f, -1.0f), kInfinity});
   // Rays whose dominant axis differs within a packet.
   for (int i = 0; i < 64; ++i)
     rays.push_back(
