@@ -5,7 +5,8 @@ Run with ParaView's pvpython and the plugin on PV_PLUGIN_PATH:
 
     PV_PLUGIN_PATH=$PWD/build/paraview/install/lib/paraview-5.11/plugins/RayScope \\
       xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" build/paraview/pvpython --dr \\
-        bench/paraview_view_frames.py [--size 1280x720] [--frames 12] [--mesh bunny.obj]
+        bench/paraview_view_frames.py [--size 1280x720] [--frames 12] [--mesh bunny.obj] \\
+        [--samples 2]
 
 Both views show the mesh (the Stanford bunny from glmark2-data by default)
 over a floor, lit by ParaView's light kit, at the same size and camera. The
@@ -24,6 +25,8 @@ ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 ap.add_argument("--size", default="1280x720")
 ap.add_argument("--frames", type=int, default=12)
 ap.add_argument("--mesh", default="/usr/share/glmark2/models/bunny.obj")
+ap.add_argument("--samples", type=int, default=2,
+                help="N: a still render of the RayScope view traces N x N samples per pixel")
 args = ap.parse_args()
 W, H = (int(v) for v in args.size.split("x"))
 
@@ -47,8 +50,8 @@ for kind in ("RenderView", "RayScopeView"):
     Render(view)  # builds the scene (the RayScope view: conversion and structure)
     views[kind] = view
 views["RayScopeView"].Shadows = 1
-views["RayScopeView"].Samples = 2
-# A still render traces all 2 x 2 samples at once (with Refine Progressively,
+views["RayScopeView"].Samples = args.samples
+# A still render traces all N x N samples at once (with Refine Progressively,
 # the default, the first still render after a move would trace one of them).
 views["RayScopeView"].RefineProgressively = 0
 

@@ -1,6 +1,7 @@
 // vtkRayScopeViewer's API: the scene source, the window's parts, setup and
 // the event loop, picking, the image mode, screenshots and .vtp export. The
 // parts of the viewer live in files of their own (vtkRayScopeViewerInternals.h).
+#include "RayScopeDisplayCheck.h"
 #include "vtkRayScopeViewerInternals.h"
 
 using namespace rayscope_vtkmodule::viewer;
@@ -126,6 +127,12 @@ int vtkRayScopeViewer::Initialize() {
   }
   in.Settings = in.Algorithm->GetRenderSettings();
   in.Build();
+  if (const std::string missing = rayscope_vtkmodule::missing_display(in.Window);
+      !missing.empty()) {
+    in.Message = missing;
+    vtkErrorMacro(<< in.Message);
+    return 0;
+  }
   in.Interactor->Initialize();
   in.StartProgressTimer();
   in.StartRender();

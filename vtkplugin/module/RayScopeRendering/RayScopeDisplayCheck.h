@@ -1,0 +1,17 @@
+// Whether a render window can be shown: an on-screen X window needs an X
+// server to connect to. VTK 9.1's X interactor dereferences a null display
+// when there is none, so the viewer asks first and says what is missing.
+#pragma once
+
+#include <string>
+
+class vtkRenderWindow;
+
+namespace rayscope_vtkmodule {
+
+/// Empty when `window` can open (it draws off screen, is not an X window, or
+/// an X server answers), else one sentence naming the missing display and
+/// how to get one.
+std::string missing_display(vtkRenderWindow* window);
+
+}  // namespace rayscope_vtkmodule
