@@ -12,6 +12,8 @@
 #include <thread>
 #include <vector>
 
+#include <unistd.h>
+
 #include "commands.h"
 #include "rayscope/render.h"
 #include "scene_options.h"
@@ -28,12 +30,26 @@ namespace {
 constexpr double kCompareBruteForceBudget = 2e7;
 /// Timed renders per structure at most (--runs).
 constexpr int kMaxRuns = 100;
+/// Seconds each structure may take by default (--budget): the render with
+/// statistics is stopped there, and the timed renders stop once the
+/// structure's renders have taken this long (after at least one). Slow
+/// pairs (the grid or BSP tree storing each primitive in its smallest cell,
+/// at 0.01 Mrays/s on the bunny) would otherwise take many minutes each.
+constexpr double kDefaultBudgetSeconds = 10.0;
+/// The largest --budget: a day.
+constexpr double kMaxBudgetSeconds = 86400.0;
 
 struct CompareOptions {
   SceneOptions scene;
   std::string structures;  ///< Comma-separated AccelKind names; empty: every kind.
   int runs = 3;
+  double budget = kDefaultBudgetSeconds;  ///< Seconds per structure; 0: no limit.
   std::string csv;
+};
+
+/// Thrown by the progress callback of a render that has used up the budget.
+struct OverBudget {
+  double fraction;  ///< Of the image's tiles rendered.
 };
 
 struct Row {
@@ -43,6 +59,7 @@ struct Row {
   AccelFigures figures;
   RayCounters counters;  ///< From the render with statistics.
   double seconds = 0.0;  ///< Median of the timed renders (no statistics).
+  int runs = 0;          ///< Timed renders made (fewer than --runs when over the budget).
   bool same_image = true;
 };
 
@@ -115,34 +132,6 @@ int run_compare(const CompareOptions& o) {
       rows.push_back(row);
     }
   }
-  std::vector<Color> first_image;
-  for (size_t ri = 0; ri < rows.size(); ++ri) {
-    Row& row = rows[ri];
-    AccelConfig config;
-    config.kind = row.kind;
-    config.storage = row.storage;
-    scene.commit(config);
-    row.figures = scene.accel().figures();
-    RenderSettings stats = rs;
-    stats.statistics = true;
-    render(scene, stats, &row.counters);
-    std::vector<double> times;
-    for (int r = 0; r < o.runs; ++r) {
-      const auto t0 = std::chrono::steady_clock::now();
-      Framebuffer fb = render(scene, rs);
-      times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-      if (r == 0) {
-        if (ri == 0)
-          first_image = fb.color;
-        else
-          row.same_image = fb.color.size() == first_image.size() &&
-                           std::memcmp(fb.color.data(), first_image.data(),
-                                       fb.color.size() * sizeof(Color)) == 0;
-      }
-    }
-    row.seconds = median(times);
-  }
-
   const std::string name = o.scene.scene.empty() ? std::string("default scene") : o.scene.scene;
   std::printf(
       "%s: %zu triangles, %s%zu spheres, %zu planes; %dx%d, %dx%d samples, depth %d, %d "
@@ -154,38 +143,116 @@ int run_compare(const CompareOptions& o) {
   std::printf("%-20s %9s %10s %9s %8s %6s %9s %10s %10s %10s %9s %8s %6s\n", "structure",
               "build ms", "memory MiB", "nodes", "leaves", "depth", "refs/prim", "nodes/ray",
               "boxes/ray", "prims/ray", "render s", "Mrays/s", "image");
+  std::fflush(stdout);
   std::ostringstream csv;
   csv << "structure,build_ms,memory_bytes,nodes,leaves,depth,refs_per_prim,rays,nodes_per_ray,"
          "boxes_per_ray,prims_per_ray,render_seconds,mrays_per_s,same_image\n";
-  for (const Row& r : rows) {
-    const AccelFigures& f = r.figures;
-    const double rays = double(std::max<uint64_t>(1, r.counters.total_rays()));
-    const double nodes = double(r.counters.nodes_visited) / rays;
-    const double boxes = double(r.counters.boxes_tested) / rays;
-    const double prims = double(r.counters.prims_tested) / rays;
-    const double mrays = r.seconds > 0.0 ? rays / r.seconds * 1e-6 : 0.0;
+
+  // Progress on a terminal: which structure, and how far its render is.
+  const bool show_progress = isatty(fileno(stderr)) != 0;
+  auto progress_line = [&](size_t ri, const Row& row, const char* what, double fraction) {
+    if (!show_progress) return;
+    std::fprintf(stderr, "\r\033[K[%zu/%zu] %s: %s %3.0f%%", ri + 1, rows.size(), row.name.c_str(),
+                 what, 100.0 * fraction);
+    std::fflush(stderr);
+  };
+  std::vector<Color> first_image;
+  std::vector<const Row*> measured;
+  for (size_t ri = 0; ri < rows.size(); ++ri) {
+    Row& row = rows[ri];
+    AccelConfig config;
+    config.kind = row.kind;
+    config.storage = row.storage;
+    progress_line(ri, row, "building", 0.0);
+    scene.commit(config);
+    row.figures = scene.accel().figures();
+    const auto start = std::chrono::steady_clock::now();
+    auto elapsed = [&] {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    // A render's progress; with `enforce`, it stops (OverBudget) once the
+    // structure has used its budget.
+    auto watch = [&](const char* what, bool enforce) {
+      return [&, what, enforce](size_t done, size_t total) {
+        const double fraction = double(done) / double(total);
+        progress_line(ri, row, what, fraction);
+        if (enforce && o.budget > 0.0 && done < total && elapsed() > o.budget)
+          throw OverBudget{fraction};
+      };
+    };
+    RenderSettings stats = rs;
+    stats.statistics = true;
+    try {
+      render(scene, stats, &row.counters, watch("rendering with statistics", true));
+    } catch (const OverBudget& over) {
+      char why[256];
+      std::snprintf(why, sizeof why,
+                    "%s (its render with statistics had done %.0f%% of the image after the "
+                    "budget of %g s; --budget 0 measures it to the end)",
+                    row.name.c_str(), 100.0 * over.fraction, o.budget);
+      skipped.push_back(why);
+      continue;
+    }
+    std::vector<double> times;
+    for (int r = 0; r < o.runs; ++r) {
+      if (r > 0 && o.budget > 0.0 && elapsed() > o.budget) break;
+      const auto t0 = std::chrono::steady_clock::now();
+      Framebuffer fb;
+      try {
+        // The first timed render finishes: its time and image are the row's.
+        fb = render(scene, rs, nullptr, watch("timed render", r > 0));
+      } catch (const OverBudget&) {
+        break;
+      }
+      times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      if (r == 0) {
+        if (first_image.empty())
+          first_image = fb.color;
+        else
+          row.same_image = fb.color.size() == first_image.size() &&
+                           std::memcmp(fb.color.data(), first_image.data(),
+                                       fb.color.size() * sizeof(Color)) == 0;
+      }
+    }
+    row.seconds = median(times);
+    row.runs = int(times.size());
+    if (show_progress) std::fprintf(stderr, "\r\033[K");
+
+    const AccelFigures& f = row.figures;
+    const double rays = double(std::max<uint64_t>(1, row.counters.total_rays()));
+    const double nodes = double(row.counters.nodes_visited) / rays;
+    const double boxes = double(row.counters.boxes_tested) / rays;
+    const double prims = double(row.counters.prims_tested) / rays;
+    const double mrays = row.seconds > 0.0 ? rays / row.seconds * 1e-6 : 0.0;
     std::printf("%-20s %9.2f %10.3f %9zu %8zu %6u %9.2f %10.2f %10.2f %10.2f %9.4f %8.2f %6s\n",
-                r.name.c_str(), f.build_seconds * 1e3, double(f.memory_bytes) / 1048576.0, f.nodes,
-                f.leaves, f.depth, f.refs_per_prim, nodes, boxes, prims, r.seconds, mrays,
-                r.same_image ? "same" : "DIFFERS");
+                row.name.c_str(), f.build_seconds * 1e3, double(f.memory_bytes) / 1048576.0,
+                f.nodes, f.leaves, f.depth, f.refs_per_prim, nodes, boxes, prims, row.seconds,
+                mrays, row.same_image ? "same" : "DIFFERS");
+    std::fflush(stdout);
     char line[512];
     std::snprintf(line, sizeof line,
-                  "%s,%.4f,%zu,%zu,%zu,%u,%.4f,%llu,%.4f,%.4f,%.4f,%.6f,%.4f,%d\n", r.name.c_str(),
-                  f.build_seconds * 1e3, f.memory_bytes, f.nodes, f.leaves, f.depth,
-                  f.refs_per_prim, (unsigned long long)r.counters.total_rays(), nodes, boxes, prims,
-                  r.seconds, mrays, r.same_image ? 1 : 0);
+                  "%s,%.4f,%zu,%zu,%zu,%u,%.4f,%llu,%.4f,%.4f,%.4f,%.6f,%.4f,%d\n",
+                  row.name.c_str(), f.build_seconds * 1e3, f.memory_bytes, f.nodes, f.leaves,
+                  f.depth, f.refs_per_prim, (unsigned long long)row.counters.total_rays(), nodes,
+                  boxes, prims, row.seconds, mrays, row.same_image ? 1 : 0);
     csv << line;
+    measured.push_back(&row);
   }
+  if (show_progress) std::fprintf(stderr, "\r\033[K");
+  for (const Row* r : measured)
+    if (r->runs < o.runs)
+      std::printf("%s: median of %d timed render%s (the budget of %g s was used up)\n",
+                  r->name.c_str(), r->runs, r->runs == 1 ? "" : "s", o.budget);
   for (const std::string& s : skipped) std::printf("not measured: %s\n", s.c_str());
   std::printf(
       "image: whether the structure rendered the first one's image bit for bit (every "
       "structure returns the same hits)\n");
   std::fflush(stdout);
   if (!o.csv.empty()) write_text_file(o.csv, csv.str());
-  for (const Row& r : rows)
-    if (!r.same_image) {
+  for (const Row* r : measured)
+    if (!r->same_image) {
       std::fprintf(stderr, "rayscope: error: %s rendered a different image than %s\n",
-                   r.name.c_str(), rows.front().name.c_str());
+                   r->name.c_str(), measured.front()->name.c_str());
       return 1;
     }
   return 0;
@@ -214,6 +281,13 @@ void add_accel_command(CLI::App& app, int& exit_code) {
                   "Timed renders per structure; the median is reported (1.." +
                       std::to_string(kMaxRuns) + ")")
       ->check(CLI::Range(1, kMaxRuns));
+  cmd->add_option("--budget", opts->budget,
+                  "Seconds each structure may take (default " +
+                      shortest_text(kDefaultBudgetSeconds) +
+                      "; 0: no limit): a render with statistics that takes longer is stopped "
+                      "and the structure reported as not measured, and timed renders stop "
+                      "once it is used up (after the first)")
+      ->check(CLI::Range(0.0, kMaxBudgetSeconds));
   cmd->add_option("--csv", opts->csv, "Also write the table as CSV to this file");
   cmd->callback([opts, &exit_code] { exit_code = run_compare(*opts); });
 }
