@@ -146,17 +146,26 @@ std::vector<Ray> shadow_rays(const Scene& scene, const std::vector<Ray>& primary
   return rays;
 }
 
-TEST(Packets, EveryDataSceneGivesTheSingleRayHits) {
+/// Calls f(scene, file name) for every scene of data/scenes/, committed with
+/// the default structure; checks there are at least 8.
+template <class F>
+void for_each_data_scene(F&& f) {
   const std::filesystem::path dir = std::filesystem::path(RAYSCOPE_SOURCE_DIR) / "data/scenes";
   size_t scenes = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     if (entry.path().extension() != ".json") continue;
-    SCOPED_TRACE(entry.path().filename().string());
-    LoadedScene ls = load_scene(entry.path(), rayscope_vtkio::load_meshes);
-    Scene& scene = ls.scene;
-    scene.commit();
-    ++scenes;
     const std::string name = entry.path().filename().string();
+    SCOPED_TRACE(name);
+    LoadedScene ls = load_scene(entry.path(), rayscope_vtkio::load_meshes);
+    ls.scene.commit();
+    ++scenes;
+    f(ls.scene, name);
+  }
+  EXPECT_GE(scenes, 8u);
+}
+
+TEST(Packets, EveryDataSceneGivesTheSingleRayHits) {
+  for_each_data_scene([](const Scene& scene, const std::string& name) {
     const std::vector<Ray> blocks = primary_blocks(scene.camera, 96, 72, 4, 4);
     const std::vector<Ray> rows = primary_blocks(scene.camera, 96, 72, 16, 1);
     size_t walked = 0;
@@ -168,8 +177,7 @@ TEST(Packets, EveryDataSceneGivesTheSingleRayHits) {
     if (scene.accel().walks_structure()) {
       EXPECT_GT(walked, blocks.size() / kPacketRays / 2) << name;
     }
-  }
-  EXPECT_GE(scenes, 8u);
+  });
 }
 
 /// Whether two framebuffers hold the same colors and AOVs, bit for bit.
@@ -190,15 +198,7 @@ TEST(Packets, EveryDataSceneGivesTheSingleRayHits) {
 // 2x2 samples, the texture filter, a progressive pass, and a size and tile
 // size that leave partial blocks.
 TEST(Packets, FrameLoopInBlocksGivesTheSingleRayImage) {
-  const std::filesystem::path dir = std::filesystem::path(RAYSCOPE_SOURCE_DIR) / "data/scenes";
-  size_t scenes = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-    if (entry.path().extension() != ".json") continue;
-    SCOPED_TRACE(entry.path().filename().string());
-    LoadedScene ls = load_scene(entry.path(), rayscope_vtkio::load_meshes);
-    Scene& scene = ls.scene;
-    scene.commit();
-    ++scenes;
+  for_each_data_scene([](Scene& scene, const std::string&) {
     RenderSettings rs;
     rs.width = 67;
     rs.height = 45;
@@ -223,8 +223,7 @@ TEST(Packets, FrameLoopInBlocksGivesTheSingleRayImage) {
       EXPECT_EQ(in_blocks.shadow_skipped_backfacing, single.shadow_skipped_backfacing);
       EXPECT_GT(single.primary_hits, 0u);
     }
-  }
-  EXPECT_GE(scenes, 8u);
+  });
 }
 
 /// A closed icosphere and a flat grid of triangles with shared edges and
