@@ -180,14 +180,17 @@ void SceneOptions::add_to(CLI::App* cmd, bool render_settings, bool walk_option)
                       shortest_text(kDefaultLooseFactor) + ", the lecture's 10%)");
   cmd->add_option("--kd-split", kd_split,
                   "How the kdtree chooses its split planes: sah (surface area heuristic; "
-                  "default) or median (the middle of the cell's longest axis)")
+                  "default), median (the middle of the cell's longest axis: a spatial "
+                  "median) or alternating-median (the lecture's rule: the axes x, y, z in "
+                  "turn with the depth, the plane at the median of the primitives' centers)")
       ->check(CLI::Validator(
           [](std::string& name) {
             KdSplitRule r;
-            return parse_kd_split_rule(name, r) ? std::string()
-                                                : "expected sah or median, got '" + name + "'";
+            return parse_kd_split_rule(name, r)
+                       ? std::string()
+                       : "expected sah, median or alternating-median, got '" + name + "'";
           },
-          "sah|median"));
+          "sah|median|alternating-median"));
   cmd->add_option("--grid-resolution", grid_resolution,
                   "The grid's cells per axis: N, or NX,NY,NZ (0 on an axis: chosen from the "
                   "object count, the default; at most " +

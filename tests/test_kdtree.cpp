@@ -142,7 +142,11 @@ INSTANTIATE_TEST_SUITE_P(
                   kDefaultLooseFactor},
         KdSetting{"median_loose_default", KdSplitRule::Median, PrimStorage::SmallestCell,
                   kDefaultLooseFactor},
-        KdSetting{"sah_loose_max", KdSplitRule::Sah, PrimStorage::SmallestCell, kMaxLooseFactor}),
+        KdSetting{"sah_loose_max", KdSplitRule::Sah, PrimStorage::SmallestCell, kMaxLooseFactor},
+        KdSetting{"alternating_median_every_cell", KdSplitRule::AlternatingMedian,
+                  PrimStorage::EveryCell, 0.0f},
+        KdSetting{"alternating_median_loose_default", KdSplitRule::AlternatingMedian,
+                  PrimStorage::SmallestCell, kDefaultLooseFactor}),
     [](const auto& info) { return info.param.name; });
 
 TEST_P(KdTreeSetting, QueriesMatchBruteForceAndTheBvh) {
@@ -190,6 +194,51 @@ TEST(KdTree, MedianRulePrunesLessOnSlivers) {
   EXPECT_LT(t.tests, all * 2 / 3);
   EXPECT_GT(t.multi_node_rays, uint64_t(n_rays) / 2);
   EXPECT_GT(t.culls, 0u);
+}
+
+TEST(KdTree, AlternatingMedianTakesTheAxesInTurnAtTheCentersMedian) {
+  // The lecture's rule: x at the root, y below it, z below those, each plane
+  // at the (upper) median of the cell's primitives' centers, so that the
+  // root's sides get half the primitives each; the tree passes the builder's
+  // invariants.
+  Rng rng(48);
+  const Prims p = rstest::random_boxes(rng, 2001, rstest::BoxLayout::Uniform);
+  KdTreeBuildConfig cfg;
+  cfg.rule = KdSplitRule::AlternatingMedian;
+  KdTree kd;
+  kd.build(p.bounds, cfg);
+  check_invariants(kd, p);
+  if (HasFatalFailure()) return;
+  auto median_center = [&](const std::vector<uint32_t>& prims, int axis) {
+    std::vector<float> c;
+    for (uint32_t q : prims) c.push_back(p.bounds[q].center()[axis]);
+    std::sort(c.begin(), c.end());
+    return c[c.size() / 2];
+  };
+  std::vector<uint32_t> all(p.bounds.size());
+  for (uint32_t q = 0; q < all.size(); ++q) all[q] = q;
+  const KdNode& root = kd.nodes[0];
+  ASSERT_FALSE(root.is_leaf());
+  EXPECT_EQ(root.axis(), 0);
+  EXPECT_EQ(root.split(), median_center(all, 0));
+  size_t below = 0, above = 0;
+  for (const Bounds3& b : p.bounds) (b.center().x < root.split() ? below : above)++;
+  EXPECT_EQ(below, p.bounds.size() / 2);
+  // Depths 1 and 2: y, then z.
+  for (const uint32_t child : {1u, root.above()}) {
+    const KdNode& c = kd.nodes[child];
+    ASSERT_FALSE(c.is_leaf());
+    EXPECT_EQ(c.axis(), 1);
+    for (const uint32_t grandchild : {child + 1, c.above()}) {
+      ASSERT_FALSE(kd.nodes[grandchild].is_leaf());
+      EXPECT_EQ(kd.nodes[grandchild].axis(), 2);
+    }
+  }
+  // Its name, as the command line and the scene settings spell it.
+  KdSplitRule r;
+  ASSERT_TRUE(parse_kd_split_rule("alternating-median", r));
+  EXPECT_EQ(r, KdSplitRule::AlternatingMedian);
+  EXPECT_STREQ(to_string(r), "alternating-median");
 }
 
 class KdTreeRule : public ::testing::TestWithParam<KdSplitRule> {};

@@ -264,6 +264,15 @@ TEST(VtkImage, LooseFactorAndKdSplitReachTheStructure) {
   EXPECT_DOUBLE_EQ(accel.figures().refs_per_prim, 1.0);
   expect_same_colors(bvh->GetOutput(), alg->GetOutput());
 
+  // The lecture's rule, and the image still the BVH's.
+  alg->SetStorageToEveryCell();
+  alg->SetKdSplitToAlternatingMedian();
+  ASSERT_EQ(update(alg), 1);
+  EXPECT_EQ(alg->GetCoreScene()->accel().config().kdtree.rule,
+            rayscope::KdSplitRule::AlternatingMedian);
+  EXPECT_EQ(alg->GetCoreScene()->accel().structure_as<rayscope::KdTree>().nodes[0].axis(), 0);
+  expect_same_colors(bvh->GetOutput(), alg->GetOutput());
+
   // GridResolution gives the grid's cells per axis; 0 on an axis: automatic.
   alg->SetAccelToGrid();
   alg->SetStorageToEveryCell();

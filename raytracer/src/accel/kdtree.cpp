@@ -1,6 +1,7 @@
 // kD-tree builder: top-down, one split plane per cell, chosen by the surface
 // area heuristic over the primitives' bound edges (sorted once per cell and
-// axis: O(n log n) per level) or at the cell's spatial median. A primitive goes
+// axis: O(n log n) per level), at the cell's spatial median, or by the
+// lecture's rule (axes in turn, the median of the primitives' centers). A primitive goes
 // to every child cell its bounds overlap; one that only touches the plane goes
 // to its own side, and one lying in the plane goes below (see goes_below). The
 // walk reaches both sides wherever the ray meets the plane (kdtree.h), so a
@@ -187,8 +188,7 @@ struct Builder {
     assert(offsets.size() == node);
     offsets.push_back(uint32_t(refs.size()));
     const size_t n = prims.size();
-    if (n == 0 || depth >= max_depth ||
-        n <= (cfg.rule == KdSplitRule::Median ? cfg.max_leaf_size : 0))
+    if (n == 0 || depth >= max_depth || n <= (cfg.rule != KdSplitRule::Sah ? cfg.max_leaf_size : 0))
       return make_leaf(node, prims);
     Split split;
     if (cfg.rule == KdSplitRule::Sah) {
@@ -199,7 +199,7 @@ struct Builder {
         ++bad_refines;
       }
     } else {
-      split = median_split(cell);
+      split = rule_split(cell, prims, depth);
     }
     if (split.axis < 0) return make_leaf(node, prims);
 
@@ -233,6 +233,31 @@ struct Builder {
     build_loose(uint32_t(above_index), above_cell, std::move(above), depth + 1, bad_refines);
   }
 
+  /// The plane of a rule other than the SAH for a cell at `depth`.
+  Split rule_split(const Bounds3& cell, const std::vector<uint32_t>& prims, int depth) {
+    return cfg.rule == KdSplitRule::Median ? median_split(cell)
+                                           : alternating_median_split(cell, prims, depth);
+  }
+
+  /// Axis depth % 3 (then the next ones in turn), at the median of the
+  /// primitives' centers along it: the upper median, so that a plane between
+  /// two centers sends each to its side. No split when no axis has its
+  /// median strictly inside the cell.
+  Split alternating_median_split(const Bounds3& cell, const std::vector<uint32_t>& prims,
+                                 int depth) {
+    std::vector<float>& c = candidates;  // reused per cell
+    for (int turn = 0; turn < 3; ++turn) {
+      const int axis = (depth + turn) % 3;
+      c.clear();
+      for (uint32_t p : prims) c.push_back(bounds[p].center()[axis]);
+      auto mid = c.begin() + std::ptrdiff_t(c.size() / 2);
+      std::nth_element(c.begin(), mid, c.end());
+      const float m = *mid;
+      if (m > cell.lo[axis] && m < cell.hi[axis]) return Split{axis, m, 0.0f};
+    }
+    return Split{};
+  }
+
   /// The middle of the cell's longest axis (no split for a point-like cell).
   static Split median_split(const Bounds3& cell) {
     Split s;
@@ -247,7 +272,7 @@ struct Builder {
              int bad_refines) {
     const size_t n = prims.size();
     if (n == 0 || depth >= max_depth || refs.size() + n > max_refs ||
-        (cfg.rule == KdSplitRule::Median && n <= cfg.max_leaf_size))
+        (cfg.rule != KdSplitRule::Sah && n <= cfg.max_leaf_size))
       return make_leaf(node, prims);
     Split split;
     if (cfg.rule == KdSplitRule::Sah) {
@@ -258,7 +283,7 @@ struct Builder {
         ++bad_refines;
       }
     } else {
-      split = median_split(cell);
+      split = rule_split(cell, prims, depth);
     }
     if (split.axis < 0) return make_leaf(node, prims);
 
@@ -289,11 +314,19 @@ struct Builder {
 }  // namespace
 
 const char* to_string(KdSplitRule rule) {
-  return rule == KdSplitRule::Median ? "median" : "sah";
+  switch (rule) {
+    case KdSplitRule::Sah:
+      return "sah";
+    case KdSplitRule::Median:
+      return "median";
+    case KdSplitRule::AlternatingMedian:
+      return "alternating-median";
+  }
+  return "?";
 }
 
 bool parse_kd_split_rule(std::string_view name, KdSplitRule& rule) {
-  for (KdSplitRule r : {KdSplitRule::Sah, KdSplitRule::Median})
+  for (KdSplitRule r : {KdSplitRule::Sah, KdSplitRule::Median, KdSplitRule::AlternatingMedian})
     if (name == to_string(r)) {
       rule = r;
       return true;

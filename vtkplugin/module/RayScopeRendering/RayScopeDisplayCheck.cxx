@@ -10,11 +10,12 @@
 
 namespace rayscope_vtkmodule {
 
-std::string missing_display(vtkRenderWindow* window) {
+std::string connect_display(vtkRenderWindow* window) {
 #if defined(RAYSCOPE_VIEWER_X11)
   if (window->GetOffScreenRendering() || !window->IsA("vtkXOpenGLRenderWindow")) return {};
-  if (Display* d = XOpenDisplay(nullptr)) {
-    XCloseDisplay(d);
+  static Display* const display = XOpenDisplay(nullptr);
+  if (display) {
+    window->SetDisplayId(display);
     return {};
   }
   const char* name = std::getenv("DISPLAY");

@@ -127,7 +127,7 @@ int vtkRayScopeViewer::Initialize() {
   }
   in.Settings = in.Algorithm->GetRenderSettings();
   in.Build();
-  if (const std::string missing = rayscope_vtkmodule::missing_display(in.Window);
+  if (const std::string missing = rayscope_vtkmodule::connect_display(in.Window);
       !missing.empty()) {
     in.Message = missing;
     vtkErrorMacro(<< in.Message);

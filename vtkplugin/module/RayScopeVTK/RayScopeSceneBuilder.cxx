@@ -211,9 +211,12 @@ rayscope::AccelConfig accel_config_of(vtkRayScopeImageAlgorithm* alg) {
   accel.storage = storage_of(alg->GetStorage());
   accel.loose_factor = float(alg->GetLooseFactor());
   accel.grid.resolution = grid_resolution_of(alg->GetGridResolution());
-  accel.kdtree.rule = alg->GetKdSplit() == vtkRayScopeImageAlgorithm::KD_SPLIT_MEDIAN
-                          ? rayscope::KdSplitRule::Median
-                          : rayscope::KdSplitRule::Sah;
+  // The settings' values are rayscope::KdSplitRule's.
+  static_assert(int(rayscope::KdSplitRule::Sah) == vtkRayScopeSceneSettings::KD_SPLIT_SAH &&
+                int(rayscope::KdSplitRule::Median) == vtkRayScopeSceneSettings::KD_SPLIT_MEDIAN &&
+                int(rayscope::KdSplitRule::AlternatingMedian) ==
+                    vtkRayScopeSceneSettings::KD_SPLIT_ALTERNATING_MEDIAN);
+  accel.kdtree.rule = rayscope::KdSplitRule(alg->GetKdSplit());
   return accel;
 }
 

@@ -242,9 +242,7 @@ void vtkRayScopeImageAlgorithm::SetCoreScene(const rayscope::Scene& scene) {
   this->SetLooseFactor(double(scene.accel().config().loose_factor));
   const glm::uvec3 res = scene.accel().config().grid.resolution;
   this->SetGridResolution(int(res.x), int(res.y), int(res.z));
-  this->SetKdSplit(scene.accel().config().kdtree.rule == rayscope::KdSplitRule::Median
-                       ? KD_SPLIT_MEDIAN
-                       : KD_SPLIT_SAH);
+  this->SetKdSplit(int(scene.accel().config().kdtree.rule));  // the values are the rule's
   this->Modified();
 }
 

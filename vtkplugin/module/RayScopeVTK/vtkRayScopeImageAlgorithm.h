@@ -150,7 +150,8 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   };
   enum KdSplitRules {
     KD_SPLIT_SAH = vtkRayScopeSceneSettings::KD_SPLIT_SAH,
-    KD_SPLIT_MEDIAN = vtkRayScopeSceneSettings::KD_SPLIT_MEDIAN
+    KD_SPLIT_MEDIAN = vtkRayScopeSceneSettings::KD_SPLIT_MEDIAN,
+    KD_SPLIT_ALTERNATING_MEDIAN = vtkRayScopeSceneSettings::KD_SPLIT_ALTERNATING_MEDIAN
   };
   enum LightTypes {
     LIGHT_POINT = vtkRayScopeSceneSettings::LIGHT_POINT,
@@ -258,6 +259,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeImageAlgorithm : public vtkImageAlgorithm {
   void SetStorageToSplit() { this->GetSettings()->SetStorageToSplit(); }
   void SetKdSplitToSah() { this->GetSettings()->SetKdSplitToSah(); }
   void SetKdSplitToMedian() { this->GetSettings()->SetKdSplitToMedian(); }
+  void SetKdSplitToAlternatingMedian() { this->GetSettings()->SetKdSplitToAlternatingMedian(); }
   void CopyCamera(vtkCamera* camera) { this->GetSettings()->CopyCamera(camera); }
   int AddPointLight(double x, double y, double z, double r, double g, double b, double intensity) {
     return this->GetSettings()->AddPointLight(x, y, z, r, g, b, intensity);

@@ -274,6 +274,10 @@ rayscope::RenderSettings vtkRayScopeSceneSettings::GetRenderSettings() {
   s.threads = this->Threads;
   s.seed = uint32_t(this->Seed);
   s.statistics = this->ComputeCost != 0;
+  // With Cost arrays every ray is traced alone, so that the costs describe
+  // the walks that the structure source's visit counts and the ray trees
+  // show (both follow single rays); without them, packets (the same image).
+  s.packets = !s.statistics;
   return s;
 }
 

@@ -179,15 +179,18 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeSceneSettings : public vtkObject {
   ///@}
 
   ///@{
-  /// How ACCEL_KDTREE chooses its split planes (rayscope::KdSplitRule, as the
-  /// CLI's --kd-split): KD_SPLIT_SAH, by the surface-area heuristic
-  /// (default); KD_SPLIT_MEDIAN, at the median of the cell's primitive
-  /// centers on its widest axis.
-  enum KdSplitRules { KD_SPLIT_SAH = 0, KD_SPLIT_MEDIAN = 1 };
-  vtkSetClampMacro(KdSplit, int, KD_SPLIT_SAH, KD_SPLIT_MEDIAN);
+  /// How ACCEL_KDTREE chooses its split planes (rayscope::KdSplitRule, whose
+  /// values these are, as the CLI's --kd-split): KD_SPLIT_SAH, by the
+  /// surface-area heuristic (default); KD_SPLIT_MEDIAN, at the middle of the
+  /// cell's longest axis (a spatial median); KD_SPLIT_ALTERNATING_MEDIAN, the
+  /// lecture's rule: the axes x, y, z in turn with the depth, the plane at
+  /// the median of the cell's primitive centers.
+  enum KdSplitRules { KD_SPLIT_SAH = 0, KD_SPLIT_MEDIAN = 1, KD_SPLIT_ALTERNATING_MEDIAN = 2 };
+  vtkSetClampMacro(KdSplit, int, KD_SPLIT_SAH, KD_SPLIT_ALTERNATING_MEDIAN);
   vtkGetMacro(KdSplit, int);
   void SetKdSplitToSah() { this->SetKdSplit(KD_SPLIT_SAH); }
   void SetKdSplitToMedian() { this->SetKdSplit(KD_SPLIT_MEDIAN); }
+  void SetKdSplitToAlternatingMedian() { this->SetKdSplit(KD_SPLIT_ALTERNATING_MEDIAN); }
   ///@}
 
   ///@{

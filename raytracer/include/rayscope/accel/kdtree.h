@@ -77,9 +77,15 @@ enum class KdSplitRule : uint8_t {
   /// The middle of the cell's longest axis (spatial median): the plain
   /// subdivision the SAH is measured against.
   Median,
+  /// The lecture's rule: the axes take turns with the depth (x at the root,
+  /// then y, then z, ...) and the plane lies at the median of the cell's
+  /// primitives' centers along that axis (an object median), so each side
+  /// gets about half of them. Where that median is not strictly inside the
+  /// cell (most centers on one coordinate), the next axes in turn are tried.
+  AlternatingMedian,
 };
 
-/// "sah", "median".
+/// "sah", "median", "alternating-median".
 const char* to_string(KdSplitRule rule);
 /// Parses the names to_string() gives; false for anything else.
 bool parse_kd_split_rule(std::string_view name, KdSplitRule& rule);
