@@ -98,6 +98,18 @@ auto lane_observer(Cost& cost, size_t k) {
   }
 }
 
+// The packet calls' fallback: one(k, observer) traces rays[k] alone with its
+// lane's observer and says whether it hit; returns the lanes that did.
+template <class Cost, class One>
+unsigned each_ray_alone(std::span<const Ray> rays, Cost& cost, One&& one) {
+  unsigned found = 0;
+  for (size_t k = 0; k < rays.size(); ++k) {
+    auto lane = lane_observer(cost, k);
+    if (one(k, lane)) found |= 1u << k;
+  }
+  return found;
+}
+
 }  // namespace
 
 template <class Cost>
@@ -105,14 +117,10 @@ unsigned Aggregate::intersect_packet(std::span<const Ray> rays, PrimHit* hits, C
   NullTraversalObserver obs;
   RayPacket packet;
   const BvhWalk* w = packet_walk(rays, packet);
+  if (w == nullptr)
+    return each_ray_alone(rays, cost,
+                          [&](size_t k, auto& lane) { return intersect(rays[k], hits[k], lane); });
   unsigned found = 0;
-  if (w == nullptr) {
-    for (size_t k = 0; k < rays.size(); ++k) {
-      auto lane = lane_observer(cost, k);
-      if (intersect(rays[k], hits[k], lane)) found |= 1u << k;
-    }
-    return found;
-  }
   TrianglePrecomp pre[kPacketRays];
   ClosestSoFar closest[kPacketRays];
   for (size_t k = 0; k < rays.size(); ++k) pre[k] = TrianglePrecomp(rays[k]);
@@ -130,14 +138,10 @@ template <class Cost>
 unsigned Aggregate::occluded_packet(std::span<const Ray> rays, Cost& cost) const {
   RayPacket packet;
   const BvhWalk* w = packet_walk(rays, packet);
+  if (w == nullptr)
+    return each_ray_alone(rays, cost,
+                          [&](size_t k, auto& lane) { return occluded(rays[k], lane); });
   unsigned found = 0;
-  if (w == nullptr) {
-    for (size_t k = 0; k < rays.size(); ++k) {
-      auto lane = lane_observer(cost, k);
-      if (occluded(rays[k], lane)) found |= 1u << k;
-    }
-    return found;
-  }
   TrianglePrecomp pre[kPacketRays];
   for (size_t k = 0; k < rays.size(); ++k) {
     float tp;

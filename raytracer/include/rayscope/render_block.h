@@ -88,16 +88,18 @@ void render_block(const Scene& scene, const RenderSettings& settings, int x0, in
       // these hits (light_view() Facing, casts_shadows), with their pixels.
       Ray shadows[kMax];
       int pixel[kMax];
+      ShadingNormals sn[kMax];
+      for (int i = 0; i < count; ++i)
+        if (found >> i & 1u) sn[i] = shading_normals(rays[i], hits[i]);
       for (size_t li = 0; li < scene.lights.size(); ++li) {
         const Light& light = scene.lights[li];
         if (!light.casts_shadows) continue;
         int m = 0;
         for (int i = 0; i < count; ++i) {
           if (!(found >> i & 1u)) continue;
-          const ShadingNormals sn = shading_normals(rays[i], hits[i]);
-          const LightView lv = light_view(light, hits[i], sn.ng, sn.ns);
+          const LightView lv = light_view(light, hits[i], sn[i].ng, sn[i].ns);
           if (lv.status != LightView::Status::Facing) continue;
-          shadows[m] = shadow_ray(hits[i], sn.ng, light, lv.l);
+          shadows[m] = shadow_ray(hits[i], sn[i].ng, light, lv.l);
           pixel[m++] = i;
         }
         if (m == 0) continue;

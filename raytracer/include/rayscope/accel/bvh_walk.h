@@ -122,6 +122,17 @@ inline bool BvhWalk::traverse(const Ray& ray, const TrianglePrecomp& pre, float&
   }
 }
 
+// A block or packet test's answer for lane k: its hit (written to th) when
+// the test decided a hit there, or null when the lane is undecided (the
+// exact scalar test decides it).
+template <class Result>
+[[gnu::always_inline]] inline const TriangleHit* decided_hit(const Result& res, unsigned k,
+                                                             TriangleHit& th) {
+  if (!((res.hits >> k) & 1u)) return nullptr;
+  th = res.hit(k);
+  return &th;
+}
+
 template <bool AnyHit, class PrimFn>
 [[gnu::always_inline]] inline bool BvhWalk::test_blocks(uint32_t block, uint32_t count,
                                                         const TriangleBlockRay& block_ray,
@@ -135,12 +146,8 @@ template <bool AnyHit, class PrimFn>
     for (unsigned m = res.hits | res.undecided; m != 0; m &= m - 1) {
       const unsigned k = unsigned(__builtin_ctz(m));
       TriangleHit th;
-      const TriangleHit* decided = nullptr;
-      if ((res.hits >> k) & 1u) {
-        th = res.hit(k);
-        if (!(th.t <= tmax)) continue;  // beyond a hit found in this block
-        decided = &th;
-      }
+      const TriangleHit* decided = decided_hit(res, k, th);
+      if (decided && !(th.t <= tmax)) continue;  // beyond a hit found in this block
       if (prim(base + k, tmax, decided)) {
         found = true;
         if constexpr (AnyHit) return true;
@@ -167,11 +174,7 @@ inline unsigned BvhWalk::traverse_packet(RayPacket& packet, const TrianglePrecom
         for (unsigned m = res.hits | res.undecided; m != 0; m &= m - 1) {
           const unsigned k = unsigned(__builtin_ctz(m));
           TriangleHit th;
-          const TriangleHit* decided = nullptr;
-          if ((res.hits >> k) & 1u) {
-            th = res.hit(k);
-            decided = &th;
-          }
+          const TriangleHit* decided = decided_hit(res, k, th);
           float t = packet.tmax[k];
           if (prim(k, first + j, t, decided)) {
             packet.tmax[k] = t;
