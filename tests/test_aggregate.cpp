@@ -10,8 +10,12 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 
 #include "accel_test_util.h"
+#include "rayscope/accel/accel_view.h"
+#include "rayscope/intersect_capsule.h"
+#include "rayscope/render.h"
 #include "rayscope/scene.h"
 #include "rayscope/shapes.h"
 
@@ -63,7 +67,8 @@ TEST_P(AggregateKind, ObserverSeesTheChosenWalk) {
   is_top[0] = 1;
   for (size_t n = 0; n < walk.nodes.size(); ++n)
     for (int k = 0; k < WideBvhNode::kWidth; ++k) {
-      const uint32_t src = walk.slot_source[WideBvhNode::kWidth * n + k];
+      const uint32_t src =
+          scene.accel().structure_as<BvhWalk>().slot_sources()[WideBvhNode::kWidth * n + k];
       if (src != ~0u) is_top[src] = 1;
     }
   for (uint32_t n = 0; n < bvh.nodes.size(); ++n)
@@ -145,24 +150,117 @@ TEST(Aggregate, OneCheckOfStructureAndStorage) {
   EXPECT_THROW(scene.commit(ac), std::invalid_argument);
 }
 
-TEST(Aggregate, MemoryCountsEveryStructure) {
-  Scene scene;
-  scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
-  scene.planes.push_back(Plane{"floor", Vec3(0, -5, 0), Vec3(0, 1, 0), 0});
+// A mesh, a tube set, a point set, a sphere and a plane, with many triangles
+// so that the hierarchy has many levels.
+Scene scene_of_every_shape() {
+  Scene s;
+  s.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
+  TubeSet line;
+  line.name = "line";
+  line.positions = {Vec3(-4, 0, 0), Vec3(0, 2, 0), Vec3(4, 0, 1)};
+  line.segments = {{0, 1}, {1, 2}};
+  line.radius = 0.25f;
+  s.tubes.push_back(line);
+  PointSet dots;
+  dots.name = "dots";
+  dots.positions = {Vec3(0, 5, 0), Vec3(3, 5, 0), Vec3(-2, 3, 1)};
+  dots.radii = {0.5f, 1.0f, 0.3f};
+  s.points.push_back(dots);
+  s.spheres.push_back(rayscope::Sphere{"ball", Vec3(0.3f, -5, 0.1f), 1.3f, 0});
+  s.planes.push_back(Plane{"floor", Vec3(0, -20, 0), Vec3(0, 1, 0), 0});
+  return s;
+}
+
+TEST(Aggregate, APlainRenderHoldsWhatItWalksAndTheToolsBuildTheRestWhenAsked) {
+  Scene scene = scene_of_every_shape();
   scene.commit();
   const Aggregate& a = scene.accel();
-  EXPECT_EQ(a.memory_bytes(),
-            a.bvh().quality().memory_bytes + a.structure_as<BvhWalk>().walk().memory_bytes() +
-                (a.structure_as<BvhWalk>().triangle_blocks().size() * sizeof(TriangleBlock)) +
-                a.records().size() * sizeof(PrimRecord) + sizeof(PlaneRecord));
-  EXPECT_GT(a.structure_as<BvhWalk>().walk().memory_bytes(), 0u);
+  const BvhWalk& w = a.structure_as<BvhWalk>();
+  constexpr size_t W = WideBvhNode::kWidth;
+  const size_t walked = w.walk().nodes.size() * sizeof(WideBvhNode) +
+                        w.triangle_blocks().size() * sizeof(TriangleBlock) +
+                        a.records().size() * sizeof(PrimRecord) + sizeof(PlaneRecord);
+  EXPECT_GT(w.walk().nodes.size(), 1u);
+  EXPECT_EQ(a.memory_bytes(), walked);
+  // Renders with packets and with single rays build nothing more.
+  RenderSettings rs;
+  rs.width = 48;
+  rs.height = 32;
+  for (bool packets : {true, false}) {
+    rs.packets = packets;
+    render(scene, rs);
+  }
+  EXPECT_EQ(a.memory_bytes(), walked);
+
+  // The binary tree built when asked is the one the old commit built, from
+  // every primitive's box in the scene's order, node for node: the triangles'
+  // boxes, the tube segments' and points' rounded-out capsule boxes and the
+  // sphere's box, each centered on its box but the sphere (on its center).
+  std::vector<Bounds3> boxes;
+  std::vector<Vec3> centers;
+  const TriangleMesh& m = scene.meshes[0];
+  for (const glm::uvec3& t : m.triangles) {
+    Bounds3 b(m.positions[t.x]);
+    b.extend(m.positions[t.y]);
+    b.extend(m.positions[t.z]);
+    boxes.push_back(b);
+  }
+  const TubeSet& ts = scene.tubes[0];
+  for (const glm::uvec2& sg : ts.segments)
+    boxes.push_back(capsule_bounds(ts.positions[sg.x], ts.positions[sg.y], ts.radius));
+  const PointSet& ps = scene.points[0];
+  for (size_t j = 0; j < ps.positions.size(); ++j)
+    boxes.push_back(capsule_bounds(ps.positions[j], ps.positions[j], ps.radii[j]));
+  for (const Bounds3& b : boxes) centers.push_back(b.center());
+  const rayscope::Sphere& ball = scene.spheres[0];
+  boxes.emplace_back(ball.center - Vec3(ball.radius), ball.center + Vec3(ball.radius));
+  centers.push_back(ball.center);
+  Bvh expected;
+  expected.build(boxes, centers, a.config().bvh);
+
+  const Bvh& bvh = a.bvh();
+  ASSERT_EQ(bvh.nodes.size(), expected.nodes.size());
+  EXPECT_EQ(
+      std::memcmp(bvh.nodes.data(), expected.nodes.data(), bvh.nodes.size() * sizeof(BvhNode)), 0);
+  EXPECT_EQ(bvh.prim_indices, expected.prim_indices);
+  const size_t binary = bvh.nodes.size() * sizeof(BvhNode) + bvh.prim_indices.size() * 4;
+  EXPECT_EQ(a.memory_bytes(), walked + binary);
+  // An observer's walk makes the wide slots' binary ids, once, and enters
+  // binary nodes by them.
+  rstest::CountingObserver obs(bvh.nodes.size(), a.records().size());
+  PrimHit hit;
+  const Ray ray(Vec3(0.1f, 0.2f, 10.0f), Vec3(0.0f, 0.0f, -1.0f));
+  ASSERT_TRUE(a.intersect(ray, hit, obs));
+  EXPECT_GT(obs.order.size(), 1u);
+  EXPECT_EQ(obs.order[0], 0u);
+  EXPECT_EQ(w.slot_sources().size(), W * w.walk().nodes.size());
+  EXPECT_EQ(a.memory_bytes(), walked + binary + W * w.walk().nodes.size() * 4);
+  EXPECT_EQ(w.slot_sources().data(), w.slot_sources().data());
+
   // One block per started group of TriangleBlock::kLanes records of each leaf.
   size_t blocks = 0;
-  for (const BvhNode& n : a.bvh().nodes)
+  for (const BvhNode& n : bvh.nodes)
     if (n.is_leaf()) blocks += (n.count + TriangleBlock::kLanes - 1) / TriangleBlock::kLanes;
-  EXPECT_EQ(a.structure_as<BvhWalk>().triangle_blocks().size(), blocks);
-  EXPECT_EQ((a.structure_as<BvhWalk>().triangle_blocks().size() * sizeof(TriangleBlock)),
-            blocks * sizeof(TriangleBlock));
+  EXPECT_EQ(w.triangle_blocks().size(), blocks);
+}
+
+TEST(Aggregate, ACopyBuildsItsHierarchyFromItsOwnRecords) {
+  // The hierarchy of a copy outlives the scene it was copied from, whether
+  // the original had built it (shared) or not (built from the copy's records).
+  for (bool asked_before : {false, true}) {
+    auto original = std::make_unique<Scene>(scene_of_every_shape());
+    original->commit();
+    const std::vector<BvhNode> nodes = Scene(*original).bvh().nodes;
+    if (asked_before) original->bvh();
+    Scene copy = *original;
+    original.reset();
+    ASSERT_EQ(copy.bvh().nodes.size(), nodes.size()) << asked_before;
+    EXPECT_EQ(std::memcmp(copy.bvh().nodes.data(), nodes.data(), nodes.size() * sizeof(BvhNode)),
+              0);
+    const BvhWalk& w = copy.accel().structure_as<BvhWalk>();
+    EXPECT_EQ(w.slot_sources().size(), WideBvhNode::kWidth * w.walk().nodes.size());
+    EXPECT_EQ(make_accel_view(copy.accel()).nodes.size(), nodes.size());
+  }
 }
 
 TEST(Aggregate, WalkLeavesNameTheirFirstBlockAndItsRecords) {
@@ -183,7 +281,7 @@ TEST(Aggregate, WalkLeavesNameTheirFirstBlockAndItsRecords) {
   int leaves = 0;
   for (size_t n = 0; n < walk.nodes.size(); ++n)
     for (int k = 0; k < W; ++k) {
-      const uint32_t src = walk.slot_source[W * n + k];
+      const uint32_t src = a.structure_as<BvhWalk>().slot_sources()[W * n + k];
       const uint32_t child = walk.nodes[n].child[k];
       if (src == ~0u || !(child & WideBvhNode::kLeaf)) continue;
       ++leaves;

@@ -215,7 +215,7 @@ TEST(FrameWalk, DefaultWalkIsTheWideOneAndBinaryIsAChoice) {
   ASSERT_EQ(walk.arity(), WideBvh::kRenderArity);
   std::vector<char> is_top(bvh.nodes.size(), 0);
   is_top[0] = 1;
-  for (uint32_t src : walk.slot_source)
+  for (uint32_t src : wide.accel().structure_as<BvhWalk>().slot_sources())
     if (src != ~0u) is_top[src] = 1;
   std::vector<glm::ivec2> pixels = some_pixels(rs);
   std::vector<PixelRecord> records;

@@ -47,17 +47,25 @@ class Aggregate {
   /// thread): 1-3 spheres render 2-8% faster without a BVH, 4 spheres 2% slower.
   static constexpr size_t kBruteForceMax = 3;
 
-  /// Builds the chosen structure. record_of(i) is primitive i, with bounds[i]
-  /// and centroids[i] (the builder sees only those); records with id <
-  /// num_triangles are triangles, the others spheres or capsules (their
-  /// PrimRecord::shape). record_of is called
-  /// once per primitive, in leaf order, from several threads at once: the
-  /// records are made where they are kept, with no copy in the caller's order
-  /// (on 1.1M triangles that copy was 53 MB to fill and reorder). Replaces
-  /// what was built.
-  void build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids,
-             const std::function<PrimRecord(size_t)>& record_of, uint32_t num_triangles,
-             std::vector<PlaneRecord> planes, const AccelConfig& config = {});
+  Aggregate() = default;
+  /// A copy's binary BVH is built on demand from the copy's own records (the
+  /// hierarchy reads the records where they are; moves keep them there).
+  Aggregate(const Aggregate& other);
+  Aggregate& operator=(const Aggregate& other);
+  Aggregate(Aggregate&&) = default;
+  Aggregate& operator=(Aggregate&&) = default;
+
+  /// Builds the chosen structure over `count` primitives: record_of(i) is
+  /// primitive i, ids increasing with i; records with id < num_triangles are
+  /// triangles, the others spheres, points or capsules (their
+  /// PrimRecord::shape). The builder sees only their prim_box()es. record_of
+  /// is called twice per primitive from several threads at once, for the
+  /// boxes and then in leaf order: the records are made where they are kept,
+  /// with no copy in the caller's order (on 1.1M triangles that copy was 53
+  /// MB to fill and reorder). Replaces what was built.
+  void build(size_t count, const std::function<PrimRecord(size_t)>& record_of,
+             uint32_t num_triangles, std::vector<PlaneRecord> planes,
+             const AccelConfig& config = {});
 
   /// Closest hit within (0, ray.tmax). When several primitives are hit at
   /// exactly the same t, the result is the one a brute-force loop over all
@@ -126,8 +134,11 @@ class Aggregate {
   /// scenes that skip it; see kBruteForceMax).
   bool walks_structure() const { return use_walk_; }
   /// The binary hierarchy: built for every kind (it sets the records' leaf
-  /// order, and the tools show it).
-  const Bvh& bvh() const { return *bvh_; }
+  /// order, and the tools show it), then dropped, and built again when first
+  /// asked for here (bvh_on_demand.h).
+  const Bvh& bvh() const { return hierarchy_->get(); }
+  /// The box of every bounded primitive (kept when the hierarchy is dropped).
+  Bounds3 bounds() const { return hierarchy_->bounds(); }
   /// The structure built for kind() (accel_build.h), walked unless
   /// walks_structure() is false.
   const AccelStructureVariant& structure() const { return structure_; }
@@ -146,8 +157,9 @@ class Aggregate {
   const std::vector<PrimRecord>& records() const { return records_; }
   /// The unbounded planes, with unit normals, in the scene's order.
   const std::vector<PlaneRecord>& plane_records() const { return planes_; }
-  /// Every byte the aggregate holds: the binary hierarchy and its leaf order,
-  /// the structure, the primitive records and planes.
+  /// Every byte the aggregate holds now: the structure, the primitive records
+  /// and planes, and what only the tools need while it is built (the binary
+  /// hierarchy and its leaf order, the wide BVH's binary node ids).
   size_t memory_bytes() const;
   /// Figures of the structure the rays walk (the kind asked for, also for a
   /// tiny scene that skips it).
@@ -281,7 +293,7 @@ class Aggregate {
 
   AccelConfig config_;
   /// Shared with the structures that walk or show it (BvhWalk, BruteForce).
-  std::shared_ptr<const Bvh> bvh_ = std::make_shared<const Bvh>();
+  std::shared_ptr<const BvhOnDemand> hierarchy_ = std::make_shared<const BvhOnDemand>();
   AccelStructureVariant structure_;
   std::vector<PrimRecord> records_;  ///< Leaf order.
   std::vector<PlaneRecord> planes_;

@@ -293,8 +293,10 @@ class Scene {
   /// The aggregate commit() built: the structure queries walk.
   const Aggregate& accel() const { return accel_; }
   /// The binary hierarchy (what statistics, recorded walks and visualisations
-  /// name their nodes by).
+  /// name their nodes by), built when first asked for (Aggregate::bvh()).
   const Bvh& bvh() const { return accel_.bvh(); }
+  /// The box of the bounded primitives (empty when there are none).
+  Bounds3 bounds() const { return accel_.bounds(); }
   const SceneSummary& summary() const { return summary_; }
   size_t object_count() const {
     return meshes.size() + tubes.size() + points.size() + spheres.size() + planes.size();

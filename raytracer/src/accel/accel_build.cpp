@@ -7,22 +7,17 @@
 namespace rayscope {
 namespace {
 
-// The records' bounds in leaf order: what the cell structures are built over,
-// so that their references are record indices.
-std::vector<Bounds3> leaf_order_bounds(const Bvh& hierarchy, std::span<const Bounds3> bounds) {
-  std::vector<Bounds3> out(hierarchy.prim_indices.size());
-  for (size_t i = 0; i < out.size(); ++i) out[i] = bounds[hierarchy.prim_indices[i]];
-  return out;
-}
-
-// A cell structure (kD-tree, grid, octree) over the records' bounds, with its
-// builder's own settings and the config's one storage choice and loose factor
-// (checked by build_accel() before).
+// A cell structure (kD-tree, grid, octree) over the records' bounds (the
+// binary BVH's, prim_box()), so that its references are record indices, with
+// its builder's own settings and the config's one storage choice and loose
+// factor (checked by build_accel() before).
 template <class Tree, class BuildConfig>
-Tree build_cells(const BuildConfig& own, const AccelConfig& config, const Bvh& hierarchy,
-                 std::span<const Bounds3> bounds) {
+Tree build_cells(const BuildConfig& own, const AccelConfig& config,
+                 std::span<const PrimRecord> records, uint32_t num_triangles) {
+  std::vector<Bounds3> bounds(records.size());
+  for (size_t i = 0; i < bounds.size(); ++i) bounds[i] = prim_box(records[i], num_triangles).bounds;
   Tree tree;
-  tree.build(leaf_order_bounds(hierarchy, bounds), own, config.storage, config.loose_factor);
+  tree.build(bounds, own, config.storage, config.loose_factor);
   return tree;
 }
 
@@ -33,16 +28,16 @@ std::string accel_config_error(const AccelConfig& config) {
   return loose_factor_error(config.loose_factor);
 }
 
-AccelStructureVariant build_accel(const AccelConfig& config, std::shared_ptr<const Bvh> hierarchy,
-                                  std::span<const PrimRecord> records,
-                                  std::span<const Bounds3> bounds, uint32_t num_triangles,
+AccelStructureVariant build_accel(const AccelConfig& config, const Bvh& built,
+                                  std::shared_ptr<const BvhOnDemand> hierarchy,
+                                  std::span<const PrimRecord> records, uint32_t num_triangles,
                                   std::chrono::steady_clock::time_point build_start) {
   if (const std::string e = accel_config_error(config); !e.empty()) throw std::invalid_argument(e);
   switch (config.kind) {
     case AccelKind::Bvh:
     case AccelKind::BinaryBvh: {
       BvhWalk walk;
-      walk.build(config.kind, std::move(hierarchy), records, num_triangles);
+      walk.build(config.kind, built, std::move(hierarchy), records, num_triangles);
       walk.set_build_seconds(
           std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count());
       return walk;
@@ -50,11 +45,11 @@ AccelStructureVariant build_accel(const AccelConfig& config, std::shared_ptr<con
     case AccelKind::None:
       return BruteForce(uint32_t(records.size()), std::move(hierarchy));
     case AccelKind::KdTree:
-      return build_cells<KdTree>(config.kdtree, config, *hierarchy, bounds);
+      return build_cells<KdTree>(config.kdtree, config, records, num_triangles);
     case AccelKind::Grid:
-      return build_cells<UniformGrid>(config.grid, config, *hierarchy, bounds);
+      return build_cells<UniformGrid>(config.grid, config, records, num_triangles);
     case AccelKind::Octree:
-      return build_cells<Octree>(config.octree, config, *hierarchy, bounds);
+      return build_cells<Octree>(config.octree, config, records, num_triangles);
     case AccelKind::Bsp: {
       // The BSP tree's planes go through the triangles: it is built over
       // their geometry.

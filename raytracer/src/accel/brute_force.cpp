@@ -9,7 +9,7 @@ AccelFigures BruteForce::figures() const {
 }
 
 AccelView BruteForce::view() const {
-  return hierarchy_ ? hierarchy_->view() : AccelView{};
+  return hierarchy_ ? hierarchy_->get().view() : AccelView{};
 }
 
 std::string BruteForce::stats_line() const {

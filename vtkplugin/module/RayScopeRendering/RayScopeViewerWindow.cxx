@@ -104,7 +104,7 @@ void vtkRayScopeViewer::Internals::BuildSceneGeometry() {
   this->GeometryActors.clear();
   this->Picker->InitializePickList();
   const rayscope::Scene& s = *this->scene();
-  rayscope::Bounds3 b = s.bvh().bounds();
+  rayscope::Bounds3 b = s.bounds();
   b.extend(s.camera.look_at);
   const double size = std::max(1e-3, double(glm::length(b.extent())));
   auto add = [&](vtkPolyData* pd, vtkAlgorithmOutput* port, uint32_t material, bool pickable) {

@@ -138,7 +138,7 @@ int vtkRayScopeViewer::Initialize() {
   in.StartRender();
   // The 3D view shows the scene's objects and the camera.
   in.UpdateCameraGeometry();
-  rayscope::Bounds3 b = in.scene()->bvh().bounds();
+  rayscope::Bounds3 b = in.scene()->bounds();
   b.extend(in.scene()->camera.eye);
   b.extend(in.scene()->camera.look_at);
   const rayscope::DVec3 lo = in.scene()->to_world(b.lo), hi = in.scene()->to_world(b.hi);

@@ -118,7 +118,7 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
     }
 
   // Rays that end nowhere are drawn to just past the scene's bounds.
-  rayscope::Bounds3 bounds = scene.bvh().bounds();
+  rayscope::Bounds3 bounds = scene.bounds();
   if (bounds.empty()) bounds = rayscope::Bounds3(scene.camera.eye);
   const rayscope::Vec3 center = bounds.center();
   const float radius = 0.5f * glm::length(bounds.extent());

@@ -10,6 +10,7 @@
 
 #include "rayscope/accel/accel_config.h"
 #include "rayscope/accel/brute_force.h"
+#include "rayscope/accel/bvh_on_demand.h"
 #include "rayscope/accel/bvh_walk.h"
 #include "rayscope/accel/prim_record.h"
 
@@ -25,16 +26,16 @@ static_assert(AccelStructure<BvhWalk> && AccelStructure<BruteForce> && AccelStru
               AccelStructure<SphereTree>);
 
 /// Builds config.kind over `records`, the primitives in the leaf order of
-/// `hierarchy` (the binary BVH built over `bounds`, the primitives' bounds in
-/// the scene's order: records[i] is primitive hierarchy->prim_indices[i]);
-/// records with id >= num_triangles are spheres or capsules (by their
-/// PrimRecord::shape). Throws
-/// std::invalid_argument when accel_config_error(config) says why not.
-/// `build_start`: when the binary BVH's build began (the BVH kinds count it
-/// in their build time).
-AccelStructureVariant build_accel(const AccelConfig& config, std::shared_ptr<const Bvh> hierarchy,
-                                  std::span<const PrimRecord> records,
-                                  std::span<const Bounds3> bounds, uint32_t num_triangles,
+/// `built` (the binary BVH built over their prim_box()es in the scene's
+/// order: records[i] is primitive built.prim_indices[i]); records with id >=
+/// num_triangles are spheres, points or capsules (by their PrimRecord::shape).
+/// `hierarchy` is `built` as the tools ask for it later, kept by the
+/// structures that show it. Throws std::invalid_argument when
+/// accel_config_error(config) says why not. `build_start`: when the binary
+/// BVH's build began (the BVH kinds count it in their build time).
+AccelStructureVariant build_accel(const AccelConfig& config, const Bvh& built,
+                                  std::shared_ptr<const BvhOnDemand> hierarchy,
+                                  std::span<const PrimRecord> records, uint32_t num_triangles,
                                   std::chrono::steady_clock::time_point build_start);
 
 }  // namespace rayscope

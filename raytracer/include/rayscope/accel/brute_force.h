@@ -9,7 +9,7 @@
 #include <string>
 
 #include "rayscope/accel/accel_structure.h"
-#include "rayscope/accel/bvh.h"
+#include "rayscope/accel/bvh_on_demand.h"
 
 namespace rayscope {
 
@@ -19,7 +19,7 @@ class BruteForce {
   /// `records`: how many there are. `hierarchy`: the binary BVH the aggregate
   /// built for the leaf order, which the tools show (a walk of nothing shows
   /// nothing; the BVH is what the other kinds are compared with).
-  BruteForce(uint32_t records, std::shared_ptr<const Bvh> hierarchy)
+  BruteForce(uint32_t records, std::shared_ptr<const BvhOnDemand> hierarchy)
       : records_(records), hierarchy_(std::move(hierarchy)) {}
 
   /// Tests every record, in order; no node is reported to the observer.
@@ -38,12 +38,16 @@ class BruteForce {
   size_t memory_bytes() const { return 0; }
   /// The binary BVH (see the constructor).
   AccelView view() const;
+  /// Shows `hierarchy` from now on (a copy of the aggregate's).
+  void share_hierarchy(std::shared_ptr<const BvhOnDemand> hierarchy) {
+    hierarchy_ = std::move(hierarchy);
+  }
   std::string stats_line() const;
   std::string walk_legend() const;
 
  private:
   uint32_t records_ = 0;
-  std::shared_ptr<const Bvh> hierarchy_;
+  std::shared_ptr<const BvhOnDemand> hierarchy_;
 };
 
 }  // namespace rayscope

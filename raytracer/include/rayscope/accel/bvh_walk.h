@@ -2,11 +2,15 @@
 // (bvh.h) collapsed into wide nodes (wide_bvh.h), arity 8 for renders or 2 for
 // the lecture's binary walk, and each leaf's triangles stored by coordinate in
 // blocks (triangle_block.h) that one SSE instruction tests four at a time.
-// Range queries walk the binary tree itself, and the tools show it.
+// Range queries walk the binary tree itself, and the tools show it; both it
+// and the binary node ids of the wide nodes' slots, which only observers
+// read, are made when first asked for (bvh_on_demand.h), not for renders.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <span>
 #include <string>
@@ -15,6 +19,7 @@
 #include "rayscope/accel/accel_kind.h"
 #include "rayscope/accel/accel_structure.h"
 #include "rayscope/accel/bvh.h"
+#include "rayscope/accel/bvh_on_demand.h"
 #include "rayscope/accel/prim_record.h"
 #include "rayscope/accel/triangle_block.h"
 #include "rayscope/accel/triangle_packet.h"
@@ -25,12 +30,18 @@ namespace rayscope {
 
 class BvhWalk {
  public:
-  /// Collapses `hierarchy` (built over `records`, which are in its leaf
-  /// order) into nodes of 8 children (AccelKind::Bvh) or 2 (BinaryBvh) and
-  /// fills the leaves' triangle blocks; records with id >= num_triangles
-  /// (spheres, capsules) are left to the scalar test.
-  void build(AccelKind kind, std::shared_ptr<const Bvh> hierarchy,
+  /// Collapses `built` (built over `records`, which are in its leaf order)
+  /// into nodes of 8 children (AccelKind::Bvh) or 2 (BinaryBvh) and fills the
+  /// leaves' triangle blocks; records with id >= num_triangles (spheres,
+  /// points, capsules) are left to the scalar test. `hierarchy` gives `built`
+  /// again when the tools ask for it.
+  void build(AccelKind kind, const Bvh& built, std::shared_ptr<const BvhOnDemand> hierarchy,
              std::span<const PrimRecord> records, uint32_t num_triangles);
+  /// Asks `hierarchy` for the binary tree from now on (a copy of the
+  /// aggregate's, over the same records).
+  void share_hierarchy(std::shared_ptr<const BvhOnDemand> hierarchy) {
+    hierarchy_ = std::move(hierarchy);
+  }
   /// What figures() reports as the build time (the caller times the binary
   /// build and this collapse together).
   void set_build_seconds(double s) { build_seconds_ = s; }
@@ -66,20 +77,25 @@ class BvhWalk {
   /// The binary tree's range walk (Bvh::walk_range).
   template <class Range, class Observer, class PrimFn>
   void walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
-    hierarchy_->walk_range(range, prim, obs);
+    hierarchy_->get().walk_range(range, prim, obs);
   }
 
   AccelFigures figures() const;
-  size_t memory_bytes() const {
-    return walk_.memory_bytes() + blocks_.size() * sizeof(TriangleBlock);
-  }
+  /// The wide nodes and triangle blocks, and the slot sources when made.
+  size_t memory_bytes() const;
   /// The binary tree, node by node: the ids the walk reports.
   AccelView view() const;
   std::string stats_line() const;
   std::string walk_legend() const;
 
-  /// The walked collapse of the binary tree.
+  /// The walked collapse of the binary tree (its slot_source is empty: see
+  /// slot_sources()).
   const WideBvh& walk() const { return walk_; }
+  /// The binary node id of each wide node's child slots, laid out as
+  /// WideBvh::slot_source: made from the binary tree when first asked for
+  /// (once, whichever thread asks first). Throws std::logic_error if the
+  /// binary tree built again did not collapse into walk()'s nodes.
+  std::span<const uint32_t> slot_sources() const;
   /// The leaves' records by coordinate: each leaf's records from its first
   /// block on, TriangleBlock::kLanes per block.
   const std::vector<TriangleBlock>& triangle_blocks() const { return blocks_; }
@@ -94,8 +110,16 @@ class BvhWalk {
                                           const TriangleBlockRay& block_ray, float& tmax,
                                           PrimFn&& prim) const;
 
+  /// slot_sources(), made once.
+  struct SlotSources {
+    std::once_flag once;
+    std::atomic<bool> made{false};
+    std::vector<uint32_t> ids;
+  };
+
   AccelKind kind_ = AccelKind::Bvh;
-  std::shared_ptr<const Bvh> hierarchy_;
+  std::shared_ptr<const BvhOnDemand> hierarchy_ = std::make_shared<const BvhOnDemand>();
+  std::shared_ptr<SlotSources> sources_ = std::make_shared<SlotSources>();
   WideBvh walk_;
   /// Each leaf starting a new block; the walk's leaves are labelled by their
   /// first block.
@@ -112,7 +136,7 @@ inline bool BvhWalk::traverse(const Ray& ray, const TrianglePrecomp& pre, float&
     auto leaf = [&](uint32_t block, uint32_t count, float& t) __attribute__((always_inline)) {
       return test_records<AnyHit>(blocks_[block].first, count, t, prim);
     };
-    return walk_.traverse<AnyHit>(ray, tmax, leaf, obs);
+    return walk_.traverse<AnyHit>(ray, tmax, leaf, obs, slot_sources().data());
   } else {
     const TriangleBlockRay block_ray(pre);
     auto blocks = [&](uint32_t block, uint32_t count, float& t) __attribute__((always_inline)) {

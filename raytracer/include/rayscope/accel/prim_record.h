@@ -25,13 +25,14 @@ struct PrimHit {
 /// below the aggregate's triangle count, whatever this says).
 enum class PrimShape : uint32_t {
   Triangle = 0,
-  Sphere = 1,   ///< A ball: a sphere of the scene or a point of a point set.
+  Sphere = 1,   ///< A sphere of the scene.
   Capsule = 2,  ///< A tube segment (intersect_capsule.h).
+  Point = 3,    ///< A point of a point set: a ball, tested as a sphere.
 };
 
 /// One bounded primitive in leaf order: a triangle's vertices (a, b, c), a
-/// sphere's center (a) and radius (b.x), or a capsule's segment (a, b) and
-/// radius (c.x). Stored inline so that leaves need no indirection.
+/// sphere's or a point's center (a) and radius (b.x), or a capsule's segment
+/// (a, b) and radius (c.x). Stored inline so that leaves need no indirection.
 struct PrimRecord {
   Vec3 a;
   uint32_t id;  ///< Global primitive index.

@@ -114,9 +114,11 @@ class WideBvh {
   /// child box tested (every non-empty slot of an entered wide node);
   /// on_cull(id) for a pushed node skipped by early termination. With arity 2
   /// this is exactly the binary walk: every binary node entered, both child
-  /// boxes of each inner node tested.
+  /// boxes of each inner node tested. The ids are read from `sources`, laid
+  /// out as slot_source (null: slot_source itself).
   template <bool AnyHit, class Observer, class LeafFn>
-  bool traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs) const;
+  bool traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs,
+                const uint32_t* sources = nullptr) const;
 
   /// traverse() for the rays of a packet at once (wide_bvh_packet.h):
   /// `leaf(lanes, label, count)` tests the leaf's primitives for the rays in
@@ -131,7 +133,8 @@ class WideBvh {
 
   std::vector<WideBvhNode> nodes;  ///< nodes[0] is the root unless the root is a leaf.
   /// Binary node id of child slot k of wide node n at [kWidth n + k]; ~0u for
-  /// empty slots. Only observers read it.
+  /// empty slots. Only observers read it (the aggregate's BVH keeps it
+  /// elsewhere, made when first asked for: BvhWalk::slot_sources()).
   std::vector<uint32_t> slot_source;
 
  private:
@@ -296,8 +299,11 @@ inline unsigned intersect_boxes_scalar(const WideBvhNode& n, const RayBoxes& r, 
 }  // namespace wide_bvh_detail
 
 template <bool AnyHit, class Observer, class LeafFn>
-bool WideBvh::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs) const {
+bool WideBvh::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs,
+                       [[maybe_unused]] const uint32_t* sources) const {
   if (root_child_ == kNone) return false;
+  if constexpr (Observer::kActive)
+    if (sources == nullptr) sources = slot_source.data();
   const Vec3 inv_dir = 1.0f / ray.dir;
   const bool root_hit = intersect_box(root_lo_, root_hi_, ray.origin, inv_dir, tmax) != kInfinity;
   if constexpr (Observer::kActive) obs.on_box_test(0, root_hit);
@@ -331,7 +337,7 @@ bool WideBvh::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs
       unsigned mask = wide_bvh_detail::intersect_boxes(n, rb, tmax, d);
       const uint32_t* src = nullptr;
       if constexpr (Observer::kActive) {
-        src = &slot_source[WideBvhNode::kWidth * size_t(child)];
+        src = &sources[WideBvhNode::kWidth * size_t(child)];
         for (int k = 0; k < WideBvhNode::kWidth; ++k)
           if (src[k] != ~0u) obs.on_box_test(src[k], (mask >> k) & 1u);
       }

@@ -1,0 +1,81 @@
+#include "rayscope/accel/bvh_on_demand.h"
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+#include <vector>
+
+#include "rayscope/intersect_capsule.h"
+
+namespace rayscope {
+
+PrimBox prim_box(const PrimRecord& r, uint32_t num_triangles) {
+  PrimBox p;
+  if (r.id < num_triangles) {
+    p.bounds = Bounds3(r.a);
+    p.bounds.extend(r.b);
+    p.bounds.extend(r.c);
+  } else if (r.shape == PrimShape::Capsule) {
+    p.bounds = capsule_bounds(r.a, r.b, r.c.x);
+  } else if (r.shape == PrimShape::Point) {
+    p.bounds = capsule_bounds(r.a, r.a, r.b.x);
+  } else {
+    p.bounds = Bounds3(r.a - Vec3(r.b.x), r.a + Vec3(r.b.x));
+    p.centroid = r.a;
+    return p;
+  }
+  p.centroid = p.bounds.center();
+  return p;
+}
+
+BvhOnDemand::BvhOnDemand(const Bvh& built, std::span<const PrimRecord> records,
+                         uint32_t num_triangles)
+    : records_(records),
+      num_triangles_(num_triangles),
+      config_(built.config),
+      bounds_(built.bounds()) {}
+
+BvhOnDemand::BvhOnDemand(const BvhOnDemand& other, std::span<const PrimRecord> records)
+    : records_(records),
+      num_triangles_(other.num_triangles_),
+      config_(other.config_),
+      bounds_(other.bounds_) {
+  if (other.held())
+    std::call_once(once_, [&] {
+      bvh_ = other.bvh_;
+      held_ = true;
+    });
+}
+
+const Bvh& BvhOnDemand::get() const {
+  std::call_once(once_, [this] {
+    // The primitives in the scene's order are the records by increasing id.
+    const size_t n = records_.size();
+    std::vector<uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(),
+              [&](uint32_t a, uint32_t b) { return records_[a].id < records_[b].id; });
+    std::vector<Bounds3> bounds(n);
+    std::vector<Vec3> centroids(n);
+    for (size_t i = 0; i < n; ++i) {
+      const PrimBox p = prim_box(records_[order[i]], num_triangles_);
+      bounds[i] = p.bounds;
+      centroids[i] = p.centroid;
+    }
+    auto bvh = std::make_shared<Bvh>();
+    bvh->build(bounds, centroids, config_);
+    for (size_t i = 0; i < n; ++i)
+      if (order[bvh->prim_indices[i]] != i)
+        throw std::logic_error("BvhOnDemand: the binary BVH built again has another leaf order");
+    bvh_ = std::move(bvh);
+    held_ = true;
+  });
+  return *bvh_;
+}
+
+size_t BvhOnDemand::memory_bytes() const {
+  if (!held()) return 0;
+  return bvh_->nodes.size() * sizeof(BvhNode) + bvh_->prim_indices.size() * sizeof(uint32_t);
+}
+
+}  // namespace rayscope
