@@ -192,7 +192,7 @@ TEST(Aggregate, APlainRenderHoldsWhatItWalksAndTheToolsBuildTheRestWhenAsked) {
   }
   EXPECT_EQ(a.memory_bytes(), walked);
 
-  // The binary tree built when asked is the one the old commit built, from
+  // The binary tree built when asked is the one the commit built, from
   // every primitive's box in the scene's order, node for node: the triangles'
   // boxes, the tube segments' and points' rounded-out capsule boxes and the
   // sphere's box, each centered on its box but the sphere (on its center).

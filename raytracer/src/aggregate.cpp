@@ -17,9 +17,11 @@ constexpr size_t kParallelGrain = 16384;
 
 }  // namespace
 
-void Aggregate::build(size_t count, const std::function<PrimRecord(size_t)>& record_of,
-                      uint32_t num_triangles, std::vector<PlaneRecord> planes,
-                      const AccelConfig& config) {
+void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids,
+                      const std::function<PrimRecord(size_t)>& record_of, uint32_t num_triangles,
+                      std::vector<PlaneRecord> planes, const AccelConfig& config) {
+  if (centroids.size() != bounds.size())
+    throw std::invalid_argument("Aggregate::build: bounds and centroids differ in size");
   if (const std::string e = accel_config_error(config); !e.empty()) throw std::invalid_argument(e);
   config_ = config;
   num_triangles_ = num_triangles;
@@ -28,24 +30,10 @@ void Aggregate::build(size_t count, const std::function<PrimRecord(size_t)>& rec
   hierarchy_ = std::make_shared<const BvhOnDemand>();
   records_.clear();
   const auto start = std::chrono::steady_clock::now();
-  std::vector<Bounds3> bounds;
-  std::vector<Vec3> centroids;
-  assign_huge(bounds, count);
-  assign_huge(centroids, count);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kParallelGrain),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t i = r.begin(); i < r.end(); ++i) {
-                        const PrimBox p = prim_box(record_of(i), num_triangles);
-                        bounds[i] = p.bounds;
-                        centroids[i] = p.centroid;
-                      }
-                    });
   Bvh bvh;
   bvh.build(bounds, centroids, config.bvh);
-  std::vector<Bounds3>().swap(bounds);
-  std::vector<Vec3>().swap(centroids);
-  reserve_huge(records_, count);
-  records_.resize(count);
+  reserve_huge(records_, bounds.size());
+  records_.resize(bounds.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, records_.size(), kParallelGrain),
                     [&](const tbb::blocked_range<size_t>& r) {
                       for (size_t i = r.begin(); i < r.end(); ++i)

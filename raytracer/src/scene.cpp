@@ -87,8 +87,18 @@ void Scene::commit(const AccelConfig& config) {
         !std::isfinite(l.intensity))
       throw std::invalid_argument("light '" + l.name + "': values must be finite");
 
-  // The ids of every valid primitive, increasing: the aggregate's build order.
+  // Bounds and centroids of every valid primitive (prim_box()'s rules, so that
+  // the aggregate can build the same hierarchy again from its records); the
+  // builder sees nothing else.
+  std::vector<Bounds3> bounds;
+  std::vector<Vec3> centroids;
+  auto add_box = [&](const PrimBox& p) {
+    bounds.push_back(p.bounds);
+    centroids.push_back(p.centroid);
+  };
   std::vector<uint32_t> ids;
+  reserve_huge(bounds, count + spheres.size());
+  reserve_huge(centroids, count + spheres.size());
   reserve_huge(ids, count + spheres.size());
   auto warn_about = [&](const std::string& object, size_t n, const std::string& what) {
     if (n) summary_.warnings.push_back(object + ": " + std::to_string(n) + " " + what);
@@ -111,6 +121,7 @@ void Scene::commit(const AccelConfig& config) {
       }
       const Vec3 &a = m.positions[t.x], &b = m.positions[t.y], &c = m.positions[t.z];
       if (glm::cross(b - a, c - a) == Vec3(0.0f)) degenerate++;
+      add_box(triangle_box(a, b, c));
       ids.push_back(prim_offsets_[mi] + uint32_t(ti));
     }
     size_t bad_normals = size_t(std::count_if(m.normals.begin(), m.normals.end(),
@@ -131,17 +142,19 @@ void Scene::commit(const AccelConfig& config) {
     summary_.nonfinite_normals += bad_normals;
     summary_.nonfinite_colors += bad_colors;
   }
-  // Tube segments and points: each one traced (their index in the set:
-  // 0..count-1, ids from `first`); a set with nothing left to trace is an
+  // Tube segments and points: the box of each one traced (their index in the
+  // set: 0..count-1, ids from `first`); a set with nothing left to trace is an
   // error, as a mesh is (above). Returns how many were left out.
   auto add_round_set = [&](const std::string& what, uint32_t first, size_t count, auto traced,
-                           const char* items, const char* why_skipped, size_t bad_colors) {
+                           auto box, const char* items, const char* why_skipped,
+                           size_t bad_colors) {
     size_t skipped = 0;
     for (size_t j = 0; j < count; ++j) {
       if (!traced(j)) {
         skipped++;
         continue;
       }
+      add_box(box(j));
       ids.push_back(first + uint32_t(j));
     }
     if (skipped > 0 && skipped == count)
@@ -157,8 +170,13 @@ void Scene::commit(const AccelConfig& config) {
     const TubeSet& ts = tubes[k];
     const size_t skipped = add_round_set(
         "tubes '" + ts.name + "'", prim_offsets_[meshes.size() + k], ts.segments.size(),
-        [&](size_t j) { return ts.traced(j); }, "segments",
-        "a non-finite end or an end's radius not finite and > 0", count_nonfinite(ts.colors));
+        [&](size_t j) { return ts.traced(j); },
+        [&](size_t j) {
+          return capsule_box(ts.positions[ts.segments[j].x], ts.positions[ts.segments[j].y],
+                             ts.segment_radius(j));
+        },
+        "segments", "a non-finite end or an end's radius not finite and > 0",
+        count_nonfinite(ts.colors));
     summary_.skipped_segments += skipped;
     summary_.tube_segments += ts.segments.size() - skipped;
   }
@@ -166,12 +184,17 @@ void Scene::commit(const AccelConfig& config) {
     const PointSet& ps = points[k];
     const size_t skipped = add_round_set(
         "points '" + ps.name + "'", prim_offsets_[meshes.size() + tubes.size() + k],
-        ps.positions.size(), [&](size_t j) { return ps.traced(j); }, "points",
-        "a non-finite position or a radius not finite and > 0", count_nonfinite(ps.colors));
+        ps.positions.size(), [&](size_t j) { return ps.traced(j); },
+        [&](size_t j) { return capsule_box(ps.positions[j], ps.positions[j], ps.point_radius(j)); },
+        "points", "a non-finite position or a radius not finite and > 0",
+        count_nonfinite(ps.colors));
     summary_.skipped_points += skipped;
     summary_.points += ps.positions.size() - skipped;
   }
-  for (size_t si = 0; si < spheres.size(); ++si) ids.push_back(sphere_base_ + uint32_t(si));
+  for (size_t si = 0; si < spheres.size(); ++si) {
+    add_box(sphere_box(spheres[si].center, spheres[si].radius));
+    ids.push_back(sphere_base_ + uint32_t(si));
+  }
   auto record_of = [&](size_t i) {
     const uint32_t id = ids[i];
     PrimRecord r;
@@ -210,7 +233,7 @@ void Scene::commit(const AccelConfig& config) {
   // the normal it was given, so that committing again gives the same record
   // (normalizing a normalized vector may move it by an ulp).
   for (const Plane& p : planes) plane_records.push_back({p.point, normalize_any_length(p.normal)});
-  accel_.build(ids.size(), record_of, ntri, std::move(plane_records), config);
+  accel_.build(bounds, centroids, record_of, ntri, std::move(plane_records), config);
 
   summary_.walks_structure = accel_.walks_structure();
   summary_.triangles = ntri - summary_.skipped_triangles;

@@ -55,17 +55,19 @@ class Aggregate {
   Aggregate(Aggregate&&) = default;
   Aggregate& operator=(Aggregate&&) = default;
 
-  /// Builds the chosen structure over `count` primitives: record_of(i) is
-  /// primitive i, ids increasing with i; records with id < num_triangles are
-  /// triangles, the others spheres, points or capsules (their
-  /// PrimRecord::shape). The builder sees only their prim_box()es. record_of
-  /// is called twice per primitive from several threads at once, for the
-  /// boxes and then in leaf order: the records are made where they are kept,
-  /// with no copy in the caller's order (on 1.1M triangles that copy was 53
-  /// MB to fill and reorder). Replaces what was built.
-  void build(size_t count, const std::function<PrimRecord(size_t)>& record_of,
-             uint32_t num_triangles, std::vector<PlaneRecord> planes,
-             const AccelConfig& config = {});
+  /// Builds the chosen structure. record_of(i) is primitive i, with bounds[i]
+  /// and centroids[i] (the builder sees only those), which must be
+  /// prim_box(record_of(i)) (bvh_on_demand.h: the hierarchy is built again
+  /// from the records when a tool asks for it), ids increasing with i;
+  /// records with id < num_triangles are triangles, the others spheres,
+  /// points or capsules (their PrimRecord::shape). record_of is called once
+  /// per primitive, in leaf order, from several threads at once: the records
+  /// are made where they are kept, with no copy in the caller's order (on
+  /// 1.1M triangles that copy was 53 MB to fill and reorder). Replaces what
+  /// was built.
+  void build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids,
+             const std::function<PrimRecord(size_t)>& record_of, uint32_t num_triangles,
+             std::vector<PlaneRecord> planes, const AccelConfig& config = {});
 
   /// Closest hit within (0, ray.tmax). When several primitives are hit at
   /// exactly the same t, the result is the one a brute-force loop over all

@@ -9,23 +9,23 @@
 
 namespace rayscope {
 
-PrimBox prim_box(const PrimRecord& r, uint32_t num_triangles) {
+PrimBox capsule_box(const Vec3& a, const Vec3& b, float radius) {
   PrimBox p;
-  if (r.id < num_triangles) {
-    p.bounds = Bounds3(r.a);
-    p.bounds.extend(r.b);
-    p.bounds.extend(r.c);
-  } else if (r.shape == PrimShape::Capsule) {
-    p.bounds = capsule_bounds(r.a, r.b, r.c.x);
-  } else if (r.shape == PrimShape::Point) {
-    p.bounds = capsule_bounds(r.a, r.a, r.b.x);
-  } else {
-    p.bounds = Bounds3(r.a - Vec3(r.b.x), r.a + Vec3(r.b.x));
-    p.centroid = r.a;
-    return p;
-  }
+  p.bounds = capsule_bounds(a, b, radius);
   p.centroid = p.bounds.center();
   return p;
+}
+
+PrimBox prim_box(const PrimRecord& r, uint32_t num_triangles) {
+  if (r.id < num_triangles) return triangle_box(r.a, r.b, r.c);
+  switch (r.shape) {
+    case PrimShape::Capsule:
+      return capsule_box(r.a, r.b, r.c.x);
+    case PrimShape::Point:
+      return capsule_box(r.a, r.a, r.b.x);
+    default:
+      return sphere_box(r.a, r.b.x);
+  }
 }
 
 BvhOnDemand::BvhOnDemand(const Bvh& built, std::span<const PrimRecord> records,

@@ -25,11 +25,25 @@ struct PrimBox {
   Vec3 centroid;
 };
 
-/// The bounds and centroid the builder is given for record `r` (triangles are
-/// the records with id < num_triangles): the triangle's box and its center,
-/// a capsule's or a point's box rounded outward (capsule_bounds) and its
-/// center, a sphere's box and its center. The one rule, for the first build
-/// and every later one.
+/// What the builder is given for a triangle: its box and the box's center.
+inline PrimBox triangle_box(const Vec3& a, const Vec3& b, const Vec3& c) {
+  PrimBox p;
+  p.bounds = Bounds3(a);
+  p.bounds.extend(b);
+  p.bounds.extend(c);
+  p.centroid = p.bounds.center();
+  return p;
+}
+/// For a capsule (a tube segment; a point is one from p to p): its box
+/// rounded outward (capsule_bounds) and the box's center.
+PrimBox capsule_box(const Vec3& a, const Vec3& b, float radius);
+/// For a sphere: its box and its center.
+inline PrimBox sphere_box(const Vec3& center, float radius) {
+  return PrimBox{Bounds3(center - Vec3(radius), center + Vec3(radius)), center};
+}
+/// What the builder is given for record `r` (triangles are the records with
+/// id < num_triangles), by the rules above: the scene's commit and the
+/// hierarchy built again see the same boxes.
 PrimBox prim_box(const PrimRecord& r, uint32_t num_triangles);
 
 class BvhOnDemand {
