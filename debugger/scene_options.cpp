@@ -19,9 +19,8 @@
 #include "rayscope_vtkio/mesh_files.h"
 
 namespace rayscope::cli {
-namespace {
 
-void parse_size(const std::string& s, int& w, int& h) {
+void parse_size(const std::string& option, const std::string& s, int& w, int& h) {
   auto x = s.find('x');
   std::size_t pw = 0, ph = 0;
   try {
@@ -29,11 +28,13 @@ void parse_size(const std::string& s, int& w, int& h) {
     w = std::stoi(s.substr(0, x), &pw);
     h = std::stoi(s.substr(x + 1), &ph);
   } catch (const std::exception&) {
-    throw std::invalid_argument("--size: expected WIDTHxHEIGHT, got '" + s + "'");
+    throw std::invalid_argument(option + ": expected WIDTHxHEIGHT, got '" + s + "'");
   }
   if (pw != x || ph != s.size() - x - 1)
-    throw std::invalid_argument("--size: expected WIDTHxHEIGHT, got '" + s + "'");
+    throw std::invalid_argument(option + ": expected WIDTHxHEIGHT, got '" + s + "'");
 }
+
+namespace {
 
 // " (LO..HI)" for the help text, from the named limits.
 std::string in(long long lo, long long hi) {
@@ -249,7 +250,7 @@ LoadedScene SceneOptions::load() const {
       throw std::invalid_argument(std::string(option) + ": " + e.what());
     }
   };
-  if (!size.empty()) set("--size", [&] { parse_size(size, rs.width, rs.height); });
+  if (!size.empty()) set("--size", [&] { parse_size("--size", size, rs.width, rs.height); });
   if (width) set("--width", [&] { rs.width = *width; });
   if (height) set("--height", [&] { rs.height = *height; });
   if (samples) set("--spp", [&] { rs.samples = *samples; });

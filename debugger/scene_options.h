@@ -23,6 +23,8 @@ bool parse_ints(const std::string& s, int n, int* out);
 /// expected X,Y, got '...'"), and checked against the image once the settings
 /// are known (throws std::out_of_range "--pixel: (X,Y) is outside the WxH
 /// image"). Pixels count from the top-left corner.
+/// Parses WIDTHxHEIGHT; throws std::invalid_argument naming `option` else.
+void parse_size(const std::string& option, const std::string& text, int& w, int& h);
 void parse_pixel_option(const std::string& text, int xy[2]);
 void check_pixel_option(const std::string& text, const int xy[2], const RenderSettings& settings);
 

@@ -24,6 +24,8 @@ struct ViewOptions {
   std::string pixel;
   std::string screenshot;
   std::vector<std::string> keys;
+  std::string window;
+  double font_scale = 1.0;
 };
 
 struct ViewModule {
@@ -60,6 +62,8 @@ int run_view(const ViewOptions& o) {
   // opens, with the one-line errors of `render`.
   ViewRequest request;
   if (!o.pixel.empty()) parse_pixel_option(o.pixel, request.pixel);
+  if (!o.window.empty()) parse_size("--window", o.window, request.window[0], request.window[1]);
+  request.font_scale = o.font_scale;
   LoadedScene loaded = o.scene.load();
   if (!o.pixel.empty()) check_pixel_option(o.pixel, request.pixel, loaded.settings);
   request.loaded = &loaded;
@@ -90,6 +94,11 @@ void add_view_command(CLI::App& app, int& exit_code) {
                   "KEY...: keys to press after the render and the pick, as the window names "
                   "them (Up, Right, t, b, plus, bracketright, ...), e.g. for --screenshot")
       ->delimiter(',');
+  cmd->add_option("--window", opts->window,
+                  "WIDTHxHEIGHT: the window's size in pixels (e.g. 1920x1080 for a projector)");
+  cmd->add_option("--font-scale", opts->font_scale,
+                  "S: scale every text of the window (help, panel, labels, legend) by S (default "
+                  "1; 2 for a lecture hall)");
   cmd->add_option("--screenshot", opts->screenshot,
                   "FILE.png: wait for the render, save the window and exit (no event loop)");
   cmd->callback([opts, &exit_code]() { exit_code = run_view(*opts); });

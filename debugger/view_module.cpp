@@ -28,6 +28,9 @@ int run(const ViewRequest& r) {
   scene->SetSeed(int(rs.seed));
   scene->SetCoreScene(r.loaded->scene);
   vtkNew<vtkRayScopeViewer> viewer;
+  if (r.window[0] > 0) viewer->SetWindowSize(r.window[0], r.window[1]);
+  viewer->SetFontScale(r.font_scale);
+  if (const std::string e = viewer->SettingsError(); !e.empty()) throw std::invalid_argument(e);
   viewer->SetSceneSource(scene);
   if (!viewer->Initialize()) throw std::runtime_error(viewer->GetMessage());
   if (r.pick) {

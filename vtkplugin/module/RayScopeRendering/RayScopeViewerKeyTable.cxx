@@ -71,8 +71,8 @@ const std::vector<vtkRayScopeViewer::Internals::Key>& vtkRayScopeViewer::Interna
       {"click", {}, "pick", false, nullptr},  // the interactor style: PickAtDisplay()
       {"Up/Down", {"Up", "Down"}, "depth", false, &KeyPress::Depth},
       {"Right/Left", {"Right", "Left"}, "ray", false, &KeyPress::Ray},
-      {"t/T", {"t", "T"}, "BVH walk", false, &KeyPress::Walk},
-      {"b", {"b"}, "BVH", false, &KeyPress::Structure},
+      {"t/T", {"t", "T"}, "walk", false, &KeyPress::Walk},
+      {"b", {"b"}, "structure", false, &KeyPress::Structure},
       {"l/L", {"l", "L"}, "level", true, &KeyPress::Level},
       {"k", {"k"}, "kind", false, &KeyPress::Kind},
       {"d", {"d"}, "labels", false, &KeyPress::Labels},

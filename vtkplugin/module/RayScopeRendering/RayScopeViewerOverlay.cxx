@@ -114,7 +114,7 @@ void vtkRayScopeViewer::Internals::BuildOverlay() {
   label_mapper->SetInputData(this->Labels);
   label_mapper->SetLabelModeToLabelFieldData();
   label_mapper->SetFieldDataName("Label");
-  label_mapper->GetLabelTextProperty()->SetFontSize(12);
+  label_mapper->GetLabelTextProperty()->SetFontSize(this->FontSize(12));
   label_mapper->GetLabelTextProperty()->SetColor(1.0, 1.0, 1.0);
   label_mapper->GetLabelTextProperty()->ShadowOn();
   this->LabelActor->SetMapper(label_mapper);

@@ -27,12 +27,12 @@ vtkSmartPointer<vtkPolyData> legend_symbol() {
 void vtkRayScopeViewer::Internals::BuildTextPanel() {
   // Help and message lines on top, the inspect text below.
   this->HelpActor->SetInput(HelpLine().c_str());
-  this->HelpActor->GetTextProperty()->SetFontSize(13);
+  this->HelpActor->GetTextProperty()->SetFontSize(this->FontSize(13));
   this->HelpActor->GetTextProperty()->SetColor(0.8, 0.8, 0.8);
   this->HelpActor->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
   this->HelpActor->GetPositionCoordinate()->SetValue(0.005, 0.52);
   this->HeaderRen->AddActor2D(this->HelpActor);
-  this->MessageActor->GetTextProperty()->SetFontSize(13);
+  this->MessageActor->GetTextProperty()->SetFontSize(this->FontSize(13));
   this->MessageActor->GetTextProperty()->SetColor(1.0, 0.85, 0.3);
   this->MessageActor->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
   this->MessageActor->GetPositionCoordinate()->SetValue(0.005, 0.06);
@@ -42,7 +42,7 @@ void vtkRayScopeViewer::Internals::BuildTextPanel() {
   // so, the panel is pixel for pixel the text drawn by one actor).
   vtkNew<vtkTextProperty> panel_text;
   panel_text->SetFontFamilyToCourier();
-  panel_text->SetFontSize(12);
+  panel_text->SetFontSize(this->FontSize(12));
   panel_text->SetVerticalJustificationToTop();
   int one[4], two[4];
   vtkTextRenderer* text = vtkTextRenderer::GetInstance();
@@ -67,7 +67,10 @@ void vtkRayScopeViewer::Internals::BuildTextPanel() {
   // The legend, in the 3D view's bottom left corner.
   this->Legend->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
   this->Legend->GetPositionCoordinate()->SetValue(0.0, 0.0);
-  this->Legend->GetPosition2Coordinate()->SetValue(0.2, 0.3);
+  // Its entries' text fills the box: a larger font is a larger box.
+  const double scale = this->Self->GetFontScale();
+  this->Legend->GetPosition2Coordinate()->SetValue(std::min(0.2 * scale, 0.6),
+                                                   std::min(0.3 * scale, 0.9));
   this->Legend->UseBackgroundOn();
   this->Legend->SetBackgroundColor(0.0, 0.0, 0.0);
   this->SceneRen->AddActor2D(this->Legend);

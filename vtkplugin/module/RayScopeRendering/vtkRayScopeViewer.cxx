@@ -21,6 +21,7 @@ vtkRayScopeViewer::vtkRayScopeViewer()
       LastRenderSeconds(0.0),
       OutputPrefix(nullptr),
       WindowSize{1400, 820},
+      FontScale(1.0),
       Internal(new Internals(this)) {
   this->SetOutputPrefix("rayscope_view");
   this->Internal->Algorithm = vtkSmartPointer<vtkRayScopeImageAlgorithm>::New();
@@ -103,10 +104,30 @@ vtkPolyData* vtkRayScopeViewer::GetShownBVH() {
   return vtkPolyData::SafeDownCast(this->Internal->BVHMapper->GetInput());
 }
 
+std::string vtkRayScopeViewer::SettingsError() const {
+  const int w = this->WindowSize[0], h = this->WindowSize[1];
+  if (w < MinWindowWidth || h < MinWindowHeight)
+    return "window size " + std::to_string(w) + "x" + std::to_string(h) +
+           " is smaller than the viewer's smallest, " + std::to_string(MinWindowWidth) + "x" +
+           std::to_string(MinWindowHeight);
+  if (!(this->FontScale >= MinFontScale && this->FontScale <= MaxFontScale)) {
+    std::ostringstream s;
+    s << "font scale " << this->FontScale << " is outside " << MinFontScale << " to "
+      << MaxFontScale;
+    return s.str();
+  }
+  return {};
+}
+
 int vtkRayScopeViewer::Initialize() {
   Internals& in = *this->Internal;
   if (in.Initialized) return 1;
   in.LastError.clear();
+  if (const std::string e = this->SettingsError(); !e.empty()) {
+    in.Message = e;
+    vtkErrorMacro(<< e);
+    return 0;
+  }
   vtkNew<vtkCallbackCommand> on_error;
   on_error->SetClientData(&in);
   on_error->SetCallback([](vtkObject*, unsigned long, void* client, void* call) {

@@ -197,6 +197,19 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   /// Window size in pixels (default 1400 x 820; set before Initialize()).
   vtkSetVector2Macro(WindowSize, int);
   vtkGetVector2Macro(WindowSize, int);
+  /// The smallest window that still shows every part.
+  static constexpr int MinWindowWidth = 640, MinWindowHeight = 400;
+
+  /// Scale of every text of the window (the help and message lines, the
+  /// panel, the ray labels, the legend's box): 1 by default, 2 for a lecture
+  /// hall; at most MaxFontScale. Set before Initialize().
+  vtkSetMacro(FontScale, double);
+  vtkGetMacro(FontScale, double);
+  static constexpr double MinFontScale = 0.5, MaxFontScale = 4.0;
+
+  /// Why WindowSize and FontScale cannot be used, in one line, or empty: the
+  /// one check of both (Initialize() fails with it; `rayscope view` prints it).
+  std::string SettingsError() const;
 
  protected:
   vtkRayScopeViewer();
@@ -214,6 +227,7 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   double LastRenderSeconds;
   char* OutputPrefix;
   int WindowSize[2];
+  double FontScale;
 
  private:
   vtkRayScopeViewer(const vtkRayScopeViewer&) = delete;

@@ -221,6 +221,10 @@ struct vtkRayScopeViewer::Internals {
   }
 
   rayscope::Scene* scene() { return this->Algorithm->GetCoreScene(); }
+  /// A text's size in points at the viewer's FontScale (`points` at 1).
+  int FontSize(int points) const {
+    return std::max(1, int(std::lround(points * this->Self->GetFontScale())));
+  }
   /// The structure the 3D view draws, as the window names it: "BVH" (also
   /// for bvh2 and none, which show the binary BVH), else the --accel name of
   /// the structure the rays walk ("kdtree", "grid", "octree", ...).
