@@ -182,14 +182,19 @@ TEST(Aggregate, APlainRenderHoldsWhatItWalksAndTheToolsBuildTheRestWhenAsked) {
                         a.records().size() * sizeof(PrimRecord) + sizeof(PlaneRecord);
   EXPECT_GT(w.walk().nodes.size(), 1u);
   EXPECT_EQ(a.memory_bytes(), walked);
-  // Renders with packets and with single rays build nothing more.
+  // Renders with packets and with single rays, plain and with statistics
+  // (which count nodes without naming them), build nothing more.
   RenderSettings rs;
   rs.width = 48;
   rs.height = 32;
-  for (bool packets : {true, false}) {
-    rs.packets = packets;
-    render(scene, rs);
-  }
+  for (bool statistics : {false, true})
+    for (bool packets : {true, false}) {
+      rs.statistics = statistics;
+      rs.packets = packets;
+      RayCounters counters;
+      render(scene, rs, &counters);
+      EXPECT_EQ(counters.nodes_visited > 0, statistics);
+    }
   EXPECT_EQ(a.memory_bytes(), walked);
 
   // The binary tree built when asked is the one the commit built, from

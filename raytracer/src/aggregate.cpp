@@ -103,6 +103,7 @@ namespace {
 // counted in its lane of a PacketWalkCost.
 struct LaneCost : TraversalHooks {
   static constexpr bool kActive = true;
+  static constexpr bool kNodeIds = false;
   PacketWalkCost* c;
   unsigned lane;
   void on_node(uint32_t) { c->nodes[lane]++; }

@@ -95,6 +95,7 @@ struct StatsRecorder {
 
   struct Observer : TraversalHooks {
     static constexpr bool kActive = true;
+    static constexpr bool kNodeIds = false;
     PixelCost* c;
     explicit Observer(PixelCost* cost) : c(cost) {}
     void on_node(uint32_t) { c->nodes++; }

@@ -22,6 +22,10 @@ inline constexpr uint32_t kPrimOutsideStructure = ~0u;
 /// Every hook, each doing nothing. An observer derives from this and defines
 /// kActive = true and the hooks it needs (the others stay no-ops).
 struct TraversalHooks {
+  /// Whether the observer reads the node ids the hooks pass (false: it only
+  /// counts, and a walk may pass any id; the BVH then need not name its wide
+  /// nodes by their binary ids, which are made only when asked for).
+  static constexpr bool kNodeIds = true;
   /// The walk enters node (or cell) `node`: its children or primitives are
   /// tested next.
   void on_node(uint32_t /*node*/) {}

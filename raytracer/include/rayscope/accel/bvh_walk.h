@@ -136,7 +136,9 @@ inline bool BvhWalk::traverse(const Ray& ray, const TrianglePrecomp& pre, float&
     auto leaf = [&](uint32_t block, uint32_t count, float& t) __attribute__((always_inline)) {
       return test_records<AnyHit>(blocks_[block].first, count, t, prim);
     };
-    return walk_.traverse<AnyHit>(ray, tmax, leaf, obs, slot_sources().data());
+    const uint32_t* sources = nullptr;
+    if constexpr (Observer::kNodeIds) sources = slot_sources().data();
+    return walk_.traverse<AnyHit>(ray, tmax, leaf, obs, sources);
   } else {
     const TriangleBlockRay block_ray(pre);
     auto blocks = [&](uint32_t block, uint32_t count, float& t) __attribute__((always_inline)) {

@@ -302,7 +302,9 @@ template <bool AnyHit, class Observer, class LeafFn>
 bool WideBvh::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs,
                        [[maybe_unused]] const uint32_t* sources) const {
   if (root_child_ == kNone) return false;
-  if constexpr (Observer::kActive)
+  // The binary ids, for an observer that reads them.
+  constexpr bool kIds = Observer::kActive && Observer::kNodeIds;
+  if constexpr (kIds)
     if (sources == nullptr) sources = slot_source.data();
   const Vec3 inv_dir = 1.0f / ray.dir;
   const bool root_hit = intersect_box(root_lo_, root_hi_, ray.origin, inv_dir, tmax) != kInfinity;
@@ -315,7 +317,7 @@ bool WideBvh::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs
     float tnear;
   };
   Entry stack[kStackSize];
-  [[maybe_unused]] uint32_t source_stack[Observer::kActive ? kStackSize : 1];
+  [[maybe_unused]] uint32_t source_stack[kIds ? kStackSize : 1];
   int sp = 0;
   uint32_t child = root_child_, count = root_count_;
   [[maybe_unused]] uint32_t source = 0;  // binary node id of `child`, for the observer
@@ -336,10 +338,14 @@ bool WideBvh::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs
       alignas(32) float d[WideBvhNode::kWidth];
       unsigned mask = wide_bvh_detail::intersect_boxes(n, rb, tmax, d);
       const uint32_t* src = nullptr;
-      if constexpr (Observer::kActive) {
+      if constexpr (kIds) {
         src = &sources[WideBvhNode::kWidth * size_t(child)];
         for (int k = 0; k < WideBvhNode::kWidth; ++k)
           if (src[k] != ~0u) obs.on_box_test(src[k], (mask >> k) & 1u);
+      } else if constexpr (Observer::kActive) {
+        for (int k = 0; k < WideBvhNode::kWidth; ++k)
+          if (!((n.child[k] & WideBvhNode::kLeaf) && n.count[k] == 0))  // not an empty slot
+            obs.on_box_test(0, (mask >> k) & 1u);
       }
       if constexpr (AnyHit) {
         if (mask != 0) {
@@ -347,12 +353,12 @@ bool WideBvh::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs
           unsigned k = unsigned(__builtin_ctz(mask));
           child = n.child[k];
           count = n.count[k];
-          if constexpr (Observer::kActive) source = src[k];
+          if constexpr (kIds) source = src[k];
           for (mask &= mask - 1; mask != 0; mask &= mask - 1) {
             k = unsigned(__builtin_ctz(mask));
             assert(sp < kStackSize);
             stack[sp] = {n.child[k], n.count[k], d[k]};
-            if constexpr (Observer::kActive) source_stack[sp] = src[k];
+            if constexpr (kIds) source_stack[sp] = src[k];
             ++sp;
           }
           continue;
@@ -363,7 +369,7 @@ bool WideBvh::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs
         if (mask == 0) {  // one child hit: go there
           child = n.child[k0];
           count = n.count[k0];
-          if constexpr (Observer::kActive) source = src[k0];
+          if constexpr (kIds) source = src[k0];
           continue;
         }
         const unsigned k1 = unsigned(__builtin_ctz(mask));
@@ -373,11 +379,11 @@ bool WideBvh::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs
           const unsigned kn = swap ? k1 : k0, kf = swap ? k0 : k1;
           assert(sp < kStackSize);
           stack[sp] = {n.child[kf], n.count[kf], d[kf]};
-          if constexpr (Observer::kActive) source_stack[sp] = src[kf];
+          if constexpr (kIds) source_stack[sp] = src[kf];
           ++sp;
           child = n.child[kn];
           count = n.count[kn];
-          if constexpr (Observer::kActive) source = src[kn];
+          if constexpr (kIds) source = src[kn];
           continue;
         }
         // Three or more: sort by entry distance, farthest first (of equal
@@ -391,13 +397,13 @@ bool WideBvh::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs
           const unsigned k = ks[a];
           assert(sp < kStackSize);
           stack[sp] = {n.child[k], n.count[k], d[k]};
-          if constexpr (Observer::kActive) source_stack[sp] = src[k];
+          if constexpr (kIds) source_stack[sp] = src[k];
           ++sp;
         }
         const unsigned kn = ks[m - 1];
         child = n.child[kn];
         count = n.count[kn];
-        if constexpr (Observer::kActive) source = src[kn];
+        if constexpr (kIds) source = src[kn];
         continue;
       }
     }
@@ -409,10 +415,13 @@ bool WideBvh::traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs
       if (AnyHit || e.tnear <= tmax * kBoxFarScale) {
         child = e.child;
         count = e.count;
-        if constexpr (Observer::kActive) source = source_stack[sp];
+        if constexpr (kIds) source = source_stack[sp];
         break;
       }
-      if constexpr (Observer::kActive) obs.on_cull(source_stack[sp]);
+      if constexpr (kIds)
+        obs.on_cull(source_stack[sp]);
+      else if constexpr (Observer::kActive)
+        obs.on_cull(0);
     }
   }
 }
