@@ -115,7 +115,8 @@ class WideBvh {
   /// on_cull(id) for a pushed node skipped by early termination. With arity 2
   /// this is exactly the binary walk: every binary node entered, both child
   /// boxes of each inner node tested. The ids are read from `sources`, laid
-  /// out as slot_source (null: slot_source itself).
+  /// out as slot_source (null: slot_source itself); an observer that reads
+  /// no ids (TraversalHooks::kNodeIds false) is given 0 for every node.
   template <bool AnyHit, class Observer, class LeafFn>
   bool traverse(const Ray& ray, float& tmax, LeafFn&& leaf, Observer& obs,
                 const uint32_t* sources = nullptr) const;
