@@ -234,7 +234,7 @@ TEST(Aggregate, APlainRenderHoldsWhatItWalksAndTheToolsBuildTheRestWhenAsked) {
   // binary nodes by them.
   rstest::CountingObserver obs(bvh.nodes.size(), a.records().size());
   PrimHit hit;
-  const Ray ray(Vec3(0.1f, 0.2f, 10.0f), Vec3(0.0f, 0.0f, -1.0f));
+  const Ray ray{Vec3(0.1f, 0.2f, 10.0f), Vec3(0.0f, 0.0f, -1.0f)};
   ASSERT_TRUE(a.intersect(ray, hit, obs));
   EXPECT_GT(obs.order.size(), 1u);
   EXPECT_EQ(obs.order[0], 0u);

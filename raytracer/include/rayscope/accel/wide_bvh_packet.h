@@ -104,9 +104,9 @@ unsigned WideBvh::traverse_packet(RayPacket& p, LeafFn&& leaf, Cost& cost) const
     const Slots x = n - (neg ? r.olo : r.ohi), y = f - (neg ? r.ohi : r.olo);
     const Slots a = x * r.ilo, b = x * r.ihi, c = y * r.ilo, d = y * r.ihi;
     lo = a < b ? a : b;
-    lo = (a == a) & (b == b) ? lo : -inf;
+    lo = ((a == a) & (b == b)) ? lo : -inf;
     hi = c > d ? c : d;
-    hi = (c == c) & (d == d) ? hi : inf;
+    hi = ((c == c) & (d == d)) ? hi : inf;
   };
   // Bit k set when every ray of the packet misses child slot k.
   auto frustum_misses = [&](const float* nx, const float* fx, const float* ny, const float* fy,
