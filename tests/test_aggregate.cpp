@@ -240,7 +240,6 @@ TEST(Aggregate, APlainRenderHoldsWhatItWalksAndTheToolsBuildTheRestWhenAsked) {
   EXPECT_EQ(obs.order[0], 0u);
   EXPECT_EQ(w.slot_sources().size(), W * w.walk().nodes.size());
   EXPECT_EQ(a.memory_bytes(), walked + binary + W * w.walk().nodes.size() * 4);
-  EXPECT_EQ(w.slot_sources().data(), w.slot_sources().data());
 
   // One block per started group of TriangleBlock::kLanes records of each leaf.
   size_t blocks = 0;
