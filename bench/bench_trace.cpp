@@ -56,6 +56,7 @@
 #include <vector>
 
 #include "rayscope/camera.h"
+#include "rayscope/kernels.h"
 #include "rayscope/scene.h"
 #include "rayscope/shapes.h"
 #include "rayscope_vtkio/mesh_files.h"
@@ -431,20 +432,27 @@ struct PrimaryResult {
   explicit PrimaryResult(size_t n) : t(n, kInfinity), prim(n, ~0u) {}
 };
 
+/// Copies a block's hits into `out` (t = +inf, prim = ~0u for a miss).
+void store_hits(size_t begin, size_t end, const PrimHit* hits, const uint8_t* found,
+                PrimaryResult& out) {
+  for (size_t i = begin; i < end; ++i) {
+    out.t[i] = found[i - begin] ? hits[i - begin].t : kInfinity;
+    out.prim[i] = found[i - begin] ? hits[i - begin].prim : ~0u;
+  }
+}
+
+// Our loops are the hot loops of kernels.h, as RayScope ships them: compiled
+// for every x86-64 level, run with the CPU's best (or $RAYSCOPE_ISA's).
+// Single rays: the lean query (t, barycentrics, ids; no shading data, as
+// rtcIntersect1), one ray at a time.
 double trace_ours_primary(tbb::task_arena& arena, const Scene& scene, const std::vector<Ray>& rays,
                           PrimaryResult& out) {
+  const Kernels& k = kernels();
   return run_blocks(arena, rays.size(), [&](size_t begin, size_t end) {
-    for (size_t i = begin; i < end; ++i) {
-      // Lean query: t, barycentrics, ids; no shading data (as rtcIntersect1).
-      PrimHit h;
-      if (scene.intersect(rays[i], h)) {
-        out.t[i] = h.t;
-        out.prim[i] = h.prim;  // global primitive index = triangle index (one mesh)
-      } else {
-        out.t[i] = kInfinity;
-        out.prim[i] = ~0u;
-      }
-    }
+    PrimHit hits[kBlock];
+    uint8_t found[kBlock];
+    k.intersect(scene, std::span(rays).subspan(begin, end - begin), hits, found);
+    store_hits(begin, end, hits, found, out);
   });
 }
 
@@ -484,8 +492,9 @@ double trace_embree_primary(tbb::task_arena& arena, RTCScene scene, const std::v
 
 double trace_ours_shadow(tbb::task_arena& arena, const Scene& scene, const std::vector<Ray>& rays,
                          std::vector<uint8_t>& occluded) {
+  const Kernels& k = kernels();
   return run_blocks(arena, rays.size(), [&](size_t begin, size_t end) {
-    for (size_t i = begin; i < end; ++i) occluded[i] = scene.occluded(rays[i]) ? 1 : 0;
+    k.occluded(scene, std::span(rays).subspan(begin, end - begin), occluded.data() + begin);
   });
 }
 
@@ -520,28 +529,20 @@ double trace_embree_shadow(tbb::task_arena& arena, RTCScene scene, const std::ve
 // rays per call as Embree's 16-wide packets.
 double trace_ours_primary_packets(tbb::task_arena& arena, const Scene& scene,
                                   const std::vector<Ray>& rays, PrimaryResult& out) {
+  const Kernels& k = kernels();
   return run_blocks(arena, rays.size(), [&](size_t begin, size_t end) {
-    PrimHit h[kPacketRays];
-    for (size_t first = begin; first < end; first += kPacketRays) {
-      const size_t n = std::min(end - first, size_t(kPacketRays));
-      const unsigned hit = scene.intersect_packet({rays.data() + first, n}, h);
-      for (size_t k = 0; k < n; ++k) {
-        const bool is_hit = (hit >> k) & 1u;
-        out.t[first + k] = is_hit ? h[k].t : kInfinity;
-        out.prim[first + k] = is_hit ? h[k].prim : ~0u;
-      }
-    }
+    PrimHit hits[kBlock];
+    uint8_t found[kBlock];
+    k.intersect_packets(scene, std::span(rays).subspan(begin, end - begin), hits, found);
+    store_hits(begin, end, hits, found, out);
   });
 }
 
 double trace_ours_shadow_packets(tbb::task_arena& arena, const Scene& scene,
                                  const std::vector<Ray>& rays, std::vector<uint8_t>& occluded) {
+  const Kernels& k = kernels();
   return run_blocks(arena, rays.size(), [&](size_t begin, size_t end) {
-    for (size_t first = begin; first < end; first += kPacketRays) {
-      const size_t n = std::min(end - first, size_t(kPacketRays));
-      const unsigned hit = scene.occluded_packet({rays.data() + first, n});
-      for (size_t k = 0; k < n; ++k) occluded[first + k] = (hit >> k) & 1u;
-    }
+    k.occluded_packets(scene, std::span(rays).subspan(begin, end - begin), occluded.data() + begin);
   });
 }
 
@@ -1093,7 +1094,10 @@ int main(int argc, char** argv) {
     std::printf("  CPU       %s (%u hardware threads)\n", cpu_model().c_str(),
                 std::thread::hardware_concurrency());
     std::printf("  compiler  %s, %s%s\n", compiler().c_str(), RAYSCOPE_BENCH_BUILD_TYPE,
-                RAYSCOPE_BENCH_NATIVE ? ", -march=native" : "");
+                RAYSCOPE_BENCH_NATIVE ? ", -march=native" : ", portable (every x86-64)");
+    std::printf("  kernels   %s (this CPU runs up to %s)\n",
+                std::string(isa_name(kernels().isa)).c_str(),
+                std::string(isa_name(best_cpu_isa())).c_str());
     std::printf(
         "  Embree    %s (tasking: %s), build quality %s, scene flags %s, rtcIntersect1 / "
         "rtcOccluded1\n",

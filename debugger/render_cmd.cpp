@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "rayscope/kernels.h"
 #include "rayscope/ray_estimate.h"
 #include "rayscope/render.h"
 #include "scene_options.h"
@@ -47,6 +48,10 @@ void print_stats(const Scene& scene, const RenderSettings& rs, const RayCounters
               rs.height, rs.sample_grid(), rs.sample_grid(),
               rs.max_samples > 0 ? " at most (adaptive)" : "", rs.max_depth,
               rs.threads > 0 ? rs.threads : int(std::thread::hardware_concurrency()));
+  const Isa isa = kernels().isa;
+  std::printf("Kernels:   %s (this CPU runs up to %s; %s= chooses a lower level)\n",
+              std::string(isa_name(isa)).c_str(), std::string(isa_name(best_cpu_isa())).c_str(),
+              kIsaVariable);
   const Aggregate& accel = scene.accel();
   // The build time is the walked structure's: the BVH's (with its walk) when
   // renders walk it, else on that structure's line below.

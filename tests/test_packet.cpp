@@ -6,12 +6,12 @@
 // shared edges, where the tie rule decides; mixed direction signs and dominant
 // axes; short tmax; packets of 1 to 16 rays; rays from inside a closed mesh).
 //
-// This file is compiled three times (tests/CMakeLists.txt): for the build
-// machine, without AVX-512 and without AVX, so that the packet walk of every
-// instruction set is run here. The Aggregate's packet calls are compiled in
-// the core for the build machine; the walk itself, a header template, is
-// instantiated in this file by PacketWalkOfThisFile with this file's
-// instruction set.
+// This file is compiled for the baseline (SSE2), and once more for each
+// higher x86-64 level the build machine runs (tests/CMakeLists.txt: avx2.*,
+// avx512.*), so that the packet walk of every instruction set is run here:
+// the packet calls and the walk are inline (aggregate_packet.h), instantiated
+// in this file with its instruction set. The baseline build also tests the
+// hot loops of every level as RayScope ships them (kernels.h; Kernels.*).
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -22,6 +22,7 @@
 #include "rayscope/accel/bvh_walk.h"
 #include "rayscope/camera.h"
 #include "rayscope/integrator.h"
+#include "rayscope/kernels.h"
 #include "rayscope/render.h"
 #include "rayscope/render_block.h"
 #include "rayscope/scene.h"
@@ -29,13 +30,6 @@
 #include "rayscope/shapes.h"
 #include "rayscope_vtkio/mesh_files.h"
 #include "test_util.h"
-
-#if defined(RAYSCOPE_PACKET_TEST_NO_AVX512) && defined(__AVX512F__)
-#error "this build of test_packet must be compiled without AVX-512"
-#endif
-#if defined(RAYSCOPE_PACKET_TEST_NO_AVX) && defined(__AVX__)
-#error "this build of test_packet must be compiled without AVX"
-#endif
 
 namespace {
 
@@ -255,9 +249,10 @@ Scene adversarial_scene() {
   return s;
 }
 
-TEST(Packets, AdversarialRaysGiveTheSingleRayHits) {
-  Scene scene = adversarial_scene();
-  scene.commit();
+/// Rays at the adversarial scene: exact ties at shared vertices and edges,
+/// mixed direction signs, zero direction components, short tmax, several
+/// dominant axes.
+std::vector<Ray> adversarial_rays() {
   rstest::Rng rng(7);
   std::vector<Ray> rays;
   // Through the grid's vertices and edge midpoints from one eye: exact ties.
@@ -288,6 +283,13 @@ TEST(Packets, AdversarialRaysGiveTheSingleRayHits) {
   for (int i = 0; i < 64; ++i)
     rays.push_back(
         Ray{Vec3(0.0f, 0.0f, 4.0f), Vec3(0.02f * float(i), -0.01f * float(i), -1.0f), kInfinity});
+  return rays;
+}
+
+TEST(Packets, AdversarialRaysGiveTheSingleRayHits) {
+  Scene scene = adversarial_scene();
+  scene.commit();
+  const std::vector<Ray> rays = adversarial_rays();
   for (size_t n = 1; n <= size_t(kPacketRays); ++n)
     check_packets(scene, rays, n, "adversarial, " + std::to_string(n) + " per packet");
   check_packets(scene, shadow_rays(scene, rays), kPacketRays, "adversarial shadow");
@@ -381,5 +383,145 @@ TEST(Packets, TooManyRaysAreRefused) {
   EXPECT_THROW(scene.occluded_packet(rays), std::invalid_argument);
   EXPECT_EQ(scene.intersect_packet({}, hits), 0u);
 }
+
+#if !defined(RAYSCOPE_TEST_FOR_LEVEL)
+// The hot loops of every level as RayScope ships them (kernels.h): compiled
+// once per level and chosen at run time. Tested from the baseline build
+// only (the level builds of this file would repeat them).
+
+/// The levels whose hot loops this build has and this CPU runs, lowest first.
+std::vector<Isa> runnable_levels() {
+  std::vector<Isa> levels;
+  for (Isa isa : kAllIsas)
+    if (has_kernels(isa) && cpu_runs(isa)) levels.push_back(isa);
+  return levels;
+}
+
+/// Each level's batch loops, one ray at a time and in packets, against this
+/// file's single-ray calls, bit for bit.
+void check_kernels(const Scene& scene, const std::vector<Ray>& rays, const std::string& what) {
+  const size_t n = rays.size();
+  std::vector<PrimHit> single(n);
+  std::vector<uint8_t> hit(n), occluded(n);
+  for (size_t i = 0; i < n; ++i) {
+    hit[i] = scene.intersect(rays[i], single[i]);
+    occluded[i] = scene.occluded(rays[i]);
+  }
+  for (Isa isa : runnable_levels()) {
+    const Kernels& k = kernels(isa);
+    ASSERT_EQ(k.isa, isa);
+    for (auto intersect : {k.intersect, k.intersect_packets}) {
+      std::vector<PrimHit> hits(n);
+      std::vector<uint8_t> found(n, 2);
+      intersect(scene, rays, hits.data(), found.data());
+      for (size_t i = 0; i < n; ++i) {
+        ASSERT_EQ(found[i], hit[i]) << isa_name(isa) << ", " << what << ", ray " << i;
+        if (hit[i]) {
+          ASSERT_TRUE(same_hit(hits[i], single[i]))
+              << isa_name(isa) << ", " << what << ", ray " << i;
+        }
+      }
+    }
+    for (auto occluded_fn : {k.occluded, k.occluded_packets}) {
+      std::vector<uint8_t> out(n, 2);
+      occluded_fn(scene, rays, out.data());
+      for (size_t i = 0; i < n; ++i)
+        ASSERT_EQ(out[i], occluded[i]) << isa_name(isa) << ", " << what << ", ray " << i;
+    }
+  }
+}
+
+TEST(Kernels, ThisBuildHasEveryLevelAndThisCpuRunsItsBest) {
+  if (kCompiledIsa == Isa::Sse2) {  // the portable build (not RAYSCOPE_NATIVE)
+    for (Isa isa : kAllIsas) EXPECT_TRUE(has_kernels(isa)) << isa_name(isa);
+  }
+  EXPECT_TRUE(cpu_runs(Isa::Sse2));
+  const std::vector<Isa> levels = runnable_levels();
+  ASSERT_FALSE(levels.empty());
+  EXPECT_EQ(levels.back(), best_cpu_isa());
+  // Levels the CPU lacks are refused by name.
+  for (Isa isa : kAllIsas)
+    if (has_kernels(isa) && !cpu_runs(isa)) {
+      EXPECT_THROW(kernels(isa), std::runtime_error) << isa_name(isa);
+    }
+}
+
+TEST(Kernels, TheVariableChoosesALowerLevelAndBadValuesAreRefused) {
+  unsetenv(kIsaVariable);
+  EXPECT_EQ(kernels().isa, best_cpu_isa());
+  for (Isa isa : runnable_levels()) {
+    setenv(kIsaVariable, std::string(isa_name(isa)).c_str(), 1);
+    EXPECT_EQ(chosen_isa(), isa);
+    EXPECT_EQ(kernels().isa, isa);
+  }
+  setenv(kIsaVariable, "avx1024", 1);
+  try {
+    kernels();
+    ADD_FAILURE() << "RAYSCOPE_ISA=avx1024 was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(
+        e.what(),
+        "RAYSCOPE_ISA=avx1024: not an instruction set (one of sse2, sse4.2, avx2, avx512)");
+  }
+  Scene scene = adversarial_scene();
+  scene.commit();
+  RenderSettings rs;
+  rs.width = 8;
+  rs.height = 8;
+  EXPECT_THROW(render(scene, rs), std::runtime_error);
+  unsetenv(kIsaVariable);
+}
+
+TEST(Kernels, EveryLevelGivesTheSingleRayHits) {
+  for_each_data_scene([](const Scene& scene, const std::string& name) {
+    const std::vector<Ray> blocks = primary_blocks(scene.camera, 64, 48, 4, 4);
+    check_kernels(scene, blocks, name);
+    check_kernels(scene, shadow_rays(scene, blocks), name + " shadow");
+  });
+  Scene scene = adversarial_scene();
+  scene.commit();
+  const std::vector<Ray> rays = adversarial_rays();
+  check_kernels(scene, rays, "adversarial");
+  check_kernels(scene, shadow_rays(scene, rays), "adversarial shadow");
+}
+
+// Every level renders every data scene's image, AOVs, ray counters and, with
+// statistics, traversal counters and per-pixel costs, bit for bit as the
+// lowest level does.
+TEST(Kernels, EveryLevelRendersTheSameFrame) {
+  const std::vector<Isa> levels = runnable_levels();
+  for_each_data_scene([&](Scene& scene, const std::string&) {
+    RenderSettings rs;
+    rs.width = 53;
+    rs.height = 37;
+    rs.samples = 2;
+    rs.threads = 2;
+    prepare_frame(scene, rs);
+    for (bool statistics : {false, true}) {
+      rs.statistics = statistics;
+      RayCounters reference;
+      const Framebuffer ref = kernels(levels.front()).render(scene, rs, &reference, {});
+      for (Isa isa : levels) {
+        SCOPED_TRACE(std::string(isa_name(isa)) + (statistics ? ", statistics" : ""));
+        RayCounters c;
+        const Framebuffer fb = kernels(isa).render(scene, rs, &c, {});
+        EXPECT_TRUE(same_image(fb, ref));
+        EXPECT_EQ(fb.cost.size(), ref.cost.size());
+        EXPECT_TRUE(
+            fb.cost.size() == ref.cost.size() &&
+            std::memcmp(fb.cost.data(), ref.cost.data(), fb.cost.size() * sizeof(PixelCost)) == 0);
+        EXPECT_EQ(c.rays, reference.rays);
+        EXPECT_EQ(c.hits, reference.hits);
+        EXPECT_EQ(c.shadow_occluded, reference.shadow_occluded);
+        EXPECT_EQ(c.nodes_visited, reference.nodes_visited);
+        EXPECT_EQ(c.boxes_tested, reference.boxes_tested);
+        EXPECT_EQ(c.prims_tested, reference.prims_tested);
+        EXPECT_EQ(c.packets, reference.packets);
+        EXPECT_EQ(c.packet_active_lanes, reference.packet_active_lanes);
+      }
+    }
+  });
+}
+#endif
 
 }  // namespace

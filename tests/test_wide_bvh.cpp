@@ -6,10 +6,10 @@
 // ids, every box test with its outcome, culls). Scene queries through the
 // aggregate: test_aggregate.
 //
-// This file is compiled twice: as test_wide_bvh for the build machine, and as
-// test_wide_bvh_noavx without AVX (tests/CMakeLists.txt), so that the walk
-// with the fallback box test, which a CPU without AVX runs, is tested here
-// too.
+// This file is compiled for the baseline (SSE2: the two-halves box test), and
+// once more for each higher x86-64 level the build machine runs
+// (tests/CMakeLists.txt: avx2.*, avx512.*: the 8-lane AVX box test), so that
+// every box test a CPU may run is tested.
 #include <gtest/gtest.h>
 
 #include <cstdio>

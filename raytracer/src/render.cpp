@@ -1,6 +1,6 @@
 #include "rayscope/render.h"
 
-#include "rayscope/frame.h"
+#include "rayscope/kernels.h"
 
 namespace rayscope {
 
@@ -54,12 +54,7 @@ void prepare_frame(Scene& scene, const RenderSettings& settings) {
 Framebuffer render(Scene& scene, const RenderSettings& settings, RayCounters* counters,
                    const ProgressFn& progress) {
   prepare_frame(scene, settings);
-  if (settings.statistics) {
-    StatsPolicy stats;
-    return render_frame(scene, settings, stats, counters, progress);
-  }
-  FramePolicy plain;
-  return render_frame(scene, settings, plain, counters, progress);
+  return kernels().render(scene, settings, counters, progress);
 }
 
 }  // namespace rayscope

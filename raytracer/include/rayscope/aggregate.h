@@ -470,3 +470,5 @@ std::vector<RangeHit> Aggregate::nearest(const Vec3& p, uint32_t k, Observer& ob
 }
 
 }  // namespace rayscope
+
+#include "rayscope/aggregate_packet.h"  // the packet calls, inline (see there)

@@ -33,7 +33,9 @@ void prepare_frame(Scene& scene, const RenderSettings& settings);
 
 /// Renders the committed scene: prepare_frame(), then the frame loop, with the
 /// statistics policy (per-pixel cost AOVs and traversal counters) when
-/// settings.statistics is set. Throws std::invalid_argument for bad settings.
+/// settings.statistics is set, compiled for the widest instruction set the CPU
+/// has (kernels.h; the same image on every one). Throws std::invalid_argument
+/// for bad settings, std::runtime_error for a bad $RAYSCOPE_ISA (isa.h).
 Framebuffer render(Scene& scene, const RenderSettings& settings, RayCounters* counters = nullptr,
                    const ProgressFn& progress = {});
 

@@ -154,7 +154,7 @@ class WideBvh {
 
 namespace wide_bvh_detail {
 
-inline namespace RAYSCOPE_ISA {  // isa.h: the tests build this walk without AVX too
+inline namespace RAYSCOPE_ISA {  // isa.h: compiled once per x86-64 level (kernels.h)
 
 /// Per-ray constants of the 8-wide box test.
 struct RayBoxes {
