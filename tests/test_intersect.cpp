@@ -19,6 +19,7 @@
 
 #include "rayscope/intersect.h"
 #include "rayscope/intersect_capsule.h"
+#include "rayscope/textbook_intersect.h"
 #include "test_util.h"
 
 namespace {
@@ -1009,6 +1010,64 @@ TEST(Box, RaysTouchingAFaceOrParallelInsideTheSlab) {
   EXPECT_EQ(intersect_box(lo, hi, Vec3(0.5f, 0.5f, -2), Vec3(kInfinity, kInfinity, 1), 1.5f),
             kInfinity);
   EXPECT_EQ(test({0.5f, 0.5f, 2}, {0, 0, 1}), kInfinity);
+}
+
+// The lecture's tests (textbook_intersect.h) on cases worked by hand, with
+// inputs whose every value is exact in binary, so the answers are exact.
+TEST(TextbookIntersect, PlaneLambdaAndTheParallelRay) {
+  // Plane y = 2 (P_0 = (0, 2, 0), n = (0, 1, 0)); ray from the origin along
+  // (0, 4, 0): t_r.n = 4, lambda = (P_0 - P_r).n / t_r.n = 2 / 4.
+  const TextbookPlane p = textbook_plane(Vec3(0.0f), Vec3(0, 4, 0), Vec3(0, 2, 0), Vec3(0, 1, 0));
+  EXPECT_EQ(p.tr_dot_n, 4.0);
+  EXPECT_EQ(p.lambda, 0.5);
+  EXPECT_TRUE(p.hit());
+  // Parallel to the plane: t_r.n = 0, no lambda.
+  const TextbookPlane q = textbook_plane(Vec3(0.0f), Vec3(1, 0, 0), Vec3(0, 2, 0), Vec3(0, 1, 0));
+  EXPECT_EQ(q.tr_dot_n, 0.0);
+  EXPECT_FALSE(q.hit());
+  // Behind the ray: lambda < 0.
+  EXPECT_FALSE(textbook_plane(Vec3(0.0f), Vec3(0, -1, 0), Vec3(0, 2, 0), Vec3(0, 1, 0)).hit());
+}
+
+TEST(TextbookIntersect, TriangleLambdasInsideAndOutside) {
+  const Vec3 p0(1, 0, 0), p1(5, 0, 0), p2(1, 8, 0);  // t_1 = (4, 0, 0), t_2 = (0, 8, 0)
+  // Through P_0 + 0.25 t_1 + 0.5 t_2 = (2, 4, 0), from z = 3 along (0, 0, -1).
+  const TextbookTriangle t = textbook_triangle(Vec3(2, 4, 3), Vec3(0, 0, -1), p0, p1, p2);
+  EXPECT_EQ(t.n, DVec3(0, 0, 32));
+  EXPECT_EQ(t.plane.tr_dot_n, -32.0);
+  EXPECT_EQ(t.plane.lambda, 3.0);
+  EXPECT_EQ(t.lambda1, 0.25);
+  EXPECT_EQ(t.lambda2, 0.5);
+  EXPECT_TRUE(t.inside());
+  // Through P_0 + 0.75 t_1 + 0.5 t_2: in the plane, lambda1 + lambda2 > 1.
+  const TextbookTriangle u = textbook_triangle(Vec3(4, 4, 3), Vec3(0, 0, -1), p0, p1, p2);
+  EXPECT_EQ(u.lambda1, 0.75);
+  EXPECT_EQ(u.lambda2, 0.5);
+  EXPECT_FALSE(u.inside());
+  // Through P_0 - 0.25 t_1: lambda1 < 0.
+  EXPECT_FALSE(textbook_triangle(Vec3(0, 0, 3), Vec3(0, 0, -1), p0, p1, p2).inside());
+}
+
+TEST(TextbookIntersect, SphereQuadraticAndItsRoots) {
+  // Unit sphere at the origin, ray from (0, 0, -5) along (0, 0, 1):
+  // lambda^2 - 10 lambda + 24 = 0, discriminant 4, lambda = 4 or 6.
+  const TextbookSphere s = textbook_sphere(Vec3(0, 0, -5), Vec3(0, 0, 1), Vec3(0.0f), 1.0f);
+  EXPECT_EQ(s.a, 1.0);
+  EXPECT_EQ(s.b, -10.0);
+  EXPECT_EQ(s.c, 24.0);
+  EXPECT_EQ(s.discriminant, 4.0);
+  EXPECT_EQ(s.lambda_near, 4.0);
+  EXPECT_EQ(s.lambda_far, 6.0);
+  EXPECT_EQ(s.lambda(), 4.0);
+  // From the center: c < 0, the roots are -1 and 1, the ray leaves at 1.
+  const TextbookSphere inside = textbook_sphere(Vec3(0.0f), Vec3(1, 0, 0), Vec3(0.0f), 1.0f);
+  EXPECT_EQ(inside.lambda_near, -1.0);
+  EXPECT_EQ(inside.lambda(), 1.0);
+  // Passing by at distance 2: discriminant < 0, no real roots.
+  const TextbookSphere miss = textbook_sphere(Vec3(2, 0, -5), Vec3(0, 0, 1), Vec3(0.0f), 1.0f);
+  EXPECT_LT(miss.discriminant, 0.0);
+  EXPECT_FALSE(miss.real_roots());
+  EXPECT_EQ(miss.lambda(), -1.0);
 }
 
 }  // namespace

@@ -1,8 +1,14 @@
 // Ray trees, statistics and "render only what the scene needs".
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <map>
+#include <string>
 
+#include <nlohmann/json.hpp>
+
+#include "rayscope/raytree_format.h"
 #include "rayscope/render.h"
 #include "rayscope/replay.h"
 #include "rayscope/shapes.h"
@@ -455,4 +461,57 @@ TEST(RayTree, WalkStepsAndHitLeaf) {
       EXPECT_GT(culls, 0);
     }
   }
+}
+
+// What inspect and the viewer show as "lecture's test" (textbook_intersect.h,
+// format_json's "lecture_test") agrees with the robust test that found each
+// hit: lambda is the ray's t within 1e-5 relative (t is the float the
+// watertight test returns, within a few ulps; lambda the formula in double
+// on the same float inputs), and a triangle's lambda1, lambda2 put the point
+// inside it up to 1e-5 (a watertight hit on a shared edge may lie a
+// rounding outside one of its two triangles). On the default scene: triangles
+// (the torus), spheres and the plane.
+TEST(RayTree, TheLecturesTestOfEveryHitAgreesWithTheRobustOne) {
+  using nlohmann::json;
+  Scene scene = make_default_scene();
+  scene.commit();
+  RenderSettings rs;
+  rs.width = 64;
+  rs.height = 48;
+  rs.samples = 1;
+  prepare_frame(scene, rs);
+  std::map<std::string, int> tests;
+  for (int y = 1; y < rs.height; y += 2)
+    for (int x = 1; x < rs.width; x += 2) {
+      const json j = json::parse(format_json(record_pixel(scene, rs, x, y), scene));
+      for (const json& r : j["rays"]) {
+        if (!r.value("hit", false)) continue;
+        const json& t = r["lecture_test"];
+        ASSERT_TRUE(t.is_object()) << r.dump();
+        const std::string kind = t["test"];
+        tests[kind]++;
+        const double robust = r["t"], tol = 1e-5 * std::max(1.0, robust);
+        if (kind == "ray-triangle") {
+          EXPECT_NEAR(t["plane"]["lambda"].get<double>(), robust, tol) << r.dump();
+          const double l1 = t["lambda1"], l2 = t["lambda2"];
+          EXPECT_GE(l1, -1e-5) << r.dump();
+          EXPECT_GE(l2, -1e-5) << r.dump();
+          EXPECT_LE(l1 + l2, 1.0 + 1e-5) << r.dump();
+        } else if (kind == "ray-sphere") {
+          EXPECT_GE(t["discriminant"].get<double>(), 0.0) << r.dump();
+          EXPECT_NEAR(t["lambda"].get<double>(), robust, tol) << r.dump();
+        } else {
+          ASSERT_EQ(kind, "ray-plane");
+          EXPECT_NE(t["tr_dot_n"].get<double>(), 0.0) << r.dump();
+          EXPECT_NEAR(t["lambda"].get<double>(), robust, tol) << r.dump();
+        }
+      }
+    }
+  EXPECT_GT(tests["ray-triangle"], 20);
+  EXPECT_GT(tests["ray-sphere"], 20);
+  EXPECT_GT(tests["ray-plane"], 20);
+  // The text shows the same quantities, in the lecture's names.
+  const PixelRecord rec = record_pixel(scene, rs, 20, 24);
+  const std::string text = format_text(rec, scene);
+  EXPECT_NE(text.find("lecture's test: "), std::string::npos) << text;
 }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "accel/bvh_builder.h"
 #include "rayscope/frame.h"
 
 namespace rayscope {
@@ -52,7 +53,8 @@ void occluded_packets(const Scene& scene, std::span<const Ray> rays, uint8_t* oc
 /// symbol the copies for higher levels keep global (raytracer/CMakeLists.txt).
 const Kernels& isa_kernels() {
   static constexpr Kernels kTable{kCompiledIsa,      render_prepared, intersect_each,
-                                  intersect_packets, occluded_each,   occluded_packets};
+                                  intersect_packets, occluded_each,   occluded_packets,
+                                  build_bvh};
   return kTable;
 }
 

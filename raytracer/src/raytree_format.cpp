@@ -4,8 +4,11 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "rayscope/textbook_intersect.h"
 
 namespace rayscope {
 
@@ -56,6 +59,81 @@ const std::string& light_name(const Scene& s, int light) {
   return light >= 0 && size_t(light) < s.lights.size() ? s.lights[size_t(light)].name : unknown;
 }
 
+// The lecture's test of the primitive a ray hit (textbook_intersect.h), as
+// JSON: {"test": "ray-triangle" | "ray-sphere" | "ray-plane", quantities...};
+// null for a tube segment (the capsule test is not one of the lecture's).
+nlohmann::json textbook_json(const Scene& s, const RayRecord& r) {
+  const auto plane = [](const TextbookPlane& p) {
+    return nlohmann::json{{"tr_dot_n", p.tr_dot_n}, {"lambda", p.lambda}};
+  };
+  const auto sphere = [&](const Vec3& c, float radius) {
+    const TextbookSphere q = textbook_sphere(r.origin, r.dir, c, radius);
+    return nlohmann::json{{"test", "ray-sphere"},
+                          {"a", q.a},
+                          {"b", q.b},
+                          {"c", q.c},
+                          {"discriminant", q.discriminant},
+                          {"lambda_near", q.lambda_near},
+                          {"lambda_far", q.lambda_far},
+                          {"lambda", q.lambda()}};
+  };
+  uint32_t o = r.object;
+  switch (s.object_type(o)) {
+    case ObjectType::Mesh: {
+      const TriangleMesh& m = s.meshes[o];
+      const glm::uvec3 v = m.triangles[r.prim];
+      const TextbookTriangle t =
+          textbook_triangle(r.origin, r.dir, m.positions[v.x], m.positions[v.y], m.positions[v.z]);
+      return {{"test", "ray-triangle"},
+              {"plane", plane(t.plane)},
+              {"lambda1", t.lambda1},
+              {"lambda2", t.lambda2},
+              {"inside", t.inside()}};
+    }
+    case ObjectType::Tubes:
+      return nullptr;
+    case ObjectType::Points: {
+      const PointSet& ps = s.points[o - s.meshes.size() - s.tubes.size()];
+      return sphere(ps.positions[r.prim], ps.point_radius(r.prim));
+    }
+    case ObjectType::Sphere: {
+      const Sphere& sp = s.spheres[o - s.meshes.size() - s.tubes.size() - s.points.size()];
+      return sphere(sp.center, sp.radius);
+    }
+    case ObjectType::Plane: {
+      const Plane& pl = s.planes[o - s.plane_object(0)];
+      nlohmann::json j = plane(textbook_plane(r.origin, r.dir, pl.point, pl.normal));
+      j["test"] = "ray-plane";
+      return j;
+    }
+  }
+  return nullptr;
+}
+
+// The same as text: the lecture's formula with its numbers, one or two lines
+// (the second continues the first); empty for a tube segment.
+std::vector<std::string> textbook_text(const nlohmann::json& t) {
+  if (t.is_null()) return {};
+  const std::string test = t["test"];
+  auto g = [&](const nlohmann::json& j, const char* key) { return j[key].get<double>(); };
+  if (test == "ray-plane")
+    return {fmt("ray-plane: t_r.n = %.6g, lambda = (P_0 - P_r).n / t_r.n = %.6g", g(t, "tr_dot_n"),
+                g(t, "lambda"))};
+  if (test == "ray-triangle") {
+    const double l1 = g(t, "lambda1"), l2 = g(t, "lambda2");
+    return {fmt("ray-triangle: its plane: t_r.n = %.6g, lambda = %.6g", g(t["plane"], "tr_dot_n"),
+                g(t["plane"], "lambda")),
+            fmt("P = P_0 + lambda1 t_1 + lambda2 t_2: lambda1 = %.6g, lambda2 = %.6g, "
+                "lambda1 + lambda2 = %.6g: %s",
+                l1, l2, l1 + l2, t["inside"].get<bool>() ? "inside" : "outside")};
+  }
+  return {fmt("ray-sphere: a lambda^2 + b lambda + c = 0, a = t_r.t_r = %.6g, "
+              "b = 2 t_r.(P_r - center) = %.6g, c = (P_r - center)^2 - r^2 = %.6g",
+              g(t, "a"), g(t, "b"), g(t, "c")),
+          fmt("discriminant b^2 - 4ac = %.6g: lambda = %.6g or %.6g", g(t, "discriminant"),
+              g(t, "lambda_near"), g(t, "lambda_far"))};
+}
+
 void text_ray(const PixelRecord& rec, const Scene& s, int id, int indent, std::string& out) {
   const RayRecord& r = rec.rays[size_t(id)];
   std::string pad(size_t(indent) * 2, ' ');
@@ -94,6 +172,9 @@ void text_ray(const PixelRecord& rec, const Scene& s, int id, int indent, std::s
     line += fmt(", material \"%s\") t=%.5g", s.materials[r.material].name.c_str(), r.t);
     line += "\n" + pad + "   at " + world(s, r.point) + "  normal " + v3(r.ns);
     if (r.ns != r.ng) line += "  geometric " + v3(r.ng);
+    const std::vector<std::string> test = textbook_text(textbook_json(s, r));
+    for (size_t k = 0; k < test.size(); ++k)
+      line += "\n" + pad + (k == 0 ? "   lecture's test: " : "                   ") + test[k];
     line += "\n" + pad + "   returned " + v3(r.color);
     line += "\n" + pad + "   local: ambient " + v3(r.ambient);
     for (const LightTerms& l : r.lights)
@@ -127,6 +208,8 @@ void text_ray(const PixelRecord& rec, const Scene& s, int id, int indent, std::s
 }
 
 constexpr const char* kLocalLegend =
+    "lecture's test: the lecture's formula for the primitive hit, in double precision, with\n"
+    "  the ray P = P_r + lambda t_r (lambda is the t of the hit, which the robust test found)\n"
     "local: the hit's local illumination, ambient + per light reaching it diffuse and specular\n"
     "skipped: rays not traced (N.L <= 0: light behind the surface; depth limit; contribution\n"
     "  cutoff: weight below --min-contribution)\n";
@@ -224,6 +307,7 @@ std::string format_json(const PixelRecord& rec, const Scene& s, int indent) {
         j["object_name"] = s.object_name(r.object);
         j["object_type"] = object_kind(s, r.object);
         j["primitive"] = r.prim;
+        j["lecture_test"] = textbook_json(s, r);
         j["material"] = s.materials[r.material].name;
         json lights = json::array();
         for (const LightTerms& l : r.lights)

@@ -1,10 +1,10 @@
 // The hot loops, compiled once for every instruction set (isa.h) and chosen at
 // run time: the frame loop of render() with its plain and statistics policies
 // (and with it the integrator, the BVH walk, its box tests, triangle blocks
-// and packets), and loops that trace a batch of rays one at a time or as
-// packets (what bench_trace measures). The rest of RayScope is compiled for
-// every x86-64 (SSE2), so one binary runs on any x86-64 CPU and takes the
-// widest path the CPU has.
+// and packets), loops that trace a batch of rays one at a time or as packets
+// (what bench_trace measures), and the BVH builder (every commit). The rest of RayScope is compiled
+// for every x86-64 (SSE2), so one binary runs on any x86-64 CPU and takes the widest path the CPU
+// has.
 //
 // src/kernels.cpp holds them; the build compiles it once more per level above
 // the baseline and keeps each copy's inline functions private to it (see
@@ -38,6 +38,10 @@ struct Kernels {
   void (*occluded)(const Scene& scene, std::span<const Ray> rays, uint8_t* occluded);
   /// The same as packets of kPacketRays consecutive rays (Scene::occluded_packet).
   void (*occluded_packets)(const Scene& scene, std::span<const Ray> rays, uint8_t* occluded);
+  /// Bvh::build(): the binned SAH builder, binning with this level's widest
+  /// instructions (the same tree on every level).
+  void (*build_bvh)(Bvh& bvh, std::span<const Bounds3> bounds, std::span<const Vec3> centroids,
+                    const BvhBuildConfig& cfg);
 };
 
 /// Whether this build has `isa`'s hot loops (every level on x86-64, only

@@ -59,9 +59,9 @@ struct BvhBuildConfig {
   /// the same for every value and thread count (~0u: one task).
   uint32_t parallel_min_prims = 4096;
   /// The instructions that bin and bound the boxes: every choice builds the
-  /// same tree, bit for bit (the tests compare them). Best: the widest the
-  /// library is compiled for (AVX, else SSE2, else none); Sse: SSE2 where it
-  /// is compiled in, else none; Scalar: none, as on a CPU without SIMD.
+  /// same tree, bit for bit (the tests compare them). Best: the widest of the
+  /// level the hot loops run with (kernels.h: AVX for avx2 and avx512, else
+  /// SSE2); Sse: SSE2; Scalar: none, as on a CPU without SIMD.
   enum class Simd { Best, Sse, Scalar } simd = Simd::Best;
 };
 
