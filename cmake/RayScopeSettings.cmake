@@ -32,6 +32,12 @@ target_compile_options(rayscope_fp_exact INTERFACE -ffp-contract=off)
 if(RAYSCOPE_NATIVE)
   add_compile_options(-march=native)
 endif()
+# The x86-64 levels above the baseline that the hot loops are compiled for
+# (raytracer/include/rayscope/isa.h, kernels.h), each as GCC's -march name;
+# the tests compile some suites for them too.
+set(RAYSCOPE_LEVEL_MARCH_sse42 x86-64-v2)
+set(RAYSCOPE_LEVEL_MARCH_avx2 x86-64-v3)
+set(RAYSCOPE_LEVEL_MARCH_avx512 x86-64-v4)
 
 find_package(glm REQUIRED)
 find_package(TBB REQUIRED)

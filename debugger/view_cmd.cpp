@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "rayscope/image.h"
 #include "scene_options.h"
 #include "view_module.h"
 
@@ -23,6 +24,8 @@ struct ViewOptions {
   SceneOptions scene;
   std::string pixel;
   std::string screenshot;
+  std::string record;
+  double fps = 1.0;
   std::vector<std::string> keys;
   std::string window;
   double font_scale = 1.0;
@@ -70,6 +73,9 @@ int run_view(const ViewOptions& o) {
   request.pick = !o.pixel.empty();
   request.keys = o.keys;
   request.screenshot = o.screenshot;
+  if (!o.record.empty()) check_animation(o.record, o.fps);
+  request.record = o.record;
+  request.fps = o.fps;
   std::string error;
   const int status = view_module().run(request, error);
   if (status != 0) throw std::runtime_error(error);
@@ -101,6 +107,10 @@ void add_view_command(CLI::App& app, int& exit_code) {
                   "1; 2 for a lecture hall)");
   cmd->add_option("--screenshot", opts->screenshot,
                   "FILE.png: wait for the render, save the window and exit (no event loop)");
+  cmd->add_option("--record", opts->record,
+                  "FILE.gif: save the window after the render and pick, and after each key of "
+                  "--keys, as the frames of a looping animated GIF, and exit (no event loop)");
+  cmd->add_option("--fps", opts->fps, "F: frames per second of --record (0.1..50, default 1)");
   cmd->callback([opts, &exit_code]() { exit_code = run_view(*opts); });
 }
 

@@ -1,10 +1,19 @@
 // The viewer module behind `rayscope view` (see view_module.h): opens
 // vtkRayScopeViewer (vtkplugin/module) on the checked request.
+#include <algorithm>
 #include <exception>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
+#include <vtkImageData.h>
 #include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkRenderWindow.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkWindowToImageFilter.h>
+
+#include "rayscope/image.h"
 
 #include "view_module.h"
 #include "vtkRayScopeImageAlgorithm.h"
@@ -13,6 +22,33 @@
 namespace {
 
 using rayscope::cli::ViewRequest;
+
+// The window once its render is done: 8-bit RGB, rows from the top.
+rayscope::Rgb8Image grab(vtkRayScopeViewer* viewer) {
+  viewer->WaitForRender();
+  vtkRenderWindow* window = viewer->GetRenderWindow();
+  window->Render();
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window);
+  grab->ReadFrontBufferOff();
+  grab->SetInputBufferTypeToRGB();
+  grab->Update();
+  vtkImageData* image = grab->GetOutput();
+  int dims[3];
+  image->GetDimensions(dims);
+  vtkUnsignedCharArray* px =
+      vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetScalars());
+  rayscope::Rgb8Image f;
+  if (!px || px->GetNumberOfComponents() != 3) return f;
+  f.width = dims[0];
+  f.height = dims[1];
+  f.rgb.resize(size_t(f.width) * size_t(f.height) * 3);
+  const size_t row = size_t(f.width) * 3;
+  for (int y = 0; y < f.height; ++y)  // VTK's row 0 is the bottom one
+    std::copy_n(px->GetPointer(0) + size_t(f.height - 1 - y) * row, row,
+                f.rgb.data() + size_t(y) * row);
+  return f;
+}
 
 int run(const ViewRequest& r) {
   const rayscope::RenderSettings& rs = r.loaded->settings;
@@ -37,17 +73,22 @@ int run(const ViewRequest& r) {
     viewer->WaitForRender();
     viewer->PickPixel(r.pixel[0], rs.height - 1 - r.pixel[1]);  // the viewer counts from the bottom
   }
+  std::vector<rayscope::Rgb8Image> frames;
+  const bool record = !r.record.empty();
+  if (record) frames.push_back(grab(viewer));
   for (const std::string& key : r.keys) {
     viewer->WaitForRender();  // keys that re-render finish before the next key
     if (!viewer->HandleKey(key.c_str()))
       throw std::invalid_argument("--keys: '" + key + "' is not a key of the viewer");
+    if (record) frames.push_back(grab(viewer));
   }
+  if (record) rayscope::write_animation(r.record, frames, r.fps);
   if (!r.screenshot.empty()) {
     viewer->WaitForRender();
     if (!viewer->SaveScreenshot(r.screenshot.c_str()))
       throw std::runtime_error(r.screenshot + ": " + viewer->GetMessage());
-    return 0;
   }
+  if (record || !r.screenshot.empty()) return 0;
   viewer->Start();
   return 0;
 }

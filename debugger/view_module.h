@@ -20,6 +20,8 @@ struct ViewRequest {
   int pixel[2] = {-1, -1};  ///< Picked at the start, from the top-left (when pick).
   std::vector<std::string> keys;
   std::string screenshot;
+  std::string record;      ///< An animated GIF of the window after the pick and each key.
+  double fps = 1.0;        ///< Its frames per second.
   int window[2] = {0, 0};  ///< Window size in pixels (0: the viewer's default).
   double font_scale = 1.0;
 };

@@ -5,11 +5,13 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <future>
 #include <limits>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -224,7 +226,13 @@ bool image_needs_module(const std::filesystem::path& path) {
   return lower_extension(path) != ".png";
 }
 
-void check_image_path(const std::filesystem::path& path) {
+namespace {
+
+// The one check of an output file's path (check_image_path(),
+// check_animation_path()): `extensions` are the ones allowed, `formats` says
+// them in a message.
+void check_output_path(const std::filesystem::path& path, std::span<const char* const> extensions,
+                       const char* formats) {
   namespace fs = std::filesystem;
   std::error_code ec;
   const std::string p = path.string();
@@ -235,12 +243,11 @@ void check_image_path(const std::filesystem::path& path) {
   if (fs::exists(st) && !fs::is_regular_file(st))
     throw std::runtime_error(p + ": exists and is not a regular file");
   const std::string ext = lower_extension(path);
-  if (std::find(std::begin(kImageExtensions), std::end(kImageExtensions), ext) ==
-      std::end(kImageExtensions))
+  if (std::find(extensions.begin(), extensions.end(), ext) == extensions.end())
     throw std::runtime_error(p + ": " +
                              (ext.empty() ? std::string("no file extension")
                                           : "unsupported image format '" + ext + "'") +
-                             " (use " + kImageFormatsText + ")");
+                             " (use " + formats + ")");
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   if (!fs::is_directory(dir, ec))
     throw std::runtime_error(p + ": folder '" + dir.string() + "' does not exist");
@@ -251,6 +258,45 @@ void check_image_path(const std::filesystem::path& path) {
   if (::faccessat(AT_FDCWD, dir.c_str(), W_OK | X_OK, AT_EACCESS) != 0)
     throw std::runtime_error(p + ": cannot create a file in '" + dir.string() +
                              "': " + std::strerror(errno));
+}
+
+}  // namespace
+
+void check_image_path(const std::filesystem::path& path) {
+  check_output_path(path, kImageExtensions, kImageFormatsText);
+}
+
+void check_animation(const std::filesystem::path& path, double fps) {
+  const char* const extensions[] = {kAnimationExtension};
+  check_output_path(path, extensions, kAnimationExtension);
+  if (!(fps >= kMinAnimationFps && fps <= kMaxAnimationFps)) {
+    char range[96];
+    std::snprintf(range, sizeof range, "%g frames per second is outside %g..%g", fps,
+                  kMinAnimationFps, kMaxAnimationFps);
+    throw std::runtime_error(path.string() + ": " + range);
+  }
+}
+
+void write_animation(const std::filesystem::path& path, const std::vector<Rgb8Image>& frames,
+                     double fps) {
+  check_animation(path, fps);
+  if (frames.empty()) throw std::runtime_error(path.string() + ": no frames");
+  std::vector<image_files::Pixels> px(frames.size());
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const Rgb8Image& f = frames[i];
+    if (f.width != frames[0].width || f.height != frames[0].height ||
+        f.rgb.size() != size_t(f.width) * size_t(f.height) * 3 || f.width <= 0 || f.height <= 0)
+      throw std::runtime_error(path.string() + ": frame " + std::to_string(i) +
+                               " is not a picture of the first frame's size");
+    px[i].width = f.width;
+    px[i].height = f.height;
+    px[i].channel_names = {"R", "G", "B"};
+    px[i].data = f.rgb.data();
+  }
+  const Functions& m = image_module(path);
+  write_atomically(path, [&](const std::string& tmp) {
+    return m.write_frames(tmp, px, int(std::lround(fps * 100.0)), 100);
+  });
 }
 
 void write_image(const std::filesystem::path& path, const Framebuffer& fb) {

@@ -61,6 +61,33 @@ std::string read(const std::string& file, int& width, int& height, int& channels
   return {};
 }
 
+std::string write_frames(const std::string& file, const std::vector<Pixels>& frames, int fps_num,
+                         int fps_den) {
+  if (frames.empty()) return "no frames to write";
+  std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(file);
+  if (!out) return "cannot write this image format (" + OIIO::geterror() + ")";
+  if (!out->supports("multiimage")) return "this format holds one picture, not an animation";
+  std::vector<OIIO::ImageSpec> specs;
+  for (const Pixels& px : frames) {
+    const int nc = int(px.channel_names.size());
+    OIIO::ImageSpec spec(px.width, px.height, nc, OIIO::TypeDesc::UINT8);
+    spec.channelnames = px.channel_names;
+    const int fps[2] = {fps_num, fps_den};
+    spec.attribute("FramesPerSecond", OIIO::TypeRational, fps);
+    spec.attribute("oiio:LoopCount", 0);  // loop for ever
+    specs.push_back(spec);
+  }
+  bool ok = out->open(file, int(specs.size()), specs.data());
+  for (size_t i = 0; ok && i < frames.size(); ++i) {
+    if (i > 0) ok = out->open(file, specs[i], OIIO::ImageOutput::AppendSubimage);
+    ok = ok && out->write_image(OIIO::TypeDesc::UINT8, frames[i].data);
+  }
+  std::string error = ok ? std::string() : out->geterror();
+  ok = out->close() && ok;
+  if (!ok && error.empty()) error = out->geterror();
+  return ok ? std::string() : "cannot write the animation: " + error;
+}
+
 // Exceptions (bad_alloc, OIIO's own) do not cross into the core.
 template <class F>
 std::string guarded(F&& f) {
@@ -82,6 +109,9 @@ const rayscope::image_files::Functions kFunctions = {
     },
     [](const std::string& file, int& w, int& h, int& c, std::vector<float>& v) {
       return guarded([&] { return read(file, w, h, c, v); });
+    },
+    [](const std::string& file, const std::vector<Pixels>& frames, int fps_num, int fps_den) {
+      return guarded([&] { return write_frames(file, frames, fps_num, fps_den); });
     }};
 
 }  // namespace

@@ -48,11 +48,15 @@ struct Functions {
   /// Reads every channel of `file` as floats.
   std::string (*read)(const std::string& file, int& width, int& height, int& channels,
                       std::vector<float>& values);
+  /// Writes `frames` (8-bit, all of one size) as the frames of one animated
+  /// file (GIF) that loops, shown `fps_num / fps_den` frames per second.
+  std::string (*write_frames)(const std::string& file, const std::vector<Pixels>& frames,
+                              int fps_num, int fps_den);
 };
 
 /// Bumped whenever Pixels, Label or Functions change: a module of another
 /// build is refused by name, not called.
-inline constexpr int kVersion = 2;
+inline constexpr int kVersion = 3;
 /// The module's one exported symbol, extern "C": `const Functions* ()`.
 inline constexpr const char* kEntrySymbol = "rayscope_image_files";
 using EntryFn = const Functions* (*)();

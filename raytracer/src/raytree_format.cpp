@@ -123,15 +123,15 @@ std::vector<std::string> textbook_text(const nlohmann::json& t) {
     const double l1 = g(t, "lambda1"), l2 = g(t, "lambda2");
     return {fmt("ray-triangle: its plane: t_r.n = %.6g, lambda = %.6g", g(t["plane"], "tr_dot_n"),
                 g(t["plane"], "lambda")),
-            fmt("P = P_0 + lambda1 t_1 + lambda2 t_2: lambda1 = %.6g, lambda2 = %.6g, "
-                "lambda1 + lambda2 = %.6g: %s",
+            fmt("P = P_0 + lambda1 t_1 + lambda2 t_2: lambda1 = %.6g, lambda2 = %.6g, sum %.6g: %s",
                 l1, l2, l1 + l2, t["inside"].get<bool>() ? "inside" : "outside")};
   }
-  return {fmt("ray-sphere: a lambda^2 + b lambda + c = 0, a = t_r.t_r = %.6g, "
-              "b = 2 t_r.(P_r - center) = %.6g, c = (P_r - center)^2 - r^2 = %.6g",
-              g(t, "a"), g(t, "b"), g(t, "c")),
-          fmt("discriminant b^2 - 4ac = %.6g: lambda = %.6g or %.6g", g(t, "discriminant"),
-              g(t, "lambda_near"), g(t, "lambda_far"))};
+  return {
+      "ray-sphere: a lambda^2 + b lambda + c = 0, a = t_r.t_r, b = 2 t_r.(P_r - center), "
+      "c = (P_r - center)^2 - r^2",
+      fmt("a = %.6g, b = %.6g, c = %.6g; discriminant b^2 - 4ac = %.6g: lambda = %.6g or %.6g",
+          g(t, "a"), g(t, "b"), g(t, "c"), g(t, "discriminant"), g(t, "lambda_near"),
+          g(t, "lambda_far"))};
 }
 
 void text_ray(const PixelRecord& rec, const Scene& s, int id, int indent, std::string& out) {

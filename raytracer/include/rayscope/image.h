@@ -73,6 +73,30 @@ inline constexpr const char* kImageFormatsText = ".png, .jpg (.jpeg) or .exr";
 /// "PATH: problem".
 void check_image_path(const std::filesystem::path& path);
 
+/// An 8-bit RGB picture, rows from the top (a frame of an animation).
+struct Rgb8Image {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgb;  ///< width * height * 3 values.
+};
+
+/// The animation format write_animation() writes.
+inline constexpr const char* kAnimationExtension = ".gif";
+/// Frames per second an animation may show (write_animation()).
+inline constexpr double kMinAnimationFps = 0.1, kMaxAnimationFps = 50.0;
+
+/// The one check of an animation's output: check_image_path()'s checks of
+/// the path, with the extension kAnimationExtension, and a rate of `fps`
+/// frames per second in kMinAnimationFps..kMaxAnimationFps. Throws
+/// std::runtime_error "PATH: problem".
+void check_animation(const std::filesystem::path& path, double fps);
+
+/// Writes `frames` (at least one, all of one size) as an animated GIF that
+/// loops, `fps` frames per second (GIF keeps a frame's time in hundredths of
+/// a second), through OpenImageIO, after check_animation(). Atomic like
+/// write_image(). Throws std::runtime_error "PATH: problem".
+void write_animation(const std::filesystem::path& path, const std::vector<Rgb8Image>& frames,
+                     double fps);
+
 /// Writes a color-mapped heat map of one value per pixel (e.g. BVH nodes visited)
 /// with a legend strip below it: a color bar from 0 to the maximum, its scale and
 /// `title`. Atomic like write_image(). Legend text needs the DejaVu Sans font
