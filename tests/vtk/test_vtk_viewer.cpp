@@ -32,7 +32,9 @@
 #include <vtkRenderWindow.h>
 #include <vtkRenderWindowInteractor.h>
 #include <vtkRenderer.h>
+#include <vtkRendererCollection.h>
 #include <vtkStringArray.h>
+#include <vtkTextActor.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkXMLPolyDataReader.h>
 
@@ -246,14 +248,18 @@ TEST_F(Viewer, ClickOutsideTheImageDoesNothing) {
   ASSERT_TRUE(f.start());
   EXPECT_EQ(f.viewer->PickPixel(kW, 3), 0);
   EXPECT_EQ(f.viewer->PickPixel(-1, 3), 0);
-  int x, y;
-  // Above and below the image, in its viewport's margin.
-  for (int j : {kH + 4, -5}) {
-    f.pixel_display(kW / 2, j, x, y);
-    ASSERT_TRUE(f.viewer->GetImageRenderer()->IsInViewport(x, y)) << j;
+  int x, y, clicked = 0;
+  // The pixels just above and below, or left and right of the image: in its
+  // viewport's margin (which sides have one depends on the viewport's shape).
+  for (const std::array<int, 2> ij :
+       {std::array<int, 2>{kW / 2, kH}, {kW / 2, -1}, {-1, kH / 2}, {kW, kH / 2}}) {
+    f.pixel_display(ij[0], ij[1], x, y);
+    if (!f.viewer->GetImageRenderer()->IsInViewport(x, y)) continue;
     f.click(x, y);
-    EXPECT_EQ(f.viewer->GetPickedPixel()[0], -1) << j;
+    ++clicked;
+    EXPECT_EQ(f.viewer->GetPickedPixel()[0], -1) << ij[0] << ", " << ij[1];
   }
+  EXPECT_GE(clicked, 2);
 }
 
 // Clicking a surface in the 3D view picks the pixel that sees that point.
@@ -422,6 +428,53 @@ TEST_F(Viewer, PlaysTheSelectedRaysBvhWalk) {
     EXPECT_NE(std::string(f.viewer->GetMessage()).find("complete"), std::string::npos);
     f.key("T");
     EXPECT_EQ(f.viewer->GetTraversalSteps(), int(nodes.size()) - 1);
+  }
+}
+
+// The help line wraps at its " | " to the window's width, and the header
+// grows to hold it: in a 960x600 window at font scale 1 and 2 every line of
+// it fits in the window and in the header, no key is lost, and the image and
+// the 3D view start below the header.
+TEST_F(Viewer, TheHelpLineWrapsToTheWindowWidth) {
+  int previous_lines = 0;
+  for (const double scale : {1.0, 2.0}) {
+    SCOPED_TRACE("font scale " + std::to_string(scale));
+    Fixture f;
+    f.viewer->SetWindowSize(960, 600);
+    f.viewer->SetFontScale(scale);
+    ASSERT_TRUE(f.start());
+    vtkTextActor* help = nullptr;
+    vtkRenderer* header = nullptr;
+    vtkRendererCollection* renderers = f.viewer->GetRenderWindow()->GetRenderers();
+    renderers->InitTraversal();
+    while (vtkRenderer* ren = renderers->GetNextItem()) {
+      vtkActor2DCollection* actors = ren->GetActors2D();
+      actors->InitTraversal();
+      while (vtkActor2D* actor = actors->GetNextActor2D()) {
+        auto* t = vtkTextActor::SafeDownCast(actor);
+        if (t && t->GetInput() && std::strncmp(t->GetInput(), "click: pick", 11) == 0) {
+          help = t;
+          header = ren;
+        }
+      }
+    }
+    ASSERT_NE(help, nullptr);
+    std::string text = help->GetInput();
+    const int lines = int(std::count(text.begin(), text.end(), '\n')) + 1;
+    for (size_t at; (at = text.find('\n')) != std::string::npos;) text.replace(at, 1, " | ");
+    EXPECT_EQ(text, vtkRayScopeViewer::GetHelpText());
+    EXPECT_GE(lines, 2);  // the whole line is about 1250 pixels wide at scale 1
+    EXPECT_GT(lines, previous_lines);
+    previous_lines = lines;
+    f.viewer->GetRenderWindow()->Render();
+    double box[4];  // around the text's anchor, in pixels
+    help->GetBoundingBox(header, box);
+    const int* anchor = help->GetPositionCoordinate()->GetComputedViewportValue(header);
+    const int* size = header->GetSize();
+    EXPECT_LE(anchor[0] + box[1], 960.0);
+    EXPECT_GE(anchor[1] + box[2], 0.0);  // within the header: not over the image
+    EXPECT_LE(anchor[1] + box[3], double(size[1]));
+    EXPECT_DOUBLE_EQ(f.viewer->GetImageRenderer()->GetViewport()[3], header->GetViewport()[1]);
   }
 }
 

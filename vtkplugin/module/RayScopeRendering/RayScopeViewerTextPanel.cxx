@@ -25,18 +25,17 @@ vtkSmartPointer<vtkPolyData> legend_symbol() {
 
 // The text actors, in the header, the panel and the 3D view.
 void vtkRayScopeViewer::Internals::BuildTextPanel() {
-  // Help and message lines on top, the inspect text below.
-  this->HelpActor->SetInput(HelpLine().c_str());
+  // Help and message lines on top (LayoutHeader()), the inspect text below.
   this->HelpActor->GetTextProperty()->SetFontSize(this->FontSize(13));
   this->HelpActor->GetTextProperty()->SetColor(0.8, 0.8, 0.8);
+  this->HelpActor->GetTextProperty()->SetVerticalJustificationToTop();
   this->HelpActor->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
-  this->HelpActor->GetPositionCoordinate()->SetValue(0.005, 0.52);
   this->HeaderRen->AddActor2D(this->HelpActor);
   this->MessageActor->GetTextProperty()->SetFontSize(this->FontSize(13));
   this->MessageActor->GetTextProperty()->SetColor(1.0, 0.85, 0.3);
   this->MessageActor->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
-  this->MessageActor->GetPositionCoordinate()->SetValue(0.005, 0.06);
   this->HeaderRen->AddActor2D(this->MessageActor);
+  this->LayoutHeader();
   // The panel: a text actor per line, from the top left corner down, a line
   // height apart (FreeType's own spacing of the lines of one text: drawn
   // so, the panel is pixel for pixel the text drawn by one actor).
@@ -75,6 +74,56 @@ void vtkRayScopeViewer::Internals::BuildTextPanel() {
   this->Legend->SetBackgroundColor(0.0, 0.0, 0.0);
   this->SceneRen->AddActor2D(this->Legend);
   this->UpdateLegend();
+}
+
+void vtkRayScopeViewer::Internals::LayoutHeader() {
+  const int* size = this->Self->GetWindowSize();
+  const int width = size[0], height = size[1];
+  vtkTextProperty* prop = this->HelpActor->GetTextProperty();
+  vtkTextRenderer* text = vtkTextRenderer::GetInstance();
+  const int dpi = this->Window->GetDPI();
+  // Width and height in pixels of `s` in the header's font.
+  auto extent = [&](const std::string& s, int& w, int& h) {
+    int box[4] = {0, 0, 0, 0};
+    if (!text || !text->GetBoundingBox(prop, vtkStdString(s), box, dpi)) return false;
+    w = box[1] - box[0];
+    h = box[3] - box[2];
+    return true;
+  };
+  const std::string& help = HelpLine();
+  const std::string bar = " | ";
+  const int room = width - int(0.01 * width) - 4;  // the left margin, and as much on the right
+  std::string wrapped, line;
+  for (size_t at = 0; at <= help.size();) {
+    const size_t end = std::min(help.find(bar, at), help.size());
+    const std::string item = help.substr(at, end - at);
+    int w = 0, h = 0;
+    if (!line.empty() && extent(line + bar + item, w, h) && w > room) {
+      wrapped += (wrapped.empty() ? "" : "\n") + line;
+      line = item;
+    } else {
+      line += (line.empty() ? "" : bar) + item;
+    }
+    at = end + bar.size();
+  }
+  wrapped += (wrapped.empty() ? "" : "\n") + line;
+  this->HelpActor->SetInput(wrapped.c_str());
+  // FreeType's spacing of the lines of one text, as for the panel.
+  int w = 0, one = 14, two = 28, help_height = 14;
+  if (extent("Xg", w, one) && extent("Xg\nXg", w, two)) {
+    extent(wrapped, w, help_height);
+  } else {
+    help_height = one * int(std::count(wrapped.begin(), wrapped.end(), '\n') + 1);
+  }
+  const int pad = std::max(2, (two - one) / 4);
+  const int header = help_height + (two - one) + 3 * pad;  // help, message, margins
+  const double bottom = std::min(kHeaderBottom, 1.0 - double(header) / double(height));
+  const double rows = double(height) * (1.0 - bottom);  // the header's height in pixels
+  this->HelpActor->GetPositionCoordinate()->SetValue(0.005, 1.0 - pad / rows);
+  this->MessageActor->GetPositionCoordinate()->SetValue(0.005, pad / rows);
+  this->HeaderRen->SetViewport(0.0, bottom, 1.0, 1.0);
+  this->ImageRen->SetViewport(0.0, kPanelTop, 0.5, bottom);
+  this->SceneRen->SetViewport(0.5, kPanelTop, 1.0, bottom);
 }
 
 // The message line: what the last key did, the end of a key's range, render

@@ -91,8 +91,9 @@
 
 namespace rayscope_vtkmodule::viewer {
 
-// Layout of the window (fractions of its size): the header line on top, the
-// image and the 3D view side by side, the text panel below.
+// Layout of the window (fractions of its size): the header on top (at least
+// kHeaderBottom; taller when the help line wraps, LayoutHeader()), the image
+// and the 3D view side by side, the text panel below.
 inline constexpr double kHeaderBottom = 0.95;
 inline constexpr double kPanelTop = 0.30;
 inline constexpr int kProgressTimerMs = 40;          // how often finished tiles are shown
@@ -262,6 +263,11 @@ struct vtkRayScopeViewer::Internals {
 
   // The text (RayScopeViewerTextPanel.cxx).
   void BuildTextPanel();
+  /// Wraps the help line at its " | " to the window's width and makes the
+  /// header tall enough for it and the message line below it (the image and
+  /// the 3D view take the rest): at a large FontScale or in a narrow window
+  /// the help line no longer runs off the right edge.
+  void LayoutHeader();
   void Say(const std::string& message);
   void UpdatePanel();
   void ShowPanelLines(const std::vector<std::string>& lines);
