@@ -3,7 +3,7 @@
 // For the Stanford bunny (69,666 triangles) and, unless --no-big, a version of it
 // subdivided twice (1,114,656 triangles) this measures
 //  - build time: Scene::commit() (validation + bounds + binned SAH build + its
-//    8-wide collapse + leaf records) and Bvh::build() alone, limited to N
+//    8-wide collapse + leaf blocks) and Bvh::build() alone, limited to N
 //    threads by tbb::global_control, and rtcCommitScene() with Embree's builder
 //    limited to N threads (device config "threads=N"), N from --threads;
 //  - memory: every byte of our aggregate and what Embree's memory monitor
@@ -691,8 +691,9 @@ Check compare_shadow(const std::vector<uint8_t>& a, const std::vector<uint8_t>& 
 // Every byte Aggregate::memory_bytes() counts after a commit, by what holds
 // it (the same terms; test_aggregate's MemoryCountsEveryStructure checks the
 // sum), for the 8-wide walk renders use: what a plain render walks. Then, as
-// "+ ..." parts, what the tools' first question builds (bvh_on_demand.h): the
-// binary tree and its leaf order, which the teaching views and range queries
+// "+ ..." parts, what the tools' first question builds: the records with their
+// vertices, made again from the blocks (leaf_records.h), the binary tree and
+// its leaf order (bvh_on_demand.h), which the teaching views and range queries
 // walk, and the binary node ids of the wide slots, which statistics and
 // recording report. Call it before anything asks for those.
 std::vector<std::pair<std::string, size_t>> memory_parts(const Aggregate& a) {
@@ -703,12 +704,17 @@ std::vector<std::pair<std::string, size_t>> memory_parts(const Aggregate& a) {
     parts.push_back({"wide nodes", w->walk().nodes.size() * sizeof(WideBvhNode)});
     parts.push_back({"triangle blocks", w->triangle_blocks().size() * sizeof(TriangleBlock)});
   }
-  parts.push_back({"leaf records", a.records().size() * sizeof(PrimRecord)});
-  parts.push_back({"planes", a.plane_records().size() * sizeof(PlaneRecord)});
+  parts.push_back({"record ids", a.record_ids().size() * sizeof(uint32_t)});
+  if (!a.other_records().empty())
+    parts.push_back({"other records", a.other_records().size() * sizeof(PrimRecord)});
+  if (!w) parts.push_back({"leaf records", a.records().size() * sizeof(PrimRecord)});
+  if (!a.plane_records().empty())
+    parts.push_back({"planes", a.plane_records().size() * sizeof(PlaneRecord)});
   size_t counted = 0;
   for (const auto& [name, bytes] : parts) counted += bytes;
   if (counted != held)
     parts.push_back({"other", held - counted});  // a term added to memory_bytes()
+  if (w) parts.push_back({"+ leaf records", a.records().size() * sizeof(PrimRecord)});
   parts.push_back({"+ binary nodes", a.bvh().nodes.size() * sizeof(BvhNode)});
   parts.push_back({"+ leaf order", a.bvh().prim_indices.size() * sizeof(uint32_t)});
   if (w) parts.push_back({"+ slot sources", w->slot_sources().size() * sizeof(uint32_t)});
@@ -962,14 +968,14 @@ void print_tables(const Results& r, const Options& opt) {
   }
   std::printf(
       "(commit = Scene::commit(): validation, bounds, Bvh::build, WideBvh collapse, leaf "
-      "records;\n bvh = Bvh::build() alone; ours limited to N threads by tbb::global_control;\n "
+      "blocks;\n bvh = Bvh::build() alone; ours limited to N threads by tbb::global_control;\n "
       "Embree N = rtcNewScene .. rtcCommitScene incl. buffer copy with device \"threads=N\";\n "
       "SAH = the tree's expected cost of a random ray with the build's costs (a primitive test\n "
       "%g of a node visit); SAH 1:1 = the same with equal costs, comparable across cost "
       "settings;\n "
       "B/tri = bytes per triangle: ours every byte the aggregate holds after the commit (wide\n "
-      "nodes, the leaves' triangle blocks, leaf records with the vertices; \"+\" parts below are\n "
-      "built when a tool first asks), Embree the net bytes its memory monitor reported while\n "
+      "nodes, the leaves' triangle blocks, each record's id; \"+\" parts below are built when\n "
+      "a tool first asks), Embree the net bytes its memory monitor reported while\n "
       "the scene was built)\n",
       double(opt.accel.bvh.intersection_cost / opt.accel.bvh.traversal_cost));
 

@@ -179,7 +179,7 @@ StructureFigures structure_figures(const Aggregate& a) {
       std::snprintf(buf, sizeof buf,
                     "%s skipped: %zu primitives, all tested (scenes of at most %zu skip the "
                     "structure)",
-                    to_string(a.kind()), a.records().size(), Aggregate::kBruteForceMax);
+                    to_string(a.kind()), a.prim_count(), Aggregate::kBruteForceMax);
       f.text = buf;
     }
     return f;
@@ -282,13 +282,10 @@ int run_query(const QueryOptions& o) {
       objects.push_back(e);
     }
     j["found"] = objects;
-    j["cost"] = {{"nodes_visited", cost.nodes},
-                 {"boxes_tested", cost.boxes},
-                 {"nodes_culled", cost.culled},
-                 {"primitives_tested", cost.prims},
-                 {"planes_tested", planes},
-                 {"objects_found", found.size()},
-                 {"primitives", accel.records().size()}};
+    j["cost"] = {{"nodes_visited", cost.nodes},     {"boxes_tested", cost.boxes},
+                 {"nodes_culled", cost.culled},     {"primitives_tested", cost.prims},
+                 {"planes_tested", planes},         {"objects_found", found.size()},
+                 {"primitives", accel.prim_count()}};
     j["structure"] = structure.json;
     text = j.dump(2) + "\n";
   } else {
@@ -333,7 +330,7 @@ int run_query(const QueryOptions& o) {
     text += "cost: " + count(cost.nodes, "node", "nodes") + " visited, " +
             count(cost.boxes, "box", "boxes") + " tested, " + std::to_string(cost.culled) +
             " culled, " + std::to_string(cost.prims) + " of " +
-            count(accel.records().size(), "primitive", "primitives") + " tested, " +
+            count(accel.prim_count(), "primitive", "primitives") + " tested, " +
             count(planes, "plane", "planes") + " tested beside the structure, " +
             std::to_string(found.size()) + " found\n";
     text += "structure: " + structure.text + "\n";

@@ -177,25 +177,36 @@ TEST(Aggregate, APlainRenderHoldsWhatItWalksAndTheToolsBuildTheRestWhenAsked) {
   const Aggregate& a = scene.accel();
   const BvhWalk& w = a.structure_as<BvhWalk>();
   constexpr size_t W = WideBvhNode::kWidth;
+  // The walk's nodes and blocks, each record's id, the records of the two
+  // tube segments, three points and the sphere (the blocks hold the
+  // triangles), and the plane.
+  const size_t prims = scene.meshes[0].triangles.size() + 6;
   const size_t walked = w.walk().nodes.size() * sizeof(WideBvhNode) +
-                        w.triangle_blocks().size() * sizeof(TriangleBlock) +
-                        a.records().size() * sizeof(PrimRecord) + sizeof(PlaneRecord);
+                        w.triangle_blocks().size() * sizeof(TriangleBlock) + prims * 4 +
+                        6 * sizeof(PrimRecord) + sizeof(PlaneRecord);
   EXPECT_GT(w.walk().nodes.size(), 1u);
   EXPECT_EQ(a.memory_bytes(), walked);
-  // Renders with packets and with single rays, plain and with statistics
-  // (which count nodes without naming them), build nothing more.
+  // Renders with packets and with single rays build nothing more.
   RenderSettings rs;
   rs.width = 48;
   rs.height = 32;
-  for (bool statistics : {false, true})
-    for (bool packets : {true, false}) {
-      rs.statistics = statistics;
-      rs.packets = packets;
-      RayCounters counters;
-      render(scene, rs, &counters);
-      EXPECT_EQ(counters.nodes_visited > 0, statistics);
-    }
+  for (bool packets : {true, false}) {
+    rs.packets = packets;
+    RayCounters counters;
+    render(scene, rs, &counters);
+    EXPECT_EQ(counters.nodes_visited, 0u);
+  }
   EXPECT_EQ(a.memory_bytes(), walked);
+  // Statistics (which count nodes without naming them) walk the records one
+  // by one, so they make the records, with every vertex; nothing else.
+  rs.statistics = true;
+  {
+    RayCounters counters;
+    render(scene, rs, &counters);
+    EXPECT_GT(counters.nodes_visited, 0u);
+  }
+  const size_t records = prims * sizeof(PrimRecord);
+  EXPECT_EQ(a.memory_bytes(), walked + records);
 
   // The binary tree built when asked is the one the commit built, from
   // every primitive's box in the scene's order, node for node: the triangles'
@@ -229,7 +240,7 @@ TEST(Aggregate, APlainRenderHoldsWhatItWalksAndTheToolsBuildTheRestWhenAsked) {
       std::memcmp(bvh.nodes.data(), expected.nodes.data(), bvh.nodes.size() * sizeof(BvhNode)), 0);
   EXPECT_EQ(bvh.prim_indices, expected.prim_indices);
   const size_t binary = bvh.nodes.size() * sizeof(BvhNode) + bvh.prim_indices.size() * 4;
-  EXPECT_EQ(a.memory_bytes(), walked + binary);
+  EXPECT_EQ(a.memory_bytes(), walked + records + binary);
   // An observer's walk makes the wide slots' binary ids, once, and enters
   // binary nodes by them.
   rstest::CountingObserver obs(bvh.nodes.size(), a.records().size());
@@ -239,13 +250,7 @@ TEST(Aggregate, APlainRenderHoldsWhatItWalksAndTheToolsBuildTheRestWhenAsked) {
   EXPECT_GT(obs.order.size(), 1u);
   EXPECT_EQ(obs.order[0], 0u);
   EXPECT_EQ(w.slot_sources().size(), W * w.walk().nodes.size());
-  EXPECT_EQ(a.memory_bytes(), walked + binary + W * w.walk().nodes.size() * 4);
-
-  // One block per started group of TriangleBlock::kLanes records of each leaf.
-  size_t blocks = 0;
-  for (const BvhNode& n : bvh.nodes)
-    if (n.is_leaf()) blocks += (n.count + TriangleBlock::kLanes - 1) / TriangleBlock::kLanes;
-  EXPECT_EQ(w.triangle_blocks().size(), blocks);
+  EXPECT_EQ(a.memory_bytes(), walked + records + binary + W * w.walk().nodes.size() * 4);
 }
 
 TEST(Aggregate, ACopyBuildsItsHierarchyFromItsOwnRecords) {
@@ -267,43 +272,96 @@ TEST(Aggregate, ACopyBuildsItsHierarchyFromItsOwnRecords) {
   }
 }
 
-TEST(Aggregate, WalkLeavesNameTheirFirstBlockAndItsRecords) {
-  // Every leaf child of the walk holds its leaf's first triangle block, and
-  // each of the leaf's blocks names the record of its lane 0 and holds that
-  // record's vertices, lane by lane. Leaves of up to 16 records (cheap
-  // primitives in the SAH), so that most take more than one block.
-  Scene scene;
-  scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
-  AccelConfig cfg;
-  cfg.bvh.max_leaf_size = 16;
-  cfg.bvh.intersection_cost = 0.05f;
-  scene.commit(cfg);
-  const Aggregate& a = scene.accel();
-  const WideBvh& walk = a.structure_as<BvhWalk>().walk();
-  const auto& blocks = a.structure_as<BvhWalk>().triangle_blocks();
-  constexpr int W = WideBvhNode::kWidth, L = TriangleBlock::kLanes;
-  int leaves = 0;
-  for (size_t n = 0; n < walk.nodes.size(); ++n)
-    for (int k = 0; k < W; ++k) {
-      const uint32_t src = a.structure_as<BvhWalk>().slot_sources()[W * n + k];
-      const uint32_t child = walk.nodes[n].child[k];
-      if (src == ~0u || !(child & WideBvhNode::kLeaf)) continue;
-      ++leaves;
-      const BvhNode& leaf = a.bvh().nodes[src];
-      const uint32_t block = child & ~WideBvhNode::kLeaf;
-      ASSERT_EQ(walk.nodes[n].count[k], leaf.count);
-      for (uint32_t j = 0; j < leaf.count; ++j) {
-        ASSERT_LT(block + j / L, blocks.size());
-        const TriangleBlock& b = blocks[block + j / L];
-        EXPECT_EQ(b.first, leaf.index + j - j % L);
-        const PrimRecord& r = a.records()[leaf.index + j];
-        EXPECT_EQ(b.v[0][0][j % L], r.a.x);
-        EXPECT_EQ(b.v[1][1][j % L], r.b.y);
-        EXPECT_EQ(b.v[2][2][j % L], r.c.z);
-      }
+TEST(Aggregate, TheRecordsMadeFromTheBlocksAreTheRecords) {
+  // Behind the BVH (8-wide and binary) a render keeps each record's id, and
+  // the records are made from the blocks when asked: byte for byte the ones
+  // a kD-tree keeps (every structure has the binary BVH's leaf order), and
+  // the scene's own, also in a copy that outlives its original.
+  Scene held_scene = scene_of_every_shape();
+  AccelConfig kd;
+  kd.kind = AccelKind::KdTree;
+  held_scene.commit(kd);
+  const std::vector<PrimRecord>& held = held_scene.accel().records();
+  ASSERT_EQ(held.size(), held_scene.meshes[0].triangles.size() + 6);
+  for (size_t i = 0; i < held.size(); ++i) {
+    const PrimRecord r = held_scene.prim_record(held[i].id);
+    EXPECT_EQ(std::memcmp(&r, &held[i], sizeof r), 0) << i;
+  }
+  for (AccelKind kind : {AccelKind::Bvh, AccelKind::BinaryBvh}) {
+    auto original = std::make_unique<Scene>(scene_of_every_shape());
+    AccelConfig cfg;
+    cfg.kind = kind;
+    original->commit(cfg);
+    Scene copy = *original;
+    for (const Scene* s : {original.get(), &copy}) {
+      EXPECT_EQ(s->accel().record_ids().size(), held.size());
+      EXPECT_EQ(s->accel().other_records().size(), 6u);
     }
-  EXPECT_GT(leaves, 1);
-  EXPECT_GT(a.bvh().quality().max_leaf_prims, uint32_t(L));
+    original.reset();
+    const std::vector<PrimRecord>& made = copy.accel().records();
+    ASSERT_EQ(made.size(), held.size()) << to_string(kind);
+    EXPECT_EQ(std::memcmp(made.data(), held.data(), held.size() * sizeof(PrimRecord)), 0)
+        << to_string(kind);
+  }
+}
+
+TEST(Aggregate, WalkLeavesNameTheirFirstLaneAndItsRecords) {
+  // Every leaf child of the walk holds its leaf's first lane of the triangle
+  // blocks (block * kLanes + lane), and lane after lane from there holds the
+  // leaf's records' vertices; each block names the record of its lane 0.
+  // A leaf of up to kLanes records lies in one block, so it takes one block
+  // test. Leaves of up to 16 records (cheap primitives in the SAH), so that
+  // many take more than one block, and with the default costs, whose small
+  // leaves share blocks: fewer blocks than if each leaf began its own.
+  for (bool big_leaves : {true, false}) {
+    Scene scene;
+    scene.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
+    AccelConfig cfg;
+    if (big_leaves) {
+      cfg.bvh.max_leaf_size = 16;
+      cfg.bvh.intersection_cost = 0.05f;
+    }
+    scene.commit(cfg);
+    const Aggregate& a = scene.accel();
+    const BvhWalk& w = a.structure_as<BvhWalk>();
+    const WideBvh& walk = w.walk();
+    const auto& blocks = w.triangle_blocks();
+    constexpr int W = WideBvhNode::kWidth, L = TriangleBlock::kLanes;
+    int leaves = 0;
+    size_t own_blocks = 0;
+    for (size_t n = 0; n < walk.nodes.size(); ++n)
+      for (int k = 0; k < W; ++k) {
+        const uint32_t src = w.slot_sources()[W * n + k];
+        const uint32_t child = walk.nodes[n].child[k];
+        if (src == ~0u || !(child & WideBvhNode::kLeaf)) continue;
+        ++leaves;
+        const BvhNode& leaf = a.bvh().nodes[src];
+        own_blocks += (leaf.count + L - 1) / L;
+        const uint32_t start = child & ~WideBvhNode::kLeaf;
+        ASSERT_EQ(walk.nodes[n].count[k], leaf.count);
+        if (leaf.count <= uint32_t(L)) {
+          EXPECT_EQ(start / L, (start + leaf.count - 1) / L);
+        }
+        for (uint32_t j = 0; j < leaf.count; ++j) {
+          const uint32_t lane = start + j;
+          ASSERT_LT(lane / L, blocks.size());
+          const TriangleBlock& b = blocks[lane / L];
+          EXPECT_EQ(b.first + lane % L, leaf.index + j);
+          EXPECT_TRUE((b.triangles >> (lane % L)) & 1u);
+          const PrimRecord& r = a.records()[leaf.index + j];
+          EXPECT_EQ(b.v[0][0][lane % L], r.a.x);
+          EXPECT_EQ(b.v[1][1][lane % L], r.b.y);
+          EXPECT_EQ(b.v[2][2][lane % L], r.c.z);
+        }
+      }
+    EXPECT_GT(leaves, 1);
+    if (big_leaves) {
+      EXPECT_LE(blocks.size(), own_blocks);
+      EXPECT_GT(a.bvh().quality().max_leaf_prims, uint32_t(L));
+    } else {
+      EXPECT_LT(blocks.size(), own_blocks);
+    }
+  }
 }
 
 TEST(Aggregate, TinyScenesSkipTheStructureUnlessAsked) {

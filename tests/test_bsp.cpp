@@ -315,13 +315,13 @@ TEST(Bsp, StorageCheckFiguresAndView) {
       EXPECT_DOUBLE_EQ(f.refs_per_prim, 1.0);
     }
     EXPECT_EQ(f.memory_bytes, a.structure_as<BspTree>().memory_bytes() +
-                                  a.records().size() * sizeof(PrimRecord) +
+                                  a.records().size() * (sizeof(PrimRecord) + sizeof(uint32_t)) +
                                   a.plane_records().size() * sizeof(PlaneRecord));
     // The binary BVH is built when first asked for; from then on the
     // aggregate holds it and counts it.
     const size_t binary = a.bvh().quality().memory_bytes;
     EXPECT_EQ(a.memory_bytes(), binary + a.structure_as<BspTree>().memory_bytes() +
-                                    a.records().size() * sizeof(PrimRecord) +
+                                    a.records().size() * (sizeof(PrimRecord) + sizeof(uint32_t)) +
                                     a.plane_records().size() * sizeof(PlaneRecord));
     // The teaching view: cell boxes, parents, the split polygons of inner
     // nodes (on their plane, inside their cell box).

@@ -633,7 +633,7 @@ TEST(Grid, MemoryOfTheAggregate) {
   // aggregate holds it and counts it.
   const size_t binary = a.bvh().quality().memory_bytes;
   EXPECT_EQ(a.memory_bytes(), binary + a.structure_as<UniformGrid>().memory_bytes() +
-                                  a.records().size() * sizeof(PrimRecord));
+                                  a.records().size() * (sizeof(PrimRecord) + sizeof(uint32_t)));
   EXPECT_GT(a.structure_as<UniformGrid>().memory_bytes(), 0u);
 }
 

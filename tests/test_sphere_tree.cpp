@@ -346,12 +346,12 @@ TEST(SphereTree, StorageViewAndMemory) {
   // aggregate holds it and counts it.
   const size_t binary = a.bvh().quality().memory_bytes;
   EXPECT_EQ(a.memory_bytes(), binary + a.structure_as<SphereTree>().memory_bytes() +
-                                  a.records().size() * sizeof(PrimRecord));
+                                  a.records().size() * (sizeof(PrimRecord) + sizeof(uint32_t)));
   const AccelFigures f = a.figures();
   EXPECT_EQ(f.nodes, a.structure_as<SphereTree>().nodes.size());
   EXPECT_EQ(f.refs_per_prim, 1.0);
-  EXPECT_EQ(f.memory_bytes,
-            a.structure_as<SphereTree>().memory_bytes() + a.records().size() * sizeof(PrimRecord));
+  EXPECT_EQ(f.memory_bytes, a.structure_as<SphereTree>().memory_bytes() +
+                                a.records().size() * (sizeof(PrimRecord) + sizeof(uint32_t)));
   // The view: one node per tree node, with its sphere and the sphere's box;
   // the primitives each leaf holds by global id, each once.
   const AccelView v = make_accel_view(a);

@@ -1,5 +1,6 @@
 #include "rayscope/aggregate.h"
 
+#include <atomic>
 #include <stdexcept>
 #include <string>
 
@@ -28,31 +29,57 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
   planes_ = std::move(planes);
   structure_ = BruteForce{};  // frees the old structure before the new one is built
   hierarchy_ = std::make_shared<const BvhOnDemand>();
-  records_.clear();
+  records_ = std::make_shared<const LeafRecords>();
+  walk_records_ = nullptr;
+  std::vector<PrimRecord>().swap(others_);
   const auto start = std::chrono::steady_clock::now();
   Bvh bvh;
   bvh.build(bounds, centroids, config.bvh);
-  reserve_huge(records_, bounds.size());
-  records_.resize(bounds.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, records_.size(), kParallelGrain),
+  std::vector<PrimRecord> records;
+  reserve_huge(records, bounds.size());
+  records.resize(bounds.size());
+  assign_huge(ids_, bounds.size());
+  std::atomic<size_t> others{0};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, records.size(), kParallelGrain),
                     [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t i = r.begin(); i < r.end(); ++i)
-                        records_[i] = record_of(bvh.prim_indices[i]);
+                      size_t n = 0;
+                      for (size_t i = r.begin(); i < r.end(); ++i) {
+                        records[i] = record_of(bvh.prim_indices[i]);
+                        ids_[i] = records[i].id;
+                        n += ids_[i] >= num_triangles;
+                      }
+                      others += n;
                     });
   use_walk_ = !accel_kind_name(config.kind).brute_force &&
-              (!config.allow_brute_force || records_.size() > kBruteForceMax);
+              (!config.allow_brute_force || records.size() > kBruteForceMax);
+  records_ = std::make_shared<const LeafRecords>(std::move(records));
+  walk_records_ = records_->get().data();
   hierarchy_ = std::make_shared<const BvhOnDemand>(bvh, records_, num_triangles);
-  structure_ = build_accel(config, bvh, hierarchy_, records_, num_triangles, start);
+  structure_ = build_accel(config, bvh, hierarchy_, records_->get(), num_triangles, start);
+  if (blocks_hold_records()) {
+    // The blocks hold the triangles: the records give way to their ids and
+    // the other primitives' records, and are made again when asked for.
+    if (others > 0)
+      for (const PrimRecord& r : records_->get())
+        if (r.id >= num_triangles) {
+          if (others_.size() <= r.id - num_triangles) others_.resize(r.id - num_triangles + 1);
+          others_[r.id - num_triangles] = r;
+        }
+    walk_records_ = nullptr;
+    records_ = std::make_shared<const LeafRecords>(make_records());
+    hierarchy_ = std::make_shared<const BvhOnDemand>(*hierarchy_, records_);
+    share_hierarchy();
+  }
 }
 
-Aggregate::Aggregate(const Aggregate& other)
-    : config_(other.config_),
-      structure_(other.structure_),
-      records_(other.records_),
-      planes_(other.planes_),
-      num_triangles_(other.num_triangles_),
-      use_walk_(other.use_walk_) {
-  hierarchy_ = std::make_shared<const BvhOnDemand>(*other.hierarchy_, records_);
+LeafRecords::Make Aggregate::make_records() const {
+  return [blocks = std::span(std::get<BvhWalk>(structure_).triangle_blocks()),
+          ids = std::span(ids_), others = std::span(others_), num_triangles = num_triangles_] {
+    return BvhWalk::records_from_blocks(blocks, ids, others, num_triangles);
+  };
+}
+
+void Aggregate::share_hierarchy() {
   std::visit(
       [&](auto& s) {
         using S = std::decay_t<decltype(s)>;
@@ -62,6 +89,24 @@ Aggregate::Aggregate(const Aggregate& other)
       structure_);
 }
 
+Aggregate::Aggregate(const Aggregate& other)
+    : config_(other.config_),
+      structure_(other.structure_),
+      walk_records_(other.walk_records_),
+      ids_(other.ids_),
+      others_(other.others_),
+      planes_(other.planes_),
+      num_triangles_(other.num_triangles_),
+      use_walk_(other.use_walk_) {
+  // Held records are shared (they never change); records made from blocks
+  // are made from the copy's own.
+  records_ = blocks_hold_records()
+                 ? std::make_shared<const LeafRecords>(*other.records_, make_records())
+                 : other.records_;
+  hierarchy_ = std::make_shared<const BvhOnDemand>(*other.hierarchy_, records_);
+  share_hierarchy();
+}
+
 Aggregate& Aggregate::operator=(const Aggregate& other) {
   if (this != &other) *this = Aggregate(other);
   return *this;
@@ -69,14 +114,18 @@ Aggregate& Aggregate::operator=(const Aggregate& other) {
 
 AccelFigures Aggregate::figures() const {
   AccelFigures f = std::visit([](const auto& s) { return s.figures(); }, structure_);
-  f.memory_bytes += records_.size() * sizeof(PrimRecord) + planes_.size() * sizeof(PlaneRecord);
+  f.memory_bytes += records_bytes();
   return f;
 }
 
 size_t Aggregate::memory_bytes() const {
   return hierarchy_->memory_bytes() +
-         std::visit([](const auto& s) { return s.memory_bytes(); }, structure_) +
-         records_.size() * sizeof(PrimRecord) + planes_.size() * sizeof(PlaneRecord);
+         std::visit([](const auto& s) { return s.memory_bytes(); }, structure_) + records_bytes();
+}
+
+size_t Aggregate::records_bytes() const {
+  return records_->memory_bytes() + ids_.size() * sizeof(uint32_t) +
+         others_.size() * sizeof(PrimRecord) + planes_.size() * sizeof(PlaneRecord);
 }
 
 std::string Aggregate::stats_line() const {

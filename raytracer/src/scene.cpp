@@ -195,39 +195,7 @@ void Scene::commit(const AccelConfig& config) {
     add_box(sphere_box(spheres[si].center, spheres[si].radius));
     ids.push_back(sphere_base_ + uint32_t(si));
   }
-  auto record_of = [&](size_t i) {
-    const uint32_t id = ids[i];
-    PrimRecord r;
-    r.id = id;
-    r.c = Vec3(0.0f);
-    const uint32_t object = prim_object(id);
-    const uint32_t index = prim_in_object(id);
-    if (id < ntri) {
-      const TriangleMesh& m = meshes[object];
-      const glm::uvec3& t = m.triangles[index];
-      r.shape = PrimShape::Triangle;
-      r.a = m.positions[t.x];
-      r.b = m.positions[t.y];
-      r.c = m.positions[t.z];
-    } else if (object < meshes.size() + tubes.size()) {
-      const TubeSet& ts = tubes[object - meshes.size()];
-      r.shape = PrimShape::Capsule;
-      r.a = ts.positions[ts.segments[index].x];
-      r.b = ts.positions[ts.segments[index].y];
-      r.c = Vec3(ts.segment_radius(index), 0.0f, 0.0f);
-    } else if (id < sphere_base_) {
-      const PointSet& ps = points[object - meshes.size() - tubes.size()];
-      r.shape = PrimShape::Point;
-      r.a = ps.positions[index];
-      r.b = Vec3(ps.point_radius(index), 0.0f, 0.0f);
-    } else {
-      const Sphere& s = spheres[id - sphere_base_];
-      r.shape = PrimShape::Sphere;
-      r.a = s.center;
-      r.b = Vec3(s.radius, 0.0f, 0.0f);
-    }
-    return r;
-  };
+  auto record_of = [&](size_t i) { return prim_record(ids[i]); };
   std::vector<PlaneRecord> plane_records;
   // The unit normal goes into the aggregate's record; the scene's plane keeps
   // the normal it was given, so that committing again gives the same record
@@ -286,6 +254,39 @@ uint32_t Scene::prim_object(uint32_t prim) const {
   return uint32_t(meshes.size() + tubes.size() + points.size()) + (prim - sphere_base_);
 }
 
+PrimRecord Scene::prim_record(uint32_t id) const {
+  PrimRecord r;
+  r.id = id;
+  r.c = Vec3(0.0f);
+  const uint32_t object = prim_object(id);
+  const uint32_t index = prim_in_object(id);
+  if (id < num_triangles_) {
+    const TriangleMesh& m = meshes[object];
+    const glm::uvec3& t = m.triangles[index];
+    r.shape = PrimShape::Triangle;
+    r.a = m.positions[t.x];
+    r.b = m.positions[t.y];
+    r.c = m.positions[t.z];
+  } else if (object < meshes.size() + tubes.size()) {
+    const TubeSet& ts = tubes[object - meshes.size()];
+    r.shape = PrimShape::Capsule;
+    r.a = ts.positions[ts.segments[index].x];
+    r.b = ts.positions[ts.segments[index].y];
+    r.c = Vec3(ts.segment_radius(index), 0.0f, 0.0f);
+  } else if (id < sphere_base_) {
+    const PointSet& ps = points[object - meshes.size() - tubes.size()];
+    r.shape = PrimShape::Point;
+    r.a = ps.positions[index];
+    r.b = Vec3(ps.point_radius(index), 0.0f, 0.0f);
+  } else {
+    const Sphere& s = spheres[id - sphere_base_];
+    r.shape = PrimShape::Sphere;
+    r.a = s.center;
+    r.b = Vec3(s.radius, 0.0f, 0.0f);
+  }
+  return r;
+}
+
 SurfaceHit Scene::surface_hit(const Ray& ray, const PrimHit& ph) const {
   SurfaceHit hit;
   const float t = ph.t;
@@ -300,7 +301,6 @@ SurfaceHit Scene::surface_hit(const Ray& ray, const PrimHit& ph) const {
     hit.material = pl.material;
     return hit;
   }
-  const PrimRecord& r = accel_.records()[ph.record];
   const TriangleHit th{t, ph.b0, ph.b1, ph.b2};
   // A per-position color, unless it is not finite (reported by commit(),
   // it would make the pixel NaN: the material color is used instead).
@@ -308,14 +308,15 @@ SurfaceHit Scene::surface_hit(const Ray& ray, const PrimHit& ph) const {
     hit.vertex_color = c;
     hit.has_vertex_color = all_finite(c);
   };
-  if (r.id < num_triangles_) {
-    uint32_t mi = prim_object(r.id);
+  if (ph.prim < num_triangles_) {
+    uint32_t mi = prim_object(ph.prim);
     const TriangleMesh& m = meshes[mi];
-    uint32_t ti = r.id - prim_offsets_[mi];
+    uint32_t ti = ph.prim - prim_offsets_[mi];
     const glm::uvec3& tri = m.triangles[ti];
-    hit.p = triangle_point(th, r.a, r.b, r.c, hit.p_error);
+    const Vec3 &a = m.positions[tri.x], &b = m.positions[tri.y], &c = m.positions[tri.z];
+    hit.p = triangle_point(th, a, b, c, hit.p_error);
     hit.bary = Vec3(th.b0, th.b1, th.b2);
-    Vec3 n = glm::cross(r.b - r.a, r.c - r.a);
+    Vec3 n = glm::cross(b - a, c - a);
     float len = glm::length(n);
     hit.ng = len > 0.0f && std::isfinite(len) ? n / len : -glm::normalize(ray.dir);
     hit.ns = hit.ng;
@@ -335,6 +336,7 @@ SurfaceHit Scene::surface_hit(const Ray& ray, const PrimHit& ph) const {
     hit.material = m.material;
     return hit;
   }
+  const PrimRecord r = prim_record(ph.prim);
   hit.object = prim_object(r.id);
   hit.prim = prim_in_object(r.id);
   if (r.shape == PrimShape::Capsule) {

@@ -689,6 +689,81 @@ TEST_F(Viewer, CameraKeyRerendersFromThe3DView) {
   EXPECT_NE(std::string(f.viewer->GetMessage()).find("rendered"), std::string::npos);
 }
 
+// f frames the 3D view on the selected ray, which then spans a good part of
+// the view with both ends in it (the shortest ray of the glass pixel's tree,
+// a few dozen pixels long before), keeping the direction of view; F frames the whole scene again,
+// exactly as at the start, however often it is pressed.
+TEST_F(Viewer, FrameKeyFillsThe3DViewWithTheSelectedRay) {
+  Fixture f;
+  ASSERT_TRUE(f.start_on_glass());
+  vtkRenderer* ren = f.viewer->GetSceneRenderer();
+  vtkCamera* cam = ren->GetActiveCamera();
+  double start_focus[3], start_position[3], start_dir[3];
+  cam->GetFocalPoint(start_focus);
+  cam->GetPosition(start_position);
+  cam->GetDirectionOfProjection(start_dir);
+  // The shortest ray after the primary one that hit something.
+  const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
+  int shortest = -1;
+  for (const rayscope::RayRecord& r : rec.rays)
+    if (r.id > 0 && r.hit && !r.skipped &&
+        (shortest < 0 ||
+         glm::length(r.point - r.origin) <
+             glm::length(rec.rays[size_t(shortest)].point - rec.rays[size_t(shortest)].origin)))
+      shortest = r.id;
+  ASSERT_GE(shortest, 1);
+  for (int k = 0; k <= shortest; ++k) f.key("Right");
+  const int selected = f.viewer->GetSelectedRay();
+  ASSERT_EQ(selected, shortest);
+  // The selected ray's line as drawn, and its length on the screen in pixels
+  // with both ends in the viewport.
+  double a[3], b[3];
+  {
+    vtkPolyData* shown = f.viewer->GetShownRays();
+    vtkDataArray* id = shown->GetCellData()->GetArray("RayId");
+    ASSERT_NE(id, nullptr);
+    vtkIdType c = 0;
+    while (c < shown->GetNumberOfCells() &&
+           !(shown->GetCellType(c) == VTK_LINE && int(id->GetTuple1(c)) == selected))
+      ++c;
+    ASSERT_LT(c, shown->GetNumberOfCells());
+    shown->GetPoint(shown->GetCell(c)->GetPointId(0), a);
+    shown->GetPoint(shown->GetCell(c)->GetPointId(1), b);
+  }
+  auto on_screen = [&](const double p[3], double d[3]) {
+    ren->SetWorldPoint(p[0], p[1], p[2], 1.0);
+    ren->WorldToDisplay();
+    ren->GetDisplayPoint(d);
+    return ren->IsInViewport(int(d[0]), int(d[1]));
+  };
+  auto pixels = [&](bool& inside) {
+    double da[3], db[3];
+    inside = on_screen(a, da) && on_screen(b, db);
+    return std::hypot(da[0] - db[0], da[1] - db[1]);
+  };
+  bool inside = false;
+  const double before = pixels(inside);
+  f.key("f");
+  const double after = pixels(inside);
+  EXPECT_TRUE(inside);
+  const int* size = ren->GetSize();
+  EXPECT_GT(after, 0.4 * std::min(size[0], size[1])) << before;
+  EXPECT_GT(after, 2.0 * before);
+  double dir[3];
+  cam->GetDirectionOfProjection(dir);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(dir[k], start_dir[k], 1e-9);
+  for (int n = 0; n < 2; ++n) {
+    f.key("F");
+    double focus[3], position[3];
+    cam->GetFocalPoint(focus);
+    cam->GetPosition(position);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(focus[k], start_focus[k], 1e-9);
+      EXPECT_NEAR(position[k], start_position[k], 1e-9);
+    }
+  }
+}
+
 // A scene source without a scene: Initialize fails with a message, no crash.
 TEST_F(Viewer, NoSceneFailsCleanly) {
   vtkNew<vtkRayScopeImageAlgorithm> empty;

@@ -32,6 +32,7 @@
 #include "rayscope/accel/accel_config.h"
 #include "rayscope/accel/accel_kind.h"
 #include "rayscope/accel/accel_structure.h"
+#include "rayscope/accel/leaf_records.h"
 #include "rayscope/accel/prim_record.h"
 #include "rayscope/intersect.h"
 #include "rayscope/intersect_capsule.h"
@@ -48,8 +49,8 @@ class Aggregate {
   static constexpr size_t kBruteForceMax = 3;
 
   Aggregate() = default;
-  /// A copy's binary BVH is built on demand from the copy's own records (the
-  /// hierarchy reads the records where they are; moves keep them there).
+  /// A copy's binary BVH and records are made on demand from the copy's own
+  /// blocks (moves keep them where they are).
   Aggregate(const Aggregate& other);
   Aggregate& operator=(const Aggregate& other);
   Aggregate(Aggregate&&) = default;
@@ -128,7 +129,9 @@ class Aggregate {
     return nearest(p, k, obs);
   }
   /// Bounded primitives plus planes: what a k-nearest query can return at most.
-  size_t object_count() const { return records_.size() + planes_.size(); }
+  size_t object_count() const { return ids_.size() + planes_.size(); }
+  /// The bounded primitives (the records, without making them).
+  size_t prim_count() const { return ids_.size(); }
 
   /// The structure asked for.
   AccelKind kind() const { return config_.kind; }
@@ -156,12 +159,22 @@ class Aggregate {
   PrimStorage storage() const { return config_.storage; }
   /// The whole configuration the aggregate was built with.
   const AccelConfig& config() const { return config_; }
-  const std::vector<PrimRecord>& records() const { return records_; }
+  /// The bounded primitives' records in leaf order (leaf_records.h): held,
+  /// or made again from the BVH's blocks on the first call.
+  const std::vector<PrimRecord>& records() const { return records_->get(); }
+  /// Each record's global primitive index, in leaf order (what a render
+  /// keeps of the records behind the BVH).
+  const std::vector<uint32_t>& record_ids() const { return ids_; }
+  /// The records of the primitives other than triangles, by id -
+  /// num_triangles, kept when the BVH's blocks stand in for the records
+  /// (empty otherwise).
+  const std::vector<PrimRecord>& other_records() const { return others_; }
   /// The unbounded planes, with unit normals, in the scene's order.
   const std::vector<PlaneRecord>& plane_records() const { return planes_; }
   /// Every byte the aggregate holds now: the structure, the primitive records
-  /// and planes, and what only the tools need while it is built (the binary
-  /// hierarchy and its leaf order, the wide BVH's binary node ids).
+  /// (or their ids and the other primitives' records) and planes, and what
+  /// only the tools need while it is made (the records behind the BVH, the
+  /// binary hierarchy and its leaf order, the wide BVH's binary node ids).
   size_t memory_bytes() const;
   /// Figures of the structure the rays walk (the kind asked for, also for a
   /// tiny scene that skips it).
@@ -181,6 +194,19 @@ class Aggregate {
   bool wins_tie(uint32_t a, uint32_t b) const {
     return a < num_triangles_ ? (b >= num_triangles_ || a > b) : (b >= num_triangles_ && a < b);
   }
+
+  /// Whether the BVH's blocks stand in for the records: a walked BvhWalk.
+  bool blocks_hold_records() const {
+    return use_walk_ && std::holds_alternative<BvhWalk>(structure_);
+  }
+  /// The records made again from the BVH's blocks (BvhWalk::records_from_blocks)
+  /// with this aggregate's own blocks, ids and other records.
+  LeafRecords::Make make_records() const;
+  /// Points the structure's walk at hierarchy_ (BvhWalk, BruteForce).
+  void share_hierarchy();
+  /// Bytes of the records (held or made), their ids, the other primitives'
+  /// records and the planes.
+  size_t records_bytes() const;
 
   /// The walk a packet of `rays` takes: the BVH's, with the rays loaded into
   /// `packet`; null when they are traced one at a time (another structure,
@@ -240,6 +266,16 @@ class Aggregate {
     return true;
   }
 
+  /// The record test_prim() tests as record i (id `id`) of a walk: with an
+  /// active observer the records (made, if need be); else the records the
+  /// walk tests, or, behind the BVH, whose walk decides every triangle itself
+  /// (bvh_walk.h), the other primitive's.
+  template <class Observer>
+  [[gnu::always_inline]] const PrimRecord& tested_record(uint32_t i, uint32_t id) const {
+    if constexpr (Observer::kActive) return records()[i];
+    return walk_records_ ? walk_records_[i] : others_[id - num_triangles_];
+  }
+
   /// Tests the primitives the ray can hit with `prim(record, tmax, decided)`,
   /// which returns true on a hit (lowering tmax, or ending an any-hit query):
   /// the chosen structure's walk (AccelStructure::traverse), or every record
@@ -248,7 +284,7 @@ class Aggregate {
   template <bool AnyHit, class Observer, class PrimFn>
   [[gnu::always_inline]] bool walk_prims(const Ray& ray, const TrianglePrecomp& pre, float& tmax,
                                          PrimFn&& prim, Observer& obs) const {
-    if (!use_walk_) return test_records<AnyHit>(0u, uint32_t(records_.size()), tmax, prim);
+    if (!use_walk_) return test_records<AnyHit>(0u, uint32_t(ids_.size()), tmax, prim);
     // The BVH first, without a visit and with the primitive test's
     // constants: it is what renders walk.
     if (const BvhWalk* w = std::get_if<BvhWalk>(&structure_)) [[likely]]
@@ -287,7 +323,7 @@ class Aggregate {
   void walk_range(Range& range, PrimFn&& prim, Observer& obs) const {
     static_assert(QueryRange<Range>);
     if (!use_walk_) {
-      for (uint32_t i = 0; i < uint32_t(records_.size()); ++i) prim(i);
+      for (uint32_t i = 0; i < uint32_t(ids_.size()); ++i) prim(i);
       return;
     }
     std::visit([&](const auto& s) { s.walk_range(range, prim, obs); }, structure_);
@@ -297,7 +333,13 @@ class Aggregate {
   /// Shared with the structures that walk or show it (BvhWalk, BruteForce).
   std::shared_ptr<const BvhOnDemand> hierarchy_ = std::make_shared<const BvhOnDemand>();
   AccelStructureVariant structure_;
-  std::vector<PrimRecord> records_;  ///< Leaf order.
+  /// Shared with the hierarchy, which is built again from them.
+  std::shared_ptr<const LeafRecords> records_ = std::make_shared<const LeafRecords>();
+  /// The records the walk tests by index: records_'s, held; null behind the
+  /// BVH, whose walk decides every triangle from its blocks (others_ then).
+  const PrimRecord* walk_records_ = nullptr;
+  std::vector<uint32_t> ids_;       ///< record_ids().
+  std::vector<PrimRecord> others_;  ///< other_records().
   std::vector<PlaneRecord> planes_;
   uint32_t num_triangles_ = 0;
   bool use_walk_ = false;
@@ -310,17 +352,18 @@ template <class Observer>
                                                             const TrianglePrecomp& pre, float& t,
                                                             const TriangleHit* decided,
                                                             ClosestSoFar& c, Observer& obs) const {
-  const PrimRecord& r = records_[i];
-  if constexpr (Observer::kActive) obs.on_prim_test(r.id);
+  const uint32_t id = ids_[i];
+  if constexpr (Observer::kActive) obs.on_prim_test(id);
   // A hit at exactly the closest t so far replaces it only if it wins the tie
   // (spheres are tested with the closed bound once something was hit).
   TriangleHit th;
-  if ((decided ? (th = *decided, true) : test_prim(r, ray, pre, t, c.record != ~0u, th)) &&
-      (th.t < t || c.record == ~0u || wins_tie(r.id, c.id))) {
-    if constexpr (Observer::kActive) obs.on_prim_hit(r.id);
+  if ((decided ? (th = *decided, true)
+               : test_prim(tested_record<Observer>(i, id), ray, pre, t, c.record != ~0u, th)) &&
+      (th.t < t || c.record == ~0u || wins_tie(id, c.id))) {
+    if constexpr (Observer::kActive) obs.on_prim_hit(id);
     t = th.t;
     c.record = i;
-    c.id = r.id;
+    c.id = id;
     c.tri = th;
     return true;
   }
@@ -388,11 +431,12 @@ bool Aggregate::occluded(const Ray& ray, Observer& obs, PrimHit* which) const {
   uint32_t hit_record = ~0u;
   auto prim = [&](uint32_t i, float& t, const TriangleHit* decided = nullptr)
       __attribute__((always_inline)) {
-    const PrimRecord& r = records_[i];
-    if constexpr (Observer::kActive) obs.on_prim_test(r.id);
+    const uint32_t id = ids_[i];
+    if constexpr (Observer::kActive) obs.on_prim_test(id);
     TriangleHit th;
-    if (!decided && !test_prim(r, ray, pre, t, false, th)) return false;
-    if constexpr (Observer::kActive) obs.on_prim_hit(r.id);
+    if (!decided && !test_prim(tested_record<Observer>(i, id), ray, pre, t, false, th))
+      return false;
+    if constexpr (Observer::kActive) obs.on_prim_hit(id);
     hit_record = i;
     return true;
   };
@@ -400,7 +444,7 @@ bool Aggregate::occluded(const Ray& ray, Observer& obs, PrimHit* which) const {
   if (which) {
     *which = PrimHit{};
     which->record = hit_record;
-    which->prim = records_[hit_record].id;
+    which->prim = ids_[hit_record];
   }
   return true;
 }
@@ -409,8 +453,9 @@ template <class Observer>
 std::vector<RangeHit> Aggregate::query_box(const Bounds3& box, Observer& obs) const {
   const BoxRange range(box);
   std::vector<RangeHit> found;
+  const std::vector<PrimRecord>& records = this->records();
   auto prim = [&](uint32_t i) {
-    const PrimRecord& r = records_[i];
+    const PrimRecord& r = records[i];
     if constexpr (Observer::kActive) obs.on_prim_test(r.id);
     if (!record_overlaps(r, box)) return;
     if constexpr (Observer::kActive) obs.on_prim_hit(r.id);
@@ -431,8 +476,9 @@ std::vector<RangeHit> Aggregate::query_sphere(const Vec3& center, float radius,
                                               Observer& obs) const {
   const SphereRange range(center, radius);
   std::vector<RangeHit> found;
+  const std::vector<PrimRecord>& records = this->records();
   auto prim = [&](uint32_t i) {
-    const PrimRecord& r = records_[i];
+    const PrimRecord& r = records[i];
     if constexpr (Observer::kActive) obs.on_prim_test(r.id);
     const float d = record_distance(r, center);
     if (!(d <= radius)) return;
@@ -459,8 +505,9 @@ std::vector<RangeHit> Aggregate::nearest(const Vec3& p, uint32_t k, Observer& ob
     if (!range.offer({~0u, int(j), d})) continue;
     if constexpr (Observer::kActive) obs.on_prim_hit(kPrimOutsideStructure);
   }
+  const std::vector<PrimRecord>& records = this->records();
   auto prim = [&](uint32_t i) {
-    const PrimRecord& r = records_[i];
+    const PrimRecord& r = records[i];
     if constexpr (Observer::kActive) obs.on_prim_test(r.id);
     if (!range.offer({r.id, -1, record_distance(r, p)})) return;
     if constexpr (Observer::kActive) obs.on_prim_hit(r.id);

@@ -101,7 +101,8 @@ unsigned Aggregate::occluded_packet(std::span<const Ray> rays, Cost& cost) const
   auto prim = [&](unsigned lane, uint32_t i, float& t, const TriangleHit* decided)
       __attribute__((always_inline)) {
     TriangleHit th;
-    return decided != nullptr || test_prim(records_[i], rays[lane], pre[lane], t, false, th);
+    return decided != nullptr || test_prim(tested_record<NullTraversalObserver>(i, ids_[i]),
+                                           rays[lane], pre[lane], t, false, th);
   };
   return found | w->traverse_packet<true>(packet, pre, prim, cost);
 }

@@ -2,9 +2,9 @@
 // run time: the frame loop of render() with its plain and statistics policies
 // (and with it the integrator, the BVH walk, its box tests, triangle blocks
 // and packets), loops that trace a batch of rays one at a time or as packets
-// (what bench_trace measures), and the BVH builder (every commit). The rest of RayScope is compiled
-// for every x86-64 (SSE2), so one binary runs on any x86-64 CPU and takes the widest path the CPU
-// has.
+// (what bench_trace measures), and the BVH builder (every commit). The rest of
+// RayScope is compiled for every x86-64 (SSE2), so one binary runs on any
+// x86-64 CPU and takes the widest path the CPU has.
 //
 // src/kernels.cpp holds them; the build compiles it once more per level above
 // the baseline and keeps each copy's inline functions private to it (see

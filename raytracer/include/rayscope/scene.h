@@ -315,6 +315,9 @@ class Scene {
   uint32_t prim_in_object(uint32_t prim) const {
     return prim < sphere_base_ ? prim - prim_offsets_[prim_object(prim)] : 0;
   }
+  /// Global primitive index -> the record the aggregate is built from (as of
+  /// the last commit): the shape's vertices, center or ends and radius.
+  PrimRecord prim_record(uint32_t prim) const;
 
  private:
   Aggregate accel_;

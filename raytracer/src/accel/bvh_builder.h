@@ -48,13 +48,13 @@ constexpr int kMaxBins = 256;
 /// The instructions that bin and bound boxes (BvhBuildConfig::simd): each
 /// builds the same tree, bit for bit; kBest is the widest this file is
 /// compiled for.
-enum Isa { kScalar, kSse, kAvx };
+enum BoxOps { kScalar, kSse, kAvx };
 #if defined(__AVX__)
-constexpr Isa kBest = kAvx;
+constexpr BoxOps kBest = kAvx;
 #elif defined(__SSE2__)
-constexpr Isa kBest = kSse;
+constexpr BoxOps kBest = kSse;
 #else
-constexpr Isa kBest = kScalar;
+constexpr BoxOps kBest = kScalar;
 #endif
 
 /// x, y, z and a fourth lane that nothing reads.
@@ -74,7 +74,7 @@ struct alignas(32) Box {
 
   /// Extends this box by the box (b_lo, b_neg_hi); b_neg_hi must follow
   /// b_lo in memory (one 32-byte load with AVX).
-  template <Isa I>
+  template <BoxOps I>
   void extend(const Lanes& b_lo, const Lanes& b_neg_hi) {
 #if defined(__AVX__)
     if constexpr (I == kAvx) {
@@ -95,11 +95,11 @@ struct alignas(32) Box {
       neg_hi.f[i] = b_neg_hi.f[i] < neg_hi.f[i] ? b_neg_hi.f[i] : neg_hi.f[i];
     }
   }
-  template <Isa I>
+  template <BoxOps I>
   void extend(const Box& b) {
     extend<I>(b.lo, b.neg_hi);
   }
-  template <Isa I>
+  template <BoxOps I>
   void extend(const Lanes& p) {
     Box point;
     for (int i = 0; i < 4; ++i) {
@@ -152,7 +152,7 @@ struct Scratch {
   std::array<float, kMaxBins> right_cost;
 };
 
-template <Isa I>
+template <BoxOps I>
 struct Builder {
   std::span<PrimRef> refs;
   const BvhBuildConfig& cfg;

@@ -28,15 +28,15 @@ PrimBox prim_box(const PrimRecord& r, uint32_t num_triangles) {
   }
 }
 
-BvhOnDemand::BvhOnDemand(const Bvh& built, std::span<const PrimRecord> records,
+BvhOnDemand::BvhOnDemand(const Bvh& built, std::shared_ptr<const LeafRecords> records,
                          uint32_t num_triangles)
-    : records_(records),
+    : records_(std::move(records)),
       num_triangles_(num_triangles),
       config_(built.config),
       bounds_(built.bounds()) {}
 
-BvhOnDemand::BvhOnDemand(const BvhOnDemand& other, std::span<const PrimRecord> records)
-    : records_(records),
+BvhOnDemand::BvhOnDemand(const BvhOnDemand& other, std::shared_ptr<const LeafRecords> records)
+    : records_(std::move(records)),
       num_triangles_(other.num_triangles_),
       config_(other.config_),
       bounds_(other.bounds_) {
@@ -50,15 +50,16 @@ BvhOnDemand::BvhOnDemand(const BvhOnDemand& other, std::span<const PrimRecord> r
 const Bvh& BvhOnDemand::get() const {
   std::call_once(once_, [this] {
     // The primitives in the scene's order are the records by increasing id.
-    const size_t n = records_.size();
+    const std::vector<PrimRecord>& records = records_->get();
+    const size_t n = records.size();
     std::vector<uint32_t> order(n);
     std::iota(order.begin(), order.end(), 0u);
     std::sort(order.begin(), order.end(),
-              [&](uint32_t a, uint32_t b) { return records_[a].id < records_[b].id; });
+              [&](uint32_t a, uint32_t b) { return records[a].id < records[b].id; });
     std::vector<Bounds3> bounds(n);
     std::vector<Vec3> centroids(n);
     for (size_t i = 0; i < n; ++i) {
-      const PrimBox p = prim_box(records_[order[i]], num_triangles_);
+      const PrimBox p = prim_box(records[order[i]], num_triangles_);
       bounds[i] = p.bounds;
       centroids[i] = p.centroid;
     }

@@ -13,29 +13,43 @@
 namespace rayscope {
 namespace {
 
-// Leaves per task of the parallel block fill: large enough that a task's work
-// dwarfs TBB's cost of handing it out.
-constexpr size_t kLeafGrain = 4096;
+// Blocks per task of the parallel block fill and of records_from_blocks():
+// large enough that a task's work dwarfs TBB's cost of handing it out.
+constexpr size_t kBlockGrain = 4096;
 
-// Each leaf's first triangle block, the label the walk gives the leaf:
-// [first record of a leaf] (other entries ~0u), leaves in node order, each
-// leaf's records in blocks of TriangleBlock::kLanes. `leaves` gets the leaves'
-// node ids, `blocks` how many blocks there are.
-std::vector<uint32_t> leaf_first_blocks(const Bvh& bvh, std::vector<uint32_t>& leaves,
-                                        uint32_t& blocks) {
-  constexpr int kLanes = TriangleBlock::kLanes;
-  std::vector<uint32_t> first;
-  assign_huge(first, bvh.prim_indices.size(), ~0u);
-  leaves.clear();
-  blocks = 0;
-  for (uint32_t i = 0; i < bvh.nodes.size(); ++i) {
-    const BvhNode& n = bvh.nodes[i];
-    if (!n.is_leaf()) continue;
-    leaves.push_back(i);
-    first[n.index] = blocks;
-    blocks += (n.count + kLanes - 1) / kLanes;
+// How the leaves' records lie in triangle blocks. A leaf shares the block of
+// the leaf before it when it fits in the lanes left and its records follow
+// that leaf's: a leaf of up to kLanes records still takes one block test, and
+// the blocks are fuller (leaves average under three records).
+struct BlockLayout {
+  /// Each leaf's first lane (block * kLanes + lane), the label the walk gives
+  /// the leaf: [first record of a leaf], other entries ~0u.
+  std::vector<uint32_t> leaf_lane;
+  /// Each block's first record, and how many lanes from lane 0 it fills.
+  std::vector<uint32_t> block_first;
+  std::vector<uint8_t> block_lanes;
+};
+
+BlockLayout lay_out_blocks(const Bvh& bvh) {
+  constexpr uint32_t kLanes = TriangleBlock::kLanes;
+  BlockLayout l;
+  assign_huge(l.leaf_lane, bvh.prim_indices.size(), ~0u);
+  uint32_t lane = 0, next_record = 0;
+  for (const BvhNode& n : bvh.nodes) {
+    if (!n.is_leaf() || n.index >= l.leaf_lane.size()) continue;
+    const uint32_t room = kLanes - lane % kLanes;
+    if (room < kLanes && (n.count > room || n.index != next_record)) lane += room;
+    l.leaf_lane[n.index] = lane;
+    for (uint32_t j = 0; j < n.count; ++j, ++lane) {
+      if (lane % kLanes == 0) {
+        l.block_first.push_back(n.index + j);
+        l.block_lanes.push_back(0);
+      }
+      ++l.block_lanes.back();
+    }
+    next_record = n.index + n.count;
   }
-  return first;
+  return l;
 }
 
 int arity_of(AccelKind kind) {
@@ -46,29 +60,23 @@ int arity_of(AccelKind kind) {
 
 void BvhWalk::build(AccelKind kind, const Bvh& bvh, std::shared_ptr<const BvhOnDemand> hierarchy,
                     std::span<const PrimRecord> records, uint32_t num_triangles) {
-  constexpr int kLanes = TriangleBlock::kLanes;
   kind_ = kind;
   hierarchy_ = std::move(hierarchy);
   sources_ = std::make_shared<SlotSources>();
-  // The walk labelled with each leaf's first block, then the blocks filled
-  // leaf by leaf on every core: each leaf writes only its own blocks.
-  std::vector<uint32_t> leaves;
-  uint32_t count = 0;
-  const std::vector<uint32_t> leaf_blocks = leaf_first_blocks(bvh, leaves, count);
-  walk_.build(bvh, arity_of(kind), leaf_blocks);
+  // The walk labelled with each leaf's first lane, then the blocks filled on
+  // every core, block by block.
+  const BlockLayout layout = lay_out_blocks(bvh);
+  walk_.build(bvh, arity_of(kind), layout.leaf_lane);
   // The binary ids of the slots are made again when an observer asks.
   std::vector<uint32_t>().swap(walk_.slot_source);
-  assign_huge(blocks_, count);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), kLeafGrain),
+  assign_huge(blocks_, layout.block_first.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks_.size(), kBlockGrain),
                     [&](const tbb::blocked_range<size_t>& range) {
-                      for (size_t l = range.begin(); l < range.end(); ++l) {
-                        const BvhNode& n = bvh.nodes[leaves[l]];
-                        const uint32_t first = leaf_blocks[n.index];
-                        for (uint32_t j = 0; j < n.count; ++j) {
-                          TriangleBlock& b = blocks_[first + j / kLanes];
-                          const unsigned lane = j % kLanes;
-                          if (lane == 0) b.first = n.index + j;
-                          const PrimRecord& r = records[n.index + j];
+                      for (size_t j = range.begin(); j < range.end(); ++j) {
+                        TriangleBlock& b = blocks_[j];
+                        b.first = layout.block_first[j];
+                        for (unsigned lane = 0; lane < layout.block_lanes[j]; ++lane) {
+                          const PrimRecord& r = records[b.first + lane];
                           if (r.id >= num_triangles) {
                             b.others |= uint8_t(1u << lane);
                             continue;
@@ -86,10 +94,8 @@ std::span<const uint32_t> BvhWalk::slot_sources() const {
   SlotSources& s = *sources_;
   std::call_once(s.once, [&] {
     const Bvh& bvh = hierarchy_->get();
-    std::vector<uint32_t> leaves;
-    uint32_t blocks = 0;
     WideBvh again;
-    again.build(bvh, walk_.arity(), leaf_first_blocks(bvh, leaves, blocks));
+    again.build(bvh, walk_.arity(), lay_out_blocks(bvh).leaf_lane);
     if (again.nodes.size() != walk_.nodes.size() ||
         !std::equal(again.nodes.begin(), again.nodes.end(), walk_.nodes.begin(),
                     [](const WideBvhNode& a, const WideBvhNode& b) {
@@ -100,6 +106,35 @@ std::span<const uint32_t> BvhWalk::slot_sources() const {
     s.made = true;
   });
   return s.ids;
+}
+
+std::vector<PrimRecord> BvhWalk::records_from_blocks(std::span<const TriangleBlock> blocks,
+                                                     std::span<const uint32_t> ids,
+                                                     std::span<const PrimRecord> others,
+                                                     uint32_t num_triangles) {
+  std::vector<PrimRecord> records;
+  assign_huge(records, ids.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks.size(), kBlockGrain),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t j = range.begin(); j < range.end(); ++j) {
+                        const TriangleBlock& b = blocks[j];
+                        for (unsigned k = 0; k < unsigned(TriangleBlock::kLanes); ++k) {
+                          if (!(((b.triangles | b.others) >> k) & 1u)) continue;
+                          const uint32_t i = b.first + k;
+                          PrimRecord& r = records[i];
+                          if ((b.others >> k) & 1u) {
+                            r = others[ids[i] - num_triangles];
+                            continue;
+                          }
+                          r.a = b.vertex(0, k);
+                          r.id = ids[i];
+                          r.b = b.vertex(1, k);
+                          r.shape = PrimShape::Triangle;
+                          r.c = b.vertex(2, k);
+                        }
+                      }
+                    });
+  return records;
 }
 
 size_t BvhWalk::memory_bytes() const {

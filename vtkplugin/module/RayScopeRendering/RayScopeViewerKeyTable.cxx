@@ -5,6 +5,8 @@
 // it, so the two name the same keys.
 #include "rayscope/accel/accel_view.h"
 #include "vtkRayScopeViewerInternals.h"
+#include "vtkBoundingBox.h"
+#include "vtkUnstructuredGrid.h"
 
 using namespace rayscope_vtkmodule::viewer;
 using RS = rayscope::RenderSettings;
@@ -31,6 +33,7 @@ struct vtkRayScopeViewer::Internals::KeyPress {
   int MaxDepth();
   int Projection();
   int Camera();
+  int Frame();
   int Screenshot();
   int Export();
 
@@ -81,6 +84,7 @@ const std::vector<vtkRayScopeViewer::Internals::Key>& vtkRayScopeViewer::Interna
       {"]/[", {"bracketright", "bracketleft"}, "depth", true, &KeyPress::MaxDepth},
       {"p", {"p"}, "projection", true, &KeyPress::Projection},
       {"r", {"r"}, "3D camera", true, &KeyPress::Camera},
+      {"f/F", {"f", "F"}, "frame ray/scene", true, &KeyPress::Frame},
       {"s", {"s"}, "screenshot", false, &KeyPress::Screenshot},
       {"x", {"x"}, ".vtp", true, &KeyPress::Export},
       {"q", {"q"}, "quit", false, nullptr},  // the interactor style: VTK's trackball quits
@@ -273,6 +277,38 @@ int vtkRayScopeViewer::Internals::KeyPress::Projection() {
 int vtkRayScopeViewer::Internals::KeyPress::Camera() {
   in.Algorithm->CopyCamera(in.SceneRen->GetActiveCamera());
   return rerender("re-rendering from the 3D view's camera");
+}
+
+// f: the 3D view framed on the selected ray, or else on the hit points of
+// the picked pixel's shown rays (where the tree bounces, without the eye and
+// the lights the primary and shadow rays reach), so that rays a few pixels
+// long fill the view and their labels stand apart; it keeps its direction of
+// view. F: on the whole scene again.
+int vtkRayScopeViewer::Internals::KeyPress::Frame() {
+  if (key == "F") {
+    in.FrameScene();
+    return say("3D view: the whole scene");
+  }
+  if (!picked) return need_pick();
+  vtkBoundingBox box;
+  std::string what;
+  if (self->SelectedRay >= 0) {
+    in.Selected->Update();
+    vtkDataSet* ray = in.Selected->GetOutput();
+    for (vtkIdType p = 0; p < ray->GetNumberOfPoints(); ++p) box.AddPoint(ray->GetPoint(p));
+    what = "ray #" + std::to_string(self->SelectedRay);
+  } else {
+    vtkPolyData* shown = in.Shown->GetOutput();
+    for (vtkIdType c = 0; c < shown->GetNumberOfCells(); ++c)
+      if (shown->GetCellType(c) == VTK_VERTEX)
+        box.AddPoint(shown->GetPoint(shown->GetCell(c)->GetPointId(0)));
+    what = "the shown rays' hits";
+  }
+  if (!box.IsValid()) return say("f: nothing shown to frame");
+  double bounds[6];
+  box.GetBounds(bounds);
+  in.AimSceneCamera(bounds, 1.0);
+  return say("3D view: " + what + " (F: the whole scene)");
 }
 
 // The window saved as PREFIX_N.png.

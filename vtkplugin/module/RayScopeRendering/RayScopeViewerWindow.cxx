@@ -260,6 +260,23 @@ void vtkRayScopeViewer::Internals::BuildSceneGeometry() {
   this->Changed |= kSceneView;
 }
 
+void vtkRayScopeViewer::Internals::AimSceneCamera(const double bounds[6], double zoom) {
+  vtkCamera* cam = this->SceneRen->GetActiveCamera();
+  cam->SetViewAngle(kSceneViewAngle);
+  this->SceneRen->ResetCamera(bounds);
+  cam->Zoom(zoom);
+  this->Changed |= kSceneView;
+}
+
+void vtkRayScopeViewer::Internals::FrameScene() {
+  rayscope::Bounds3 b = this->scene()->bounds();
+  b.extend(this->scene()->camera.eye);
+  b.extend(this->scene()->camera.look_at);
+  const rayscope::DVec3 lo = this->scene()->to_world(b.lo), hi = this->scene()->to_world(b.hi);
+  const double bounds[6] = {lo.x, hi.x, lo.y, hi.y, lo.z, hi.z};
+  this->AimSceneCamera(bounds, kSceneZoom);
+}
+
 // The camera as the lecture draws it: frustum edges from the eye to the image
 // plane (put at a fraction of the way to look_at so that it is in view), the
 // plane's outline, the pixel grid around the picked pixel and that pixel.

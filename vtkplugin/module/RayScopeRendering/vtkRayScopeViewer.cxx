@@ -159,13 +159,7 @@ int vtkRayScopeViewer::Initialize() {
   in.StartRender();
   // The 3D view shows the scene's objects and the camera.
   in.UpdateCameraGeometry();
-  rayscope::Bounds3 b = in.scene()->bounds();
-  b.extend(in.scene()->camera.eye);
-  b.extend(in.scene()->camera.look_at);
-  const rayscope::DVec3 lo = in.scene()->to_world(b.lo), hi = in.scene()->to_world(b.hi);
-  double bounds[6] = {lo.x, hi.x, lo.y, hi.y, lo.z, hi.z};
-  in.SceneRen->ResetCamera(bounds);
-  in.SceneRen->GetActiveCamera()->Zoom(kSceneZoom);
+  in.FrameScene();
   in.Changed = kAllViews;
   in.Redraw();
   return 1;

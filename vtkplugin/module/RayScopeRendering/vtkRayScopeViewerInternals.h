@@ -106,6 +106,7 @@ inline constexpr double kLightFraction = 0.015;  // light markers' radius, same
 inline constexpr unsigned char kUnrenderedGray = 40;  // pixels not rendered yet
 inline constexpr double kSceneZoom =
     1.6;  // the 3D view, closer than VTK's ResetCamera (a bounding sphere)
+inline constexpr double kSceneViewAngle = 30.0;  // degrees: VTK's default, before the zoom
 
 // Colors of the overlay, one per ray kind (rayscope::RayKind order), then
 // skipped rays; and the played walk's states (vtkRayScopeAccelSource order).
@@ -241,6 +242,13 @@ struct vtkRayScopeViewer::Internals {
   void Build();
   void BuildSceneGeometry();
   void UpdateCameraGeometry();
+  /// Points the 3D view's camera, keeping its direction of view, so that
+  /// the box `bounds` (xmin, xmax, ymin, ...) fills it: VTK's ResetCamera
+  /// (the box's bounding sphere in view) at kSceneViewAngle, then `zoom`.
+  void AimSceneCamera(const double bounds[6], double zoom);
+  /// Frames the whole scene, its objects and its camera's eye and look-at
+  /// point (as at the start; key F).
+  void FrameScene();
   void UpdateMarker();
   void Redraw();
 

@@ -15,6 +15,7 @@
 #include <span>
 
 #include "rayscope/accel/bvh.h"
+#include "rayscope/accel/leaf_records.h"
 #include "rayscope/accel/prim_record.h"
 
 namespace rayscope {
@@ -52,12 +53,11 @@ class BvhOnDemand {
   BvhOnDemand() = default;
   /// `built`: the hierarchy built over prim_box() of the primitives in the
   /// scene's order (increasing ids), not kept; `records`: those primitives in
-  /// its leaf order, kept by the caller at that address for the life of this
-  /// object.
-  BvhOnDemand(const Bvh& built, std::span<const PrimRecord> records, uint32_t num_triangles);
+  /// its leaf order.
+  BvhOnDemand(const Bvh& built, std::shared_ptr<const LeafRecords> records, uint32_t num_triangles);
   /// `other`'s hierarchy over a copy of its records (the same hierarchy,
   /// shared while held).
-  BvhOnDemand(const BvhOnDemand& other, std::span<const PrimRecord> records);
+  BvhOnDemand(const BvhOnDemand& other, std::shared_ptr<const LeafRecords> records);
   BvhOnDemand(const BvhOnDemand&) = delete;
   BvhOnDemand& operator=(const BvhOnDemand&) = delete;
 
@@ -77,7 +77,7 @@ class BvhOnDemand {
   mutable std::once_flag once_;
   mutable std::shared_ptr<const Bvh> bvh_;
   mutable std::atomic<bool> held_{false};
-  std::span<const PrimRecord> records_;
+  std::shared_ptr<const LeafRecords> records_ = std::make_shared<const LeafRecords>();
   uint32_t num_triangles_ = 0;
   BvhBuildConfig config_;
   Bounds3 bounds_;

@@ -7,6 +7,7 @@
 // read, are made when first asked for (bvh_on_demand.h), not for renders.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -47,10 +48,11 @@ class BvhWalk {
   void set_build_seconds(double s) { build_seconds_ = s; }
 
   /// The wide walk. Without an observer each leaf goes through its triangle
-  /// blocks: `prim(record, tmax, decided)` is called for the records the
-  /// block test hits (`decided`: that hit) or leaves undecided (null), in
-  /// record order, so it finds what the plain loop finds. An active observer
-  /// sees the plain loop, every record tested.
+  /// blocks, and the walk decides every triangle (decide_lane): `prim(record,
+  /// tmax, decided)` is called for the triangles hit within tmax (`decided`:
+  /// the hit) and for the other primitives (null), in record order, so it
+  /// finds what the plain loop finds. An active observer sees the plain loop,
+  /// every record tested.
   template <bool AnyHit, class Observer, class PrimFn>
   [[gnu::always_inline]] bool traverse(const Ray& ray, float& tmax, PrimFn&& prim,
                                        Observer& obs) const {
@@ -96,19 +98,35 @@ class BvhWalk {
   /// (once, whichever thread asks first). Throws std::logic_error if the
   /// binary tree built again did not collapse into walk()'s nodes.
   std::span<const uint32_t> slot_sources() const;
-  /// The leaves' records by coordinate: each leaf's records from its first
-  /// block on, TriangleBlock::kLanes per block.
+  /// The leaves' records by coordinate, TriangleBlock::kLanes per block, in
+  /// leaf order: lane k of a block holds record first + k; a leaf of up to
+  /// kLanes records lies in one block, which it may share with the leaves
+  /// before and after it.
   const std::vector<TriangleBlock>& triangle_blocks() const { return blocks_; }
+  /// The records in leaf order made again from a walk's `blocks`
+  /// (triangle_blocks()): each triangle's vertices from its lane, the other
+  /// primitives' records from `others` (record id - num_triangles), every
+  /// record's id from `ids` (leaf order). Static, so that a copy or move of
+  /// the aggregate can make them from its own blocks.
+  static std::vector<PrimRecord> records_from_blocks(std::span<const TriangleBlock> blocks,
+                                                     std::span<const uint32_t> ids,
+                                                     std::span<const PrimRecord> others,
+                                                     uint32_t num_triangles);
 
  private:
-  /// A leaf's `count` records from its first block `block` on, through the
-  /// block test: `prim(record, tmax, decided)` for the records the block test
-  /// hits (`decided`: that hit) or leaves undecided (null), in record order,
-  /// so that it finds what the plain loop finds.
+  /// A leaf's `count` records from its first lane `start` on (the walk's
+  /// label: block * kLanes + lane), through the block test: `prim(record,
+  /// tmax, decided)` as traverse() says, in record order, so that it finds
+  /// what the plain loop finds.
   template <bool AnyHit, class PrimFn>
   [[gnu::always_inline]] bool test_blocks(uint32_t block, uint32_t count,
                                           const TriangleBlockRay& block_ray, float& tmax,
                                           PrimFn&& prim) const;
+
+  /// The record in lane `start` (a leaf's label): its first record.
+  uint32_t first_record(uint32_t start) const {
+    return blocks_[start / TriangleBlock::kLanes].first + start % TriangleBlock::kLanes;
+  }
 
   /// slot_sources(), made once.
   struct SlotSources {
@@ -121,8 +139,9 @@ class BvhWalk {
   std::shared_ptr<const BvhOnDemand> hierarchy_ = std::make_shared<const BvhOnDemand>();
   std::shared_ptr<SlotSources> sources_ = std::make_shared<SlotSources>();
   WideBvh walk_;
-  /// Each leaf starting a new block; the walk's leaves are labelled by their
-  /// first block.
+  /// The leaves' records in leaf order, a leaf sharing the block before it
+  /// when it fits in its lanes left; the walk's leaves are labelled by their
+  /// first lane (block * kLanes + lane).
   std::vector<TriangleBlock> blocks_;
   double build_seconds_ = 0.0;
 };
@@ -133,48 +152,66 @@ template <bool AnyHit, class Observer, class PrimFn>
 inline bool BvhWalk::traverse(const Ray& ray, const TrianglePrecomp& pre, float& tmax,
                               PrimFn&& prim, Observer& obs) const {
   if constexpr (Observer::kActive) {
-    auto leaf = [&](uint32_t block, uint32_t count, float& t) __attribute__((always_inline)) {
-      return test_records<AnyHit>(blocks_[block].first, count, t, prim);
+    auto leaf = [&](uint32_t start, uint32_t count, float& t) __attribute__((always_inline)) {
+      return test_records<AnyHit>(first_record(start), count, t, prim);
     };
     const uint32_t* sources = nullptr;
     if constexpr (Observer::kNodeIds) sources = slot_sources().data();
     return walk_.traverse<AnyHit>(ray, tmax, leaf, obs, sources);
   } else {
     const TriangleBlockRay block_ray(pre);
-    auto blocks = [&](uint32_t block, uint32_t count, float& t) __attribute__((always_inline)) {
-      return test_blocks<AnyHit>(block, count, block_ray, t, prim);
+    auto blocks = [&](uint32_t start, uint32_t count, float& t) __attribute__((always_inline)) {
+      return test_blocks<AnyHit>(start, count, block_ray, t, prim);
     };
     return walk_.traverse<AnyHit>(ray, tmax, blocks, obs);
   }
 }
 
-// A block or packet test's answer for lane k: its hit (written to th) when
-// the test decided a hit there, or null when the lane is undecided (the
-// exact scalar test decides it).
+// Lane `lane` of block `b` for the ray in lane k of a block or packet test's
+// result `res`, as the walk passes it to prim(): a triangle the test hit, or
+// left undecided and the whole test (TriangleBlock::test_lane) hits, within
+// tmax (its hit in `th`, `decided` = &th); another primitive (`decided` =
+// null), which prim() tests. Returns false for a triangle not hit within
+// tmax: the walk decides every triangle, so the aggregate needs the records
+// only of the other primitives.
 template <class Result>
-[[gnu::always_inline]] inline const TriangleHit* decided_hit(const Result& res, unsigned k,
-                                                             TriangleHit& th) {
-  if (!((res.hits >> k) & 1u)) return nullptr;
-  th = res.hit(k);
-  return &th;
+[[gnu::always_inline]] inline bool decide_lane(const TriangleBlock& b, unsigned lane,
+                                               const Result& res, unsigned k,
+                                               const TrianglePrecomp& pre, float tmax,
+                                               TriangleHit& th, const TriangleHit*& decided) {
+  decided = nullptr;
+  if ((res.hits >> k) & 1u)
+    th = res.hit(k);  // only triangles are hit
+  else if (!((b.triangles >> lane) & 1u))
+    return true;
+  else if (!b.test_lane(lane, pre, tmax, th))
+    return false;
+  if (!(th.t <= tmax)) return false;  // beyond a hit found in this block
+  decided = &th;
+  return true;
 }
 
 template <bool AnyHit, class PrimFn>
-[[gnu::always_inline]] inline bool BvhWalk::test_blocks(uint32_t block, uint32_t count,
+[[gnu::always_inline]] inline bool BvhWalk::test_blocks(uint32_t start, uint32_t count,
                                                         const TriangleBlockRay& block_ray,
                                                         float& tmax, PrimFn&& prim) const {
+  constexpr uint32_t kLanes = TriangleBlock::kLanes;
   bool found = false;
-  const TriangleBlock* b = &blocks_[block];
-  const uint32_t first = b->first;
+  const TriangleBlock* b = &blocks_[start / kLanes];
   TriangleBlockResult res;
-  for (uint32_t base = first; base < first + count; base += TriangleBlock::kLanes, ++b) {
+  // The leaf's lanes of each of its blocks: from its first lane on (a leaf
+  // that starts past lane 0 ends in that block), as many as it has left.
+  for (uint32_t lo = start % kLanes, left = count; left != 0; ++b, lo = 0) {
+    const uint32_t n = std::min(left, kLanes - lo);
+    const unsigned lanes = ((1u << n) - 1u) << lo;
+    left -= n;
     test_triangle_block<!AnyHit>(*b, block_ray, tmax, res);
-    for (unsigned m = res.hits | res.undecided; m != 0; m &= m - 1) {
+    for (unsigned m = (res.hits | res.undecided) & lanes; m != 0; m &= m - 1) {
       const unsigned k = unsigned(__builtin_ctz(m));
       TriangleHit th;
-      const TriangleHit* decided = decided_hit(res, k, th);
-      if (decided && !(th.t <= tmax)) continue;  // beyond a hit found in this block
-      if (prim(base + k, tmax, decided)) {
+      const TriangleHit* decided;
+      if (!decide_lane(*b, k, res, k, block_ray.pre, tmax, th, decided)) continue;
+      if (prim(b->first + k, tmax, decided)) {
         found = true;
         if constexpr (AnyHit) return true;
       }
@@ -190,18 +227,20 @@ inline unsigned BvhWalk::traverse_packet(RayPacket& packet, const TrianglePrecom
   if (together.load(pre, packet.valid)) {
     // The rays share the triangle test's axes: each triangle is tested for
     // all of them at once, in record order.
-    auto leaf = [&](unsigned lanes, uint32_t block, uint32_t count) __attribute__((always_inline)) {
+    auto leaf = [&](unsigned lanes, uint32_t start, uint32_t count) __attribute__((always_inline)) {
       unsigned found = 0;
-      const uint32_t first = blocks_[block].first;
+      const uint32_t first = first_record(start);
       TrianglePacketResult res;
       for (uint32_t j = 0; j < count; ++j) {
-        const TriangleBlock& b = blocks_[block + j / TriangleBlock::kLanes];
-        test_triangle_packet(b, j % TriangleBlock::kLanes, together, packet.tmax, lanes, res);
+        const TriangleBlock& b = blocks_[(start + j) / TriangleBlock::kLanes];
+        const unsigned lane = (start + j) % TriangleBlock::kLanes;
+        test_triangle_packet(b, lane, together, packet.tmax, lanes, res);
         for (unsigned m = res.hits | res.undecided; m != 0; m &= m - 1) {
           const unsigned k = unsigned(__builtin_ctz(m));
           TriangleHit th;
-          const TriangleHit* decided = decided_hit(res, k, th);
+          const TriangleHit* decided;
           float t = packet.tmax[k];
+          if (!decide_lane(b, lane, res, k, pre[k], t, th, decided)) continue;
           if (prim(k, first + j, t, decided)) {
             packet.tmax[k] = t;
             found |= 1u << k;
@@ -225,7 +264,7 @@ inline unsigned BvhWalk::traverse_packet(RayPacket& packet, const TrianglePrecom
     const unsigned k = unsigned(__builtin_ctz(m));
     new (&rays[k].ray) TriangleBlockRay(pre[k]);
   }
-  auto leaf = [&](unsigned lanes, uint32_t block, uint32_t count) __attribute__((always_inline)) {
+  auto leaf = [&](unsigned lanes, uint32_t start, uint32_t count) __attribute__((always_inline)) {
     unsigned found = 0;
     for (; lanes != 0; lanes &= lanes - 1) {
       const unsigned k = unsigned(__builtin_ctz(lanes));
@@ -234,7 +273,7 @@ inline unsigned BvhWalk::traverse_packet(RayPacket& packet, const TrianglePrecom
         return prim(k, record, t, decided);
       };
       float t = packet.tmax[k];
-      if (test_blocks<AnyHit>(block, count, rays[k].ray, t, lane_prim)) {
+      if (test_blocks<AnyHit>(start, count, rays[k].ray, t, lane_prim)) {
         packet.tmax[k] = t;
         found |= 1u << k;
       }

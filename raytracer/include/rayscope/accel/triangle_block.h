@@ -27,7 +27,8 @@
 
 namespace rayscope {
 
-/// Up to kLanes triangles of one leaf, by coordinate: v[vertex][axis][lane].
+/// Up to kLanes triangles of one leaf or of neighbouring small leaves (a leaf
+/// tests only its own lanes), by coordinate: v[vertex][axis][lane].
 struct alignas(16) TriangleBlock {
   static constexpr int kLanes = 4;
   float v[3][3][kLanes];
@@ -37,10 +38,19 @@ struct alignas(16) TriangleBlock {
   /// the scalar test.
   uint8_t others = 0;
   /// The record in lane 0; lane k holds record first + k. A leaf's blocks
-  /// follow one another, so its record i is in block i / kLanes, lane i % kLanes.
-  /// (Kept here, in the block's padding, so that a walk reaching a leaf by its
-  /// first block needs no other load to find the records.)
+  /// follow one another, so a leaf labelled by its first lane s (block s /
+  /// kLanes, lane s % kLanes) has its record j in lane s + j. (Kept here, in
+  /// the block's padding, so that a walk reaching a leaf by its first block
+  /// needs no other load to find the records.)
   uint32_t first = 0;
+
+  /// Vertex i (0, 1, 2) of the triangle in `lane`: the record's, bit for bit.
+  Vec3 vertex(int i, unsigned lane) const { return {v[i][0][lane], v[i][1][lane], v[i][2][lane]}; }
+  /// intersect_triangle() for the triangle in `lane`: the whole test, which
+  /// decides what the block test leaves undecided.
+  bool test_lane(unsigned lane, const TrianglePrecomp& pre, float tmax, TriangleHit& th) const {
+    return intersect_triangle(pre, tmax, vertex(0, lane), vertex(1, lane), vertex(2, lane), th);
+  }
 };
 static_assert(sizeof(TriangleBlock) == 160, "the record index lives in the padding");
 

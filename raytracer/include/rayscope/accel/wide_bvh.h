@@ -79,8 +79,8 @@ class WideBvh {
   /// by its first primitive `f` (the offset in Bvh::prim_indices), or by
   /// leaf_label[f] when leaf_label is given (one entry per primitive; only
   /// the leaves' first entries are read): the label is what traverse() passes
-  /// to `leaf` (the aggregate labels a leaf by its first triangle block, so
-  /// that the walk reaches the block with no other load). Throws
+  /// to `leaf` (the aggregate labels a leaf by its first lane of triangle
+  /// blocks, so that the walk reaches the block with no other load). Throws
   /// std::invalid_argument for a bad arity or a leaf_label of the wrong size,
   /// std::length_error if the tree were too deep for the traversal stack or a
   /// label did not fit beside kLeaf.
