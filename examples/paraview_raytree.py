@@ -9,7 +9,7 @@ Run with ParaView's pvpython, the plugin on PV_PLUGIN_PATH (docs/paraview.md):
 The scene is ParaView's Wavelet contoured at one value (a closed surface)
 with a glass Sphere in front of it. Left: a render view with the contour
 (translucent), the sphere and the ray tree of one pixel, rays colored by kind
-(primary, shadow, reflection, refraction), hit points as spheres. Right: the
+in RayScope's one palette (the tree's KindColor array), hit points as spheres. Right: the
 "Ray Trace" image of the same scene, with that pixel marked.
 """
 import argparse
@@ -56,17 +56,15 @@ glass_shown.DiffuseColor = [0.6, 0.8, 1.0]
 rays = Show(tree, view)
 rays.LineWidth = 4
 rays.RenderLinesAsTubes = 1
-ColorBy(rays, ("CELLS", "Kind"))
-kind = GetColorTransferFunction("Kind")
-kind.InterpretValuesAsCategories = 1
-kind.Annotations = ["0", "primary", "1", "shadow", "2", "reflection", "3", "refraction"]
-kind.IndexedColors = [1, 0.85, 0, 0.2, 0.2, 0.2, 0.1, 0.6, 1, 0.9, 0.2, 0.6]
-rays.SetScalarBarVisibility(view, True)
-bar = GetScalarBar(kind, view)
-bar.Title = "ray kind"
-bar.ComponentTitle = ""
-bar.TitleColor = bar.LabelColor = [0, 0, 0]
-bar.WindowLocation = "Upper Left Corner"
+# Each ray in its kind's color as the tree carries it (KindColor: RayScope's
+# one palette, the viewer's too), shown as it is rather than mapped.
+ColorBy(rays, ("CELLS", "KindColor"))
+rays.MapScalars = 0
+key = Text(Text="rays: primary yellow, shadow blue, reflection green, refraction magenta")
+key_shown = Show(key, view)
+key_shown.WindowLocation = "Upper Left Corner"
+key_shown.FontSize = 12
+key_shown.Color = [0, 0, 0]
 
 hits = Glyph(Input=tree, GlyphType="Sphere", ScaleArray=["POINTS", "No scale array"],
              ScaleFactor=0.6, GlyphMode="All Points")

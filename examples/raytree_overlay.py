@@ -3,8 +3,8 @@
 
 Left: the ray-traced image with the chosen pixel marked. Right: the scene drawn
 by VTK's OpenGL renderer from a side camera, with every ray behind that pixel
-as a tube colored by kind (primary white, shadow yellow, reflection cyan,
-refraction magenta), hit points as small spheres with their shading normals as
+as a tube colored by kind (RayScope's colors: primary yellow, shadow blue,
+reflection green, refraction magenta), hit points as small spheres with their shading normals as
 arrows, and occluded shadow rays ending at their occluder.
 
     PYTHONPATH=<build>/lib/python3/dist-packages xvfb-run -a /usr/bin/python3 \\
@@ -23,7 +23,13 @@ import rayscope
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "bench"))
 from plot_quality import save_window  # noqa: E402
 
-KIND_COLORS = [(1.0, 1.0, 1.0), (1.0, 0.85, 0.1), (0.2, 0.9, 1.0), (1.0, 0.3, 0.9)]
+
+
+def kind_color(kind):
+    """RayScope's color of a ray kind (0 primary .. 3 refraction), as RGB in [0, 1]."""
+    rgb = [0.0, 0.0, 0.0]
+    rayscope.vtkRayScopeRayTreeSource.GetKindColor(kind, rgb)
+    return rgb
 
 
 def sphere(center, radius):
@@ -109,8 +115,8 @@ def main():
 
     lut = vtk.vtkLookupTable()
     lut.SetNumberOfTableValues(4)
-    for k, c in enumerate(KIND_COLORS):
-        lut.SetTableValue(k, *c, 1.0)
+    for k in range(4):
+        lut.SetTableValue(k, *kind_color(k), 1.0)
     lut.SetRange(0, 3)
     lines = vtk.vtkPolyData()
     lines.SetPoints(rays.GetPoints())
@@ -168,7 +174,7 @@ def main():
     cam.SetViewAngle(24)
     scene_ren.ResetCameraClippingRange()
     legend = vtk.vtkTextActor()
-    legend.SetInput("rays: primary white, shadow yellow,\nreflection cyan, refraction magenta;\nhits red, normals green")
+    legend.SetInput("rays: primary yellow, shadow blue,\nreflection green, refraction magenta;\nhits red, normals green")
     legend.GetTextProperty().SetFontSize(15)
     legend.SetPosition(8, 8)
     scene_ren.AddViewProp(legend)

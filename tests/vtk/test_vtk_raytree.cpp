@@ -3,8 +3,10 @@
 // `rayscope inspect --format json` prints it).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -23,6 +25,7 @@
 #include <vtkPolyData.h>
 #include <vtkSphereSource.h>
 #include <vtkStringArray.h>
+#include <vtkUnsignedCharArray.h>
 
 #include "rayscope/raytree_format.h"
 #include "rayscope/render.h"
@@ -85,6 +88,42 @@ void expect_vec(const double* got, const json& want, const std::string& what) {
 }
 
 }  // namespace
+
+// Every cell carries its kind's color (KindColor, bytes), the one palette
+// GetKindColor gives the viewer and the examples: four different colors, and
+// black for a value that is no kind.
+TEST(VtkRayTree, EachRayCarriesItsKindsColor) {
+  TestScene t;
+  vtkNew<vtkRayScopeRayTreeSource> src;
+  src->SetSceneSource(t.alg);
+  for (int j = 2; j < 48; j += 5)
+    for (int i = 3; i < 64; i += 5) src->AddPixel(i, j);
+  src->Update();
+  vtkPolyData* pd = src->GetOutput();
+  auto* colors = vtkUnsignedCharArray::SafeDownCast(pd->GetCellData()->GetArray("KindColor"));
+  ASSERT_NE(colors, nullptr);
+  ASSERT_EQ(colors->GetNumberOfComponents(), 3);
+  std::set<int> kinds;
+  for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c) {
+    const int kind = int(arr(pd, "Kind", c));
+    kinds.insert(kind);
+    double rgb[3];
+    vtkRayScopeRayTreeSource::GetKindColor(kind, rgb);
+    for (int k = 0; k < 3; ++k)
+      ASSERT_EQ(colors->GetTypedComponent(c, k), std::lround(255.0 * rgb[k])) << c;
+  }
+  EXPECT_EQ(kinds.size(), 4u);  // the scene has a glass and a mirror
+  std::set<std::array<double, 3>> palette;
+  for (int kind = 0; kind < 4; ++kind) {
+    std::array<double, 3> rgb;
+    vtkRayScopeRayTreeSource::GetKindColor(kind, rgb.data());
+    palette.insert(rgb);
+  }
+  EXPECT_EQ(palette.size(), 4u);
+  double none[3] = {1, 1, 1};
+  vtkRayScopeRayTreeSource::GetKindColor(4, none);
+  EXPECT_EQ(none[0] + none[1] + none[2], 0.0);
+}
 
 TEST(VtkRayTree, MatchesRecordPixelJson) {
   TestScene t;

@@ -4,8 +4,8 @@
 // (GetHelpText(): the window's header, `rayscope view --help`) is made from
 // it, so the two name the same keys.
 #include "rayscope/accel/accel_view.h"
-#include "vtkRayScopeViewerInternals.h"
 #include "vtkBoundingBox.h"
+#include "vtkRayScopeViewerInternals.h"
 #include "vtkUnstructuredGrid.h"
 
 using namespace rayscope_vtkmodule::viewer;
@@ -208,7 +208,9 @@ int vtkRayScopeViewer::Internals::KeyPress::Kind() {
   self->ShownKind = self->ShownKind >= 3 ? -1 : self->ShownKind + 1;
   const std::string m = self->ShownKind < 0
                             ? std::string("every ray kind shown")
-                            : std::string("only ") + kKindNames[self->ShownKind] + " rays shown";
+                            : std::string("only ") +
+                                  rayscope::to_string(rayscope::RayKind(self->ShownKind)) +
+                                  " rays shown";
   return picked ? refresh(m) : say(m);
 }
 

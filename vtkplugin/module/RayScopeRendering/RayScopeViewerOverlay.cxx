@@ -51,7 +51,10 @@ void vtkRayScopeViewer::Internals::BuildOverlay() {
   this->Skipped->SetLowerThreshold(1);
   vtkNew<vtkDataSetMapper> traced_mapper;
   traced_mapper->SetInputConnection(this->Traced->GetOutputPort());
-  traced_mapper->SetLookupTable(make_table(4, kKindColors));
+  double kinds[rayscope::kRayKindCount][3];
+  for (int k = 0; k < rayscope::kRayKindCount; ++k)
+    vtkRayScopeRayTreeSource::GetKindColor(k, kinds[k]);
+  traced_mapper->SetLookupTable(make_table(rayscope::kRayKindCount, kinds));
   traced_mapper->SetScalarModeToUseCellFieldData();
   traced_mapper->SelectColorArray("Kind");
   traced_mapper->SetScalarRange(0, 3);

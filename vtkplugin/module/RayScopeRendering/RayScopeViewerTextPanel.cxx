@@ -206,7 +206,11 @@ void vtkRayScopeViewer::Internals::UpdateLegend() {
   auto add = [&](std::string label, const double(&c)[3]) {
     entries.push_back({std::move(label), {c[0], c[1], c[2]}});
   };
-  for (int k = 0; k < 4; ++k) add(std::string(kKindNames[k]) + " ray", kKindColors[k]);
+  for (int k = 0; k < rayscope::kRayKindCount; ++k) {
+    double c[3];
+    vtkRayScopeRayTreeSource::GetKindColor(k, c);
+    add(std::string(rayscope::to_string(rayscope::RayKind(k))) + " ray", c);
+  }
   add("skipped (not traced)", kSkippedColor);
   add("shading normal", kNormalColor);
   add("shadow ray blocked here", kOccluderColor);

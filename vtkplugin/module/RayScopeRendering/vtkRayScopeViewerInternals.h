@@ -108,11 +108,9 @@ inline constexpr double kSceneZoom =
     1.6;  // the 3D view, closer than VTK's ResetCamera (a bounding sphere)
 inline constexpr double kSceneViewAngle = 30.0;  // degrees: VTK's default, before the zoom
 
-// Colors of the overlay, one per ray kind (rayscope::RayKind order), then
-// skipped rays; and the played walk's states (vtkRayScopeAccelSource order).
-inline constexpr double kKindColors[4][3] = {
-    {1.0, 0.85, 0.1}, {0.55, 0.75, 1.0}, {0.2, 1.0, 0.45}, {1.0, 0.35, 0.9}};
-inline constexpr const char* kKindNames[4] = {"primary", "shadow", "reflection", "refraction"};
+// Colors of the overlay (the ray kinds' are vtkRayScopeRayTreeSource's):
+// skipped rays, markers, and the played walk's states (vtkRayScopeAccelSource
+// order).
 inline constexpr double kSkippedColor[3] = {0.5, 0.5, 0.5};
 inline constexpr double kNormalColor[3] = {1.0, 0.55, 0.1};
 inline constexpr double kPickColor[3] = {1.0, 0.1, 0.1};

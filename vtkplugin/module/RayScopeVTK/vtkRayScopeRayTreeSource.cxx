@@ -65,6 +65,20 @@ int vtkRayScopeRayTreeSource::GetNumberOfPixels() {
 
 namespace {
 
+/// GetKindColor's table, in rayscope::RayKind order: yellow, blue, green,
+/// magenta.
+constexpr double kKindColors[rayscope::kRayKindCount][3] = {
+    {0.95, 0.7, 0.0}, {0.3, 0.55, 1.0}, {0.1, 0.8, 0.3}, {0.9, 0.25, 0.85}};
+
+}  // namespace
+
+void vtkRayScopeRayTreeSource::GetKindColor(int kind, double rgb[3]) {
+  for (int c = 0; c < 3; ++c)
+    rgb[c] = kind >= 0 && kind < rayscope::kRayKindCount ? kKindColors[kind][c] : 0.0;
+}
+
+namespace {
+
 enum EndKind { kMiss = 0, kHit = 1, kLight = 2, kOccluder = 3, kSkipped = 4 };
 
 /// A skipped reflection or refraction ray is drawn as a stub this fraction of
@@ -231,6 +245,7 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
   auto culled = make_array<vtkIntArray>("NodesCulled", 1, ncells);
   auto is_hit_point = make_array<vtkUnsignedCharArray>("IsHitPoint", 1, ncells);
   auto skipped = make_array<vtkIntArray>("Skipped", 1, ncells);
+  auto kind_color = make_array<vtkUnsignedCharArray>("KindColor", 3, ncells);
   auto fill = [&](vtkIdType cell, vtkIdType k, bool vertex) {
     const Row& row = rows[size_t(k)];
     const rayscope::RayRecord& r = *row.ray;
@@ -243,6 +258,11 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
     sample->SetValue(cell, r.sample);
     kind->SetValue(cell, int(r.kind));
     kind_name->SetValue(cell, rayscope::to_string(r.kind));
+    double rgb[3];
+    GetKindColor(int(r.kind), rgb);
+    for (int c = 0; c < 3; ++c)
+      kind_color->SetTypedComponent(cell, c,
+                                    static_cast<unsigned char>(std::lround(255.0 * rgb[c])));
     depth->SetValue(cell, r.depth);
     hit->SetValue(cell, shadow ? r.occluded : r.hit);
     occluded->SetValue(cell, r.occluded);
@@ -277,7 +297,7 @@ int vtkRayScopeRayTreeSource::RequestData(vtkInformation*, vtkInformationVector*
   for (vtkAbstractArray* a : std::initializer_list<vtkAbstractArray*>{
            ray_id, parent,   pixel,  pixel_index, sample, kind,         kind_name,  depth,
            hit,    occluded, object, light,       tarr,   end_kind,     end_object, weight,
-           color,  nodes,    boxes,  prims,       culled, is_hit_point, skipped})
+           color,  nodes,    boxes,  prims,       culled, is_hit_point, skipped,    kind_color})
     cd->AddArray(a);
   cd->SetActiveScalars("Kind");
   auto pixel_color = make_array<vtkFloatArray>("PixelColor", 3, vtkIdType(records.size()));

@@ -47,7 +47,8 @@
  *   stopped at), "Weight" (RGB weight in the pixel),
  *   "Color" (the linear RGB it returned; for shadow rays the light arriving),
  *   "NodesVisited", "BoxesTested", "PrimitivesTested", "NodesCulled",
- *   "IsHitPoint" (1 for the vertex cells).
+ *   "IsHitPoint" (1 for the vertex cells), "KindColor" (the kind's color,
+ *   GetKindColor, as RGB bytes: shown as it is with MapScalars off).
  * Point data "Normals" holds the shading normal at hit points and
  * "GeometricNormals" the geometric normal (0 elsewhere). Field data
  * "PixelColor" holds each pixel's linear color.
@@ -87,6 +88,12 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeRayTreeSource : public vtkRayScopeSceneFilte
   vtkSetMacro(MissLength, double);
   vtkGetMacro(MissLength, double);
   ///@}
+
+  /// The color of ray kind `kind` (the "Kind" array: 0 primary, 1 shadow,
+  /// 2 reflection, 3 refraction) as RGB in [0, 1], black for another value:
+  /// the one palette of RayScope's ray trees (the "KindColor" array, the
+  /// viewer, the examples), readable on dark and light backgrounds alike.
+  static void GetKindColor(int kind, double rgb[3]);
 
  protected:
   vtkRayScopeRayTreeSource();
