@@ -689,13 +689,15 @@ Check compare_shadow(const std::vector<uint8_t>& a, const std::vector<uint8_t>& 
 // One mesh
 
 // Every byte Aggregate::memory_bytes() counts after a commit, by what holds
-// it (the same terms; test_aggregate's MemoryCountsEveryStructure checks the
-// sum), for the 8-wide walk renders use: what a plain render walks. Then, as
-// "+ ..." parts, what the tools' first question builds: the records with their
-// vertices, made again from the blocks (leaf_records.h), the binary tree and
-// its leaf order (bvh_on_demand.h), which the teaching views and range queries
-// walk, and the binary node ids of the wide slots, which statistics and
-// recording report. Call it before anything asks for those.
+// it (the same terms; test_aggregate's
+// APlainRenderHoldsWhatItWalksAndTheToolsBuildTheRestWhenAsked checks the
+// sum, part by part), for the 8-wide walk renders use: what a plain render
+// walks. Then, as "+ ..." parts, what the tools' first question builds: the
+// records with their vertices, made again from the blocks (leaf_records.h),
+// the binary tree and its leaf order (bvh_on_demand.h), which the teaching
+// views and range queries walk, and the binary node ids of the wide slots,
+// which statistics and recording report. Call it before anything asks for
+// those.
 std::vector<std::pair<std::string, size_t>> memory_parts(const Aggregate& a) {
   const size_t held = a.memory_bytes();
   std::vector<std::pair<std::string, size_t>> parts;

@@ -39,6 +39,7 @@
 #include <vtkXMLPolyDataReader.h>
 
 #include "rayscope/accel/accel_view.h"
+#include "rayscope/image.h"
 #include "rayscope/render.h"
 #include "rayscope/replay.h"
 #include "rayscope/shapes.h"
@@ -494,6 +495,48 @@ std::vector<std::string> legend_labels(vtkRayScopeViewer* viewer) {
 
 bool has_label(const std::vector<std::string>& labels, const std::string& text) {
   return std::find(labels.begin(), labels.end(), text) != labels.end();
+}
+
+// The depth mode on the default scene, whose floor reaches the horizon,
+// spans its whole scale: distances map by their logarithm (near white, far
+// dark), so the nearest hit is white, the farthest the darkest shade, the one
+// at their geometric mean midway, and over three times as many hits are
+// darker than near-white as on a linear scale, which left nearly every hit
+// within a few shades of white.
+TEST_F(Viewer, DepthModeSpreadsTheDistancesOfTheDefaultScene) {
+  Fixture f;
+  ASSERT_TRUE(f.start());
+  for (int k = 0; k < 3; ++k) f.key("m");
+  ASSERT_EQ(f.viewer->GetImageMode(), 3);
+  vtkDataArray* depth = f.viewer->GetLastImage()->GetPointData()->GetArray("Depth");
+  ASSERT_NE(depth, nullptr);
+  auto* shown =
+      vtkUnsignedCharArray::SafeDownCast(f.viewer->GetShownImage()->GetPointData()->GetScalars());
+  ASSERT_NE(shown, nullptr);
+  double lo = INFINITY, hi = 0.0;
+  for (vtkIdType i = 0; i < depth->GetNumberOfTuples(); ++i)
+    if (std::isfinite(depth->GetTuple1(i))) {
+      lo = std::min(lo, depth->GetTuple1(i));
+      hi = std::max(hi, depth->GetTuple1(i));
+    }
+  ASSERT_GT(hi, 100.0 * lo);                // decades of distance
+  int hits = 0, gray = 0, linear_gray = 0;  // darker than byte 230: log and linear scales
+  for (vtkIdType i = 0; i < depth->GetNumberOfTuples(); ++i) {
+    const double v = depth->GetTuple1(i);
+    const unsigned char b = shown->GetTypedComponent(i, 0);
+    if (!std::isfinite(v)) {
+      EXPECT_EQ(b, 0) << i;  // a miss
+      continue;
+    }
+    ++hits;
+    const float t = float(std::log(v / lo) / std::log(hi / lo));
+    EXPECT_EQ(b, rayscope::srgb_byte(1.0f - 0.85f * t)) << i;
+    gray += b < 230;  // t above about 0.25
+    linear_gray += rayscope::srgb_byte(1.0f - 0.85f * float((v - lo) / (hi - lo))) < 230;
+  }
+  EXPECT_GT(hits, 0);
+  EXPECT_GT(gray, hits / 8) << hits;
+  EXPECT_GT(gray, 3 * linear_gray) << hits;
 }
 
 TEST_F(Viewer, BvhLevelsImageModesScreenshotAndExport) {

@@ -38,6 +38,16 @@ struct Scale {
   double lo = 0.0, hi = 1.0;                    // the range shown, the image's own
   rayscope::Color (*color)(float t) = nullptr;  // t in [0, 1], linear RGB
   const char* title = "";
+  /// Whether values map to t by their logarithm (lo > 0): depth, whose range
+  /// on a scene with a floor to the horizon spans decades, so that a linear
+  /// scale would leave everything near the camera one shade.
+  bool log = false;
+
+  /// Where value v lies on the scale, in [0, 1].
+  float where(double v) const {
+    if (!(hi > lo)) return 0.0f;
+    return float(log ? std::log(v / lo) / std::log(hi / lo) : (v - lo) / (hi - lo));
+  }
 };
 
 rayscope::Color cost_color(float t) {
@@ -58,16 +68,17 @@ bool scale_of(vtkImageData* image, int mode, Scale& sc) {
   } else if (mode == kDisplayDepth) {
     sc.values = vtkFloatArray::SafeDownCast(pd->GetArray("Depth"));
     sc.color = depth_color;
-    sc.title = "distance to the first hit";
+    sc.title = "distance to the first hit (log scale)";
     sc.lo = INFINITY;
     sc.hi = -INFINITY;
+    sc.log = true;
   } else {
     return false;
   }
   if (!sc.values) return false;
   for (vtkIdType i = 0; i < sc.values->GetNumberOfTuples(); ++i) {
     const double v = sc.values->GetTuple1(i);
-    if (!std::isfinite(v)) continue;
+    if (!std::isfinite(v) || (sc.log && !(v > 0.0))) continue;
     if (mode != kDisplayCost) sc.lo = std::min(sc.lo, v);
     sc.hi = std::max(sc.hi, v);
   }
@@ -86,7 +97,13 @@ bool display_scale(vtkImageData* image, int mode, vtkLookupTable* table, std::st
     const rayscope::Color c = sc.color(float(k) / float(kSteps - 1));
     table->SetTableValue(k, to_byte(c[0]) / 255.0, to_byte(c[1]) / 255.0, to_byte(c[2]) / 255.0);
   }
-  table->SetTableRange(sc.lo, std::max(sc.hi, sc.lo + 1e-30));
+  if (sc.log && sc.lo > 0.0 && sc.hi > sc.lo) {
+    table->SetScaleToLog10();
+    table->SetTableRange(sc.lo, sc.hi);
+  } else {
+    table->SetScaleToLinear();
+    table->SetTableRange(sc.lo, std::max(sc.hi, sc.lo + 1e-30));
+  }
   title = sc.title;
   return true;
 }
@@ -132,8 +149,8 @@ std::vector<unsigned char> display_pixels(vtkImageData* image, int mode) {
       if (!scale_of(image, mode, sc)) return {};
       fill([&](vtkIdType i) {
         const double v = sc.values->GetTuple1(i);
-        if (!std::isfinite(v)) return rayscope::Color(0.0f);
-        return sc.color(float((v - sc.lo) / std::max(sc.hi - sc.lo, 1e-30)));
+        if (!std::isfinite(v) || (sc.log && !(v > 0.0))) return rayscope::Color(0.0f);
+        return sc.color(sc.where(v));
       });
       break;
     }

@@ -17,7 +17,7 @@ enum DisplayMode {
   kDisplayColor = 0,     ///< the "Color" array (sRGB)
   kDisplayCost = 1,      ///< "Cost" (BVH nodes visited) on the heat-map scale, 0 .. max
   kDisplayNormal = 2,    ///< "Normal" as (n + 1) / 2; misses black
-  kDisplayDepth = 3,     ///< "Depth", near white to far dark; misses black
+  kDisplayDepth = 3,     ///< "Depth", near white to far dark on a log scale; misses black
   kDisplayObjectId = 4,  ///< "ObjectId", one color per object; misses black
   kDisplayModes = 5
 };

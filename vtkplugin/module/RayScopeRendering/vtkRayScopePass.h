@@ -65,7 +65,7 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopePass : public vtkRenderPass {
     COLOR = 0,      ///< the ray-traced colors (default)
     COST = 1,       ///< structure nodes visited per pixel as a heat map
     NORMALS = 2,    ///< the first hit's shading normal, (n + 1) / 2; misses black
-    DEPTH = 3,      ///< the first hit's distance, near white to far dark; misses black
+    DEPTH = 3,      ///< the first hit's distance, near white to far dark (log scale); misses black
     OBJECT_IDS = 4  ///< one color per object; misses black
   };
   /// Setting COST switches the image algorithm's ComputeCost on (the heat map
