@@ -1,11 +1,12 @@
 #include "rayscope/aggregate.h"
 
-#include <atomic>
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include "rayscope/huge_pages.h"
 
@@ -39,17 +40,20 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
   reserve_huge(records, bounds.size());
   records.resize(bounds.size());
   assign_huge(ids_, bounds.size());
-  std::atomic<size_t> others{0};
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, records.size(), kParallelGrain),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      size_t n = 0;
-                      for (size_t i = r.begin(); i < r.end(); ++i) {
-                        records[i] = record_of(bvh.prim_indices[i]);
-                        ids_[i] = records[i].id;
-                        n += ids_[i] >= num_triangles;
-                      }
-                      others += n;
-                    });
+  // Fills records and ids, and returns how many ids the other primitives
+  // span (increasing with i from num_triangles, with gaps where the scene
+  // skipped a primitive).
+  const uint32_t others_span = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, records.size(), kParallelGrain), 0u,
+      [&](const tbb::blocked_range<size_t>& r, uint32_t span) {
+        for (size_t i = r.begin(); i < r.end(); ++i) {
+          records[i] = record_of(bvh.prim_indices[i]);
+          ids_[i] = records[i].id;
+          if (ids_[i] >= num_triangles) span = std::max(span, ids_[i] + 1 - num_triangles);
+        }
+        return span;
+      },
+      [](uint32_t a, uint32_t b) { return std::max(a, b); });
   use_walk_ = !accel_kind_name(config.kind).brute_force &&
               (!config.allow_brute_force || records.size() > kBruteForceMax);
   records_ = std::make_shared<const LeafRecords>(std::move(records));
@@ -59,12 +63,16 @@ void Aggregate::build(std::span<const Bounds3> bounds, std::span<const Vec3> cen
   if (blocks_hold_records()) {
     // The blocks hold the triangles: the records give way to their ids and
     // the other primitives' records, and are made again when asked for.
-    if (others > 0)
-      for (const PrimRecord& r : records_->get())
-        if (r.id >= num_triangles) {
-          if (others_.size() <= r.id - num_triangles) others_.resize(r.id - num_triangles + 1);
-          others_[r.id - num_triangles] = r;
-        }
+    others_.resize(others_span);
+    if (others_span > 0) {
+      const std::vector<PrimRecord>& all = records_->get();
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, all.size(), kParallelGrain),
+                        [&](const tbb::blocked_range<size_t>& r) {
+                          for (size_t i = r.begin(); i < r.end(); ++i)
+                            if (all[i].id >= num_triangles)
+                              others_[all[i].id - num_triangles] = all[i];
+                        });
+    }
     walk_records_ = nullptr;
     records_ = std::make_shared<const LeafRecords>(make_records());
     hierarchy_ = std::make_shared<const BvhOnDemand>(*hierarchy_, records_);

@@ -220,6 +220,26 @@ class Aggregate {
   template <class Cost>
   unsigned occluded_packet(std::span<const Ray> rays, Cost& cost) const;
 
+  /// The records test_prim() tests in one query, fetched once per query by
+  /// tested_records(): record i (global index `id`) is walk[i], or, when the
+  /// walk decides every triangle itself (behind the BVH, bvh_walk.h) and walk
+  /// is null, the other primitive's record others[id - num_triangles].
+  struct TestedRecords {
+    const PrimRecord* walk;
+    const PrimRecord* others;
+    uint32_t num_triangles;
+    [[gnu::always_inline]] const PrimRecord& operator()(uint32_t i, uint32_t id) const {
+      return walk ? walk[i] : others[id - num_triangles];
+    }
+  };
+  /// With an active observer, which counts every record it tests, the
+  /// records (made, if need be); else the records the walk tests.
+  template <class Observer>
+  TestedRecords tested_records() const {
+    if constexpr (Observer::kActive) return {records().data(), nullptr, num_triangles_};
+    return {walk_records_, others_.data(), num_triangles_};
+  }
+
   /// The closest hit so far of one ray: its record, global primitive index
   /// and triangle hit (record ~0u: nothing yet).
   struct ClosestSoFar {
@@ -231,7 +251,8 @@ class Aggregate {
   /// the closest hit so far or wins the tie at the same t.
   template <class Observer>
   bool offer_closest(uint32_t i, const Ray& ray, const TrianglePrecomp& pre, float& t,
-                     const TriangleHit* decided, ClosestSoFar& c, Observer& obs) const;
+                     const TriangleHit* decided, const TestedRecords& recs, ClosestSoFar& c,
+                     Observer& obs) const;
   /// intersect()'s answer from the walk's closest hit `c` at `tmax`: the
   /// planes, which beat it when closer, then the hit.
   template <class Observer>
@@ -264,16 +285,6 @@ class Aggregate {
       return false;
     th = TriangleHit{ts, 0.0f, 0.0f, 0.0f};
     return true;
-  }
-
-  /// The record test_prim() tests as record i (id `id`) of a walk: with an
-  /// active observer the records (made, if need be); else the records the
-  /// walk tests, or, behind the BVH, whose walk decides every triangle itself
-  /// (bvh_walk.h), the other primitive's.
-  template <class Observer>
-  [[gnu::always_inline]] const PrimRecord& tested_record(uint32_t i, uint32_t id) const {
-    if constexpr (Observer::kActive) return records()[i];
-    return walk_records_ ? walk_records_[i] : others_[id - num_triangles_];
   }
 
   /// Tests the primitives the ray can hit with `prim(record, tmax, decided)`,
@@ -351,6 +362,7 @@ template <class Observer>
 [[gnu::always_inline]] inline bool Aggregate::offer_closest(uint32_t i, const Ray& ray,
                                                             const TrianglePrecomp& pre, float& t,
                                                             const TriangleHit* decided,
+                                                            const TestedRecords& recs,
                                                             ClosestSoFar& c, Observer& obs) const {
   const uint32_t id = ids_[i];
   if constexpr (Observer::kActive) obs.on_prim_test(id);
@@ -358,7 +370,7 @@ template <class Observer>
   // (spheres are tested with the closed bound once something was hit).
   TriangleHit th;
   if ((decided ? (th = *decided, true)
-               : test_prim(tested_record<Observer>(i, id), ray, pre, t, c.record != ~0u, th)) &&
+               : test_prim(recs(i, id), ray, pre, t, c.record != ~0u, th)) &&
       (th.t < t || c.record == ~0u || wins_tie(id, c.id))) {
     if constexpr (Observer::kActive) obs.on_prim_hit(id);
     t = th.t;
@@ -404,9 +416,10 @@ bool Aggregate::intersect(const Ray& ray, PrimHit& hit, Observer& obs) const {
   float tmax = ray.tmax;
   ClosestSoFar c;
   const TrianglePrecomp pre(ray);
+  const TestedRecords recs = tested_records<Observer>();
   auto prim = [&](uint32_t i, float& t, const TriangleHit* decided = nullptr)
       __attribute__((always_inline)) {
-    return offer_closest(i, ray, pre, t, decided, c, obs);
+    return offer_closest(i, ray, pre, t, decided, recs, c, obs);
   };
   walk_prims<false>(ray, pre, tmax, prim, obs);
   return closest_with_planes(ray, tmax, c, hit, obs);
@@ -429,13 +442,13 @@ bool Aggregate::occluded(const Ray& ray, Observer& obs, PrimHit* which) const {
   float tmax = ray.tmax;
   const TrianglePrecomp pre(ray);
   uint32_t hit_record = ~0u;
+  const TestedRecords recs = tested_records<Observer>();
   auto prim = [&](uint32_t i, float& t, const TriangleHit* decided = nullptr)
       __attribute__((always_inline)) {
     const uint32_t id = ids_[i];
     if constexpr (Observer::kActive) obs.on_prim_test(id);
     TriangleHit th;
-    if (!decided && !test_prim(tested_record<Observer>(i, id), ray, pre, t, false, th))
-      return false;
+    if (!decided && !test_prim(recs(i, id), ray, pre, t, false, th)) return false;
     if constexpr (Observer::kActive) obs.on_prim_hit(id);
     hit_record = i;
     return true;

@@ -73,9 +73,10 @@ unsigned Aggregate::intersect_packet(std::span<const Ray> rays, PrimHit* hits, C
   TrianglePrecomp pre[kPacketRays];
   ClosestSoFar closest[kPacketRays];
   for (size_t k = 0; k < rays.size(); ++k) pre[k] = TrianglePrecomp(rays[k]);
+  const TestedRecords recs = tested_records<NullTraversalObserver>();
   auto prim = [&](unsigned lane, uint32_t i, float& t, const TriangleHit* decided)
       __attribute__((always_inline)) {
-    return offer_closest(i, rays[lane], pre[lane], t, decided, closest[lane], obs);
+    return offer_closest(i, rays[lane], pre[lane], t, decided, recs, closest[lane], obs);
   };
   w->traverse_packet<false>(packet, pre, prim, cost);
   for (size_t k = 0; k < rays.size(); ++k)
@@ -98,11 +99,11 @@ unsigned Aggregate::occluded_packet(std::span<const Ray> rays, Cost& cost) const
     pre[k] = TrianglePrecomp(rays[k]);
   }
   packet.valid &= ~found;
+  const TestedRecords recs = tested_records<NullTraversalObserver>();
   auto prim = [&](unsigned lane, uint32_t i, float& t, const TriangleHit* decided)
       __attribute__((always_inline)) {
     TriangleHit th;
-    return decided != nullptr || test_prim(tested_record<NullTraversalObserver>(i, ids_[i]),
-                                           rays[lane], pre[lane], t, false, th);
+    return decided != nullptr || test_prim(recs(i, ids_[i]), rays[lane], pre[lane], t, false, th);
   };
   return found | w->traverse_packet<true>(packet, pre, prim, cost);
 }

@@ -34,6 +34,11 @@ BlockLayout lay_out_blocks(const Bvh& bvh) {
   constexpr uint32_t kLanes = TriangleBlock::kLanes;
   BlockLayout l;
   assign_huge(l.leaf_lane, bvh.prim_indices.size(), ~0u);
+  // At most one block per leaf (a leaf starting a block) plus one per full
+  // four lanes, and a binary tree of n nodes has (n + 1) / 2 leaves.
+  const size_t most_blocks = (bvh.nodes.size() + 1) / 2 + bvh.prim_indices.size() / kLanes;
+  l.block_first.reserve(most_blocks);
+  l.block_lanes.reserve(most_blocks);
   uint32_t lane = 0, next_record = 0;
   for (const BvhNode& n : bvh.nodes) {
     if (!n.is_leaf() || n.index >= l.leaf_lane.size()) continue;
