@@ -733,6 +733,8 @@ struct BuildRow {
   size_t ours_bytes = 0;  ///< Scene::accel().memory_bytes(): nodes, leaf order, records.
   /// Where ours_bytes go, part by part (memory_parts()); they sum to it.
   std::vector<std::pair<std::string, size_t>> ours_parts;
+  /// The 8-wide BVH's nodes and triangle blocks (0 for another structure).
+  size_t wide_nodes = 0, blocks = 0;
   int64_t embree_bytes = 0;  ///< What Embree's memory monitor counted for the scene.
 };
 
@@ -831,6 +833,11 @@ void bench_mesh(const std::string& name, const TriangleMesh& mesh, const Options
   scene.commit(opt.accel);
   build.ours_bytes = scene.accel().memory_bytes();
   build.ours_parts = memory_parts(scene.accel());
+  if (scene.accel().kind() == AccelKind::Bvh) {
+    const BvhWalk& w = scene.accel().structure_as<BvhWalk>();
+    build.wide_nodes = w.walk().nodes.size();
+    build.blocks = w.triangle_blocks().size();
+  }
   build.quality = scene.bvh().quality();
 
   RTCDevice dev = new_device("");  // default: no thread cap
@@ -968,6 +975,11 @@ void print_tables(const Results& r, const Options& opt) {
       std::printf(" %18.1f", double(bytes) / double(b.tris));
     std::printf("\n");
   }
+  for (const BuildRow& b : r.builds)
+    if (b.wide_nodes > 0)
+      std::printf("%-11s %zu wide nodes (%.1f triangles each), %zu triangle blocks (%.2f each)\n",
+                  b.mesh.c_str(), b.wide_nodes, double(b.tris) / double(b.wide_nodes), b.blocks,
+                  double(b.tris) / double(b.blocks));
   std::printf(
       "(commit = Scene::commit(): validation, bounds, Bvh::build, WideBvh collapse, leaf "
       "blocks;\n bvh = Bvh::build() alone; ours limited to N threads by tbb::global_control;\n "
