@@ -10,6 +10,7 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkRenderWindow.h>
+#include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkWindowToImageFilter.h>
 
@@ -50,9 +51,10 @@ rayscope::Rgb8Image grab(vtkRayScopeViewer* viewer) {
   return f;
 }
 
-int run(const ViewRequest& r) {
-  const rayscope::RenderSettings& rs = r.loaded->settings;
-  vtkNew<vtkRayScopeImageAlgorithm> scene;
+// The viewer's scene source for a loaded scene and its settings.
+vtkSmartPointer<vtkRayScopeImageAlgorithm> scene_source(const rayscope::LoadedScene& loaded) {
+  const rayscope::RenderSettings& rs = loaded.settings;
+  auto scene = vtkSmartPointer<vtkRayScopeImageAlgorithm>::New();
   scene->SetSize(rs.width, rs.height);
   scene->SetSamples(rs.samples);
   scene->SetMaxDepth(rs.max_depth);
@@ -62,16 +64,37 @@ int run(const ViewRequest& r) {
   scene->SetTextureFilter(rs.texture_filter);
   scene->SetThreads(rs.threads);
   scene->SetSeed(int(rs.seed));
-  scene->SetCoreScene(r.loaded->scene);
+  scene->SetCoreScene(loaded.scene);
+  return scene;
+}
+
+// A pixel counted from the top (as the command takes it) counted from the
+// bottom, as the viewer counts it.
+int viewer_row(const rayscope::LoadedScene& loaded, int y) {
+  return loaded.settings.height - 1 - y;
+}
+
+int run(const ViewRequest& r) {
   vtkNew<vtkRayScopeViewer> viewer;
   if (r.window[0] > 0) viewer->SetWindowSize(r.window[0], r.window[1]);
   viewer->SetFontScale(r.font_scale);
   if (const std::string e = viewer->SettingsError(); !e.empty()) throw std::invalid_argument(e);
-  viewer->SetSceneSource(scene);
-  if (!viewer->Initialize()) throw std::runtime_error(viewer->GetMessage());
-  if (r.pick) {
-    viewer->WaitForRender();
-    viewer->PickPixel(r.pixel[0], rs.height - 1 - r.pixel[1]);  // the viewer counts from the bottom
+  if (!r.chapters.empty()) {
+    for (const rayscope::cli::ViewChapter& c : r.chapters) {
+      std::string keys;
+      for (const std::string& k : c.keys) keys += (keys.empty() ? "" : ",") + k;
+      viewer->AddChapter(scene_source(c.loaded), c.title.c_str(), c.caption.c_str(),
+                         c.pick ? c.pixel[0] : -1, c.pick ? viewer_row(c.loaded, c.pixel[1]) : -1,
+                         keys.c_str());
+    }
+    if (!viewer->SetChapter(r.chapter)) throw std::runtime_error(viewer->GetMessage());
+  } else {
+    viewer->SetSceneSource(scene_source(*r.loaded));
+    if (!viewer->Initialize()) throw std::runtime_error(viewer->GetMessage());
+    if (r.pick) {
+      viewer->WaitForRender();
+      viewer->PickPixel(r.pixel[0], viewer_row(*r.loaded, r.pixel[1]));
+    }
   }
   std::vector<rayscope::Rgb8Image> frames;
   const bool record = !r.record.empty();

@@ -12,9 +12,22 @@
 
 namespace rayscope::cli {
 
+/// A chapter of a lecture (view --lecture): its scene loaded and its
+/// options checked as a `rayscope view` command's.
+struct ViewChapter {
+  std::string title, caption;
+  LoadedScene loaded;
+  bool pick = false;
+  int pixel[2] = {-1, -1};  ///< Picked on entering it, from the top-left (when pick).
+  std::vector<std::string> keys;
+};
+
 /// A checked `rayscope view` request: the scene is loaded and every option
 /// that can be checked without a window has been.
 struct ViewRequest {
+  /// A lecture's chapters (then `loaded` is null), and the one shown first.
+  std::vector<ViewChapter> chapters;
+  int chapter = 0;
   LoadedScene* loaded = nullptr;
   bool pick = false;
   int pixel[2] = {-1, -1};  ///< Picked at the start, from the top-left (when pick).

@@ -807,6 +807,91 @@ TEST_F(Viewer, FrameKeyFillsThe3DViewWithTheSelectedRay) {
   }
 }
 
+// A lecture's chapters: each opens its own scene (framed in 3D, rendered at
+// its own size), with its pixel picked and its keys pressed, and the view
+// settings of the chapter before left behind; PageDown / PageUp step through
+// them and stop at either end.
+TEST_F(Viewer, ChaptersOpenTheirSceneWithTheirPixelAndKeys) {
+  Fixture f;  // the default scene, kW x kH
+  // A second chapter: one sphere far from the default scene, 80x60.
+  rayscope::Scene ball;
+  ball.camera.eye = rayscope::Vec3(100, 0, 5);
+  ball.camera.look_at = rayscope::Vec3(100, 0, 0);
+  ball.materials.push_back(rayscope::Material{});
+  rayscope::Sphere sphere;
+  sphere.center = rayscope::Vec3(100, 0, 0);
+  ball.spheres.push_back(sphere);
+  rayscope::Light light;
+  light.position = rayscope::Vec3(100, 3, 5);
+  ball.lights.push_back(light);
+  ball.commit();
+  vtkNew<vtkRayScopeImageAlgorithm> ball_source;
+  ball_source->SetSize(80, 60);
+  ball_source->SetSamples(1);
+  ball_source->SetThreads(2);
+  ball_source->SetCoreScene(ball);
+  f.viewer->AddChapter(f.alg, "Glass", "look at the glass", kGlassI, kGlassJ, "");
+  f.viewer->AddChapter(ball_source, "Ball", "look at the ball", 40, 30, "b,m");
+  f.viewer->AddChapter(ball_source, "Broken", "", -1, -1, "b,zz");
+  ASSERT_EQ(f.viewer->GetNumberOfChapters(), 3);
+
+  auto image_width = [&] { return f.viewer->GetShownImage()->GetDimensions()[0]; };
+  auto focus_x = [&] {
+    return f.viewer->GetSceneRenderer()->GetActiveCamera()->GetFocalPoint()[0];
+  };
+  ASSERT_EQ(f.viewer->SetChapter(0), 1) << f.viewer->GetMessage();
+  EXPECT_EQ(f.viewer->GetChapter(), 0);
+  EXPECT_EQ(std::string(f.viewer->GetCaption()), "1/3 Glass: look at the glass");
+  EXPECT_EQ(f.viewer->GetPickedPixel()[0], kGlassI);
+  EXPECT_EQ(f.viewer->GetPickedPixel()[1], kGlassJ);
+  EXPECT_EQ(image_width(), kW);
+  EXPECT_LT(focus_x(), 50.0);
+  f.key("Right");  // a setting of this chapter's view, left behind below
+
+  f.key("Next");
+  EXPECT_EQ(f.viewer->GetChapter(), 1);
+  EXPECT_EQ(f.viewer->GetSceneSource(), ball_source.Get());
+  EXPECT_EQ(std::string(f.viewer->GetCaption()), "2/3 Ball: look at the ball");
+  EXPECT_EQ(f.viewer->GetPickedPixel()[0], 40);
+  EXPECT_EQ(f.viewer->GetPickedPixel()[1], 30);
+  EXPECT_EQ(f.viewer->GetSelectedRay(), -1);
+  EXPECT_TRUE(f.viewer->GetShowBVH());
+  EXPECT_EQ(f.viewer->GetImageMode(), int(vtkRayScopeViewer::COST));
+  EXPECT_EQ(image_width(), 80);
+  EXPECT_GT(focus_x(), 50.0);  // the 3D view framed on the ball
+  // The picked pixel's tree is the ball scene's: its primary ray hits the ball.
+  EXPECT_NE(std::string(f.viewer->GetInspectText()).find("sphere"), std::string::npos)
+      << f.viewer->GetInspectText();
+
+  f.key("Next");  // the broken chapter: its bad key fails with a message
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("'zz' is not a key"), std::string::npos)
+      << f.viewer->GetMessage();
+  EXPECT_EQ(f.viewer->HandleKey("Next"), 1);
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("chapter 3 is the last"), std::string::npos)
+      << f.viewer->GetMessage();
+  f.key("Prior");
+  f.key("Prior");
+  EXPECT_EQ(f.viewer->GetChapter(), 0);
+  EXPECT_FALSE(f.viewer->GetShowBVH());
+  EXPECT_EQ(f.viewer->GetImageMode(), int(vtkRayScopeViewer::COLOR));
+  EXPECT_EQ(f.viewer->GetPickedPixel()[0], kGlassI);
+  EXPECT_EQ(image_width(), kW);
+  EXPECT_LT(focus_x(), 50.0);
+  f.key("Prior");
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("the first chapter"), std::string::npos);
+  EXPECT_EQ(f.viewer->SetChapter(3), 0);
+  EXPECT_EQ(f.viewer->GetChapter(), 0);
+}
+
+// Without chapters, PageDown says how to open a lecture.
+TEST_F(Viewer, ChapterKeysWithoutALectureSaySo) {
+  Fixture f;
+  ASSERT_TRUE(f.start());
+  EXPECT_EQ(f.viewer->HandleKey("Next"), 1);
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("--lecture"), std::string::npos);
+  EXPECT_EQ(std::string(f.viewer->GetCaption()), "");
+}
+
 // A scene source without a scene: Initialize fails with a message, no crash.
 TEST_F(Viewer, NoSceneFailsCleanly) {
   vtkNew<vtkRayScopeImageAlgorithm> empty;

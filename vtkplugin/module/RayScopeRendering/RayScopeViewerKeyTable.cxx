@@ -34,6 +34,7 @@ struct vtkRayScopeViewer::Internals::KeyPress {
   int Projection();
   int Camera();
   int Frame();
+  int Chapter();
   int Screenshot();
   int Export();
 
@@ -85,6 +86,11 @@ const std::vector<vtkRayScopeViewer::Internals::Key>& vtkRayScopeViewer::Interna
       {"p", {"p"}, "projection", true, &KeyPress::Projection},
       {"r", {"r"}, "3D camera", true, &KeyPress::Camera},
       {"f/F", {"f", "F"}, "frame ray/scene", true, &KeyPress::Frame},
+      {"PgDn/PgUp",
+       {"Next", "Prior", "Page_Down", "Page_Up"},
+       "chapter",
+       false,
+       &KeyPress::Chapter},
       {"s", {"s"}, "screenshot", false, &KeyPress::Screenshot},
       {"x", {"x"}, ".vtp", true, &KeyPress::Export},
       {"q", {"q"}, "quit", false, nullptr},  // the interactor style: VTK's trackball quits
@@ -120,6 +126,19 @@ int vtkRayScopeViewer::HandleKey(const char* keysym) {
 }
 
 // --- The actions -------------------------------------------------------------------
+
+// The next / previous chapter of a lecture.
+int vtkRayScopeViewer::Internals::KeyPress::Chapter() {
+  const int n = int(in.Chapters.size());
+  const bool next = key == "Next" || key == "Page_Down";
+  if (n == 0)
+    return say("PgDn/PgUp: no lecture (rayscope view --lecture data/lecture/course.json)");
+  if (next && self->Chapter >= n - 1)
+    return say("PgDn: chapter " + std::to_string(n) + " is the last");
+  if (!next && self->Chapter <= 0) return say("PgUp: this is the first chapter");
+  self->SetChapter(self->Chapter + (next ? 1 : -1));
+  return 1;
+}
 
 // One recursion depth more / less of the picked pixel's tree.
 int vtkRayScopeViewer::Internals::KeyPress::Depth() {

@@ -265,3 +265,16 @@ void vtkRayScopeViewer::Internals::UpdateBVH() {
   }
   this->Changed |= kSceneView;
 }
+
+void vtkRayScopeViewer::Internals::ClearOverlay() {
+  this->HasRecord = false;
+  this->InspectText.clear();
+  const std::initializer_list<vtkProp*> shown = {this->TracedActor.Get(), this->SkippedActor.Get(),
+                                                 this->NormalActor.Get(), this->SelectedActor.Get(),
+                                                 this->LabelActor.Get(),  this->OccluderActor.Get(),
+                                                 this->MarkerActor.Get()};
+  for (vtkProp* a : shown) a->VisibilityOff();
+  this->BVHMapper->SetInputData(this->NoBoxes);
+  this->ShowPanelLines({kPickPrompt});
+  this->Changed |= kAllViews;
+}

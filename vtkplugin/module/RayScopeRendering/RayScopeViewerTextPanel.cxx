@@ -62,7 +62,20 @@ void vtkRayScopeViewer::Internals::BuildTextPanel() {
     this->PanelLines.push_back(line);
   }
   this->PanelLineText.assign(size_t(kPanelLines), std::string());
-  this->ShowPanelLines({"click a pixel of the image (left) or a surface (right)"});
+  this->ShowPanelLines({kPickPrompt});
+  // The caption of a lecture's chapter, on top of the 3D view (ShowCaption()),
+  // as large as the help line and on a dark band, to read from the back of
+  // a lecture hall.
+  vtkTextProperty* caption = this->CaptionActor->GetTextProperty();
+  caption->SetFontSize(this->FontSize(16));
+  caption->SetColor(1.0, 1.0, 1.0);
+  caption->SetBackgroundColor(0.0, 0.0, 0.0);
+  caption->SetBackgroundOpacity(0.75);
+  caption->SetVerticalJustificationToTop();
+  this->CaptionActor->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+  this->CaptionActor->GetPositionCoordinate()->SetValue(0.01, 0.985);
+  this->CaptionActor->VisibilityOff();
+  this->SceneRen->AddActor2D(this->CaptionActor);
   // The legend, in the 3D view's bottom left corner.
   this->Legend->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
   this->Legend->GetPositionCoordinate()->SetValue(0.0, 0.0);
@@ -74,6 +87,30 @@ void vtkRayScopeViewer::Internals::BuildTextPanel() {
   this->Legend->SetBackgroundColor(0.0, 0.0, 0.0);
   this->SceneRen->AddActor2D(this->Legend);
   this->UpdateLegend();
+}
+
+std::string vtkRayScopeViewer::Internals::WrapText(vtkTextProperty* prop, const std::string& text,
+                                                   const std::string& sep, int room) const {
+  vtkTextRenderer* renderer = vtkTextRenderer::GetInstance();
+  const int dpi = this->Window->GetDPI();
+  auto too_wide = [&](const std::string& s) {
+    int box[4] = {0, 0, 0, 0};
+    return renderer && renderer->GetBoundingBox(prop, vtkStdString(s), box, dpi) &&
+           box[1] - box[0] > room;
+  };
+  std::string wrapped, line;
+  for (size_t at = 0; at <= text.size();) {
+    const size_t end = std::min(text.find(sep, at), text.size());
+    const std::string item = text.substr(at, end - at);
+    if (!line.empty() && too_wide(line + sep + item)) {
+      wrapped += (wrapped.empty() ? "" : "\n") + line;
+      line = item;
+    } else {
+      line += (line.empty() ? "" : sep) + item;
+    }
+    at = end + sep.size();
+  }
+  return wrapped + (wrapped.empty() ? "" : "\n") + line;
 }
 
 void vtkRayScopeViewer::Internals::LayoutHeader() {
@@ -90,23 +127,10 @@ void vtkRayScopeViewer::Internals::LayoutHeader() {
     h = box[3] - box[2];
     return true;
   };
-  const std::string& help = HelpLine();
-  const std::string bar = " | ";
-  const int room = width - int(0.01 * width) - 4;  // the left margin, and as much on the right
-  std::string wrapped, line;
-  for (size_t at = 0; at <= help.size();) {
-    const size_t end = std::min(help.find(bar, at), help.size());
-    const std::string item = help.substr(at, end - at);
-    int w = 0, h = 0;
-    if (!line.empty() && extent(line + bar + item, w, h) && w > room) {
-      wrapped += (wrapped.empty() ? "" : "\n") + line;
-      line = item;
-    } else {
-      line += (line.empty() ? "" : bar) + item;
-    }
-    at = end + bar.size();
-  }
-  wrapped += (wrapped.empty() ? "" : "\n") + line;
+  // The help line, broken at its " | " within the left margin and as much on
+  // the right.
+  const std::string wrapped =
+      this->WrapText(prop, HelpLine(), " | ", width - int(0.01 * width) - 4);
   this->HelpActor->SetInput(wrapped.c_str());
   // FreeType's spacing of the lines of one text, as for the panel.
   int w = 0, one = 14, two = 28, help_height = 14;
@@ -124,6 +148,17 @@ void vtkRayScopeViewer::Internals::LayoutHeader() {
   this->HeaderRen->SetViewport(0.0, bottom, 1.0, 1.0);
   this->ImageRen->SetViewport(0.0, kPanelTop, 0.5, bottom);
   this->SceneRen->SetViewport(0.5, kPanelTop, 1.0, bottom);
+}
+
+void vtkRayScopeViewer::Internals::ShowCaption() {
+  this->CaptionActor->SetVisibility(!this->Caption.empty());
+  if (!this->Caption.empty()) {
+    // The 3D view's width, less the caption's margin on either side.
+    const int room = int(this->Self->GetWindowSize()[0] * 0.5 * 0.96);
+    this->CaptionActor->SetInput(
+        this->WrapText(this->CaptionActor->GetTextProperty(), this->Caption, " ", room).c_str());
+  }
+  this->Changed |= kSceneView;
 }
 
 // The message line: what the last key did, the end of a key's range, render

@@ -22,9 +22,20 @@ vtkRayScopeViewer::vtkRayScopeViewer()
       OutputPrefix(nullptr),
       WindowSize{1400, 820},
       FontScale(1.0),
+      Chapter(-1),
       Internal(new Internals(this)) {
   this->SetOutputPrefix("rayscope_view");
   this->Internal->Algorithm = vtkSmartPointer<vtkRayScopeImageAlgorithm>::New();
+  Internals& in = *this->Internal;
+  in.OnError->SetClientData(&in);
+  in.OnError->SetCallback([](vtkObject*, unsigned long, void* client, void* call) {
+    // VTK's error text is "ERROR: In FILE, line N\nCLASS (ADDRESS): MESSAGE\n\n":
+    // the message is what a user needs.
+    std::string text = call ? static_cast<const char*>(call) : "";
+    if (const size_t at = text.find("): "); at != std::string::npos) text.erase(0, at + 3);
+    while (!text.empty() && text.back() == '\n') text.pop_back();
+    static_cast<Internals*>(client)->LastError = text;
+  });
 }
 
 vtkRayScopeViewer::~vtkRayScopeViewer() {
@@ -128,19 +139,9 @@ int vtkRayScopeViewer::Initialize() {
     vtkErrorMacro(<< e);
     return 0;
   }
-  vtkNew<vtkCallbackCommand> on_error;
-  on_error->SetClientData(&in);
-  on_error->SetCallback([](vtkObject*, unsigned long, void* client, void* call) {
-    // VTK's error text is "ERROR: In FILE, line N\nCLASS (ADDRESS): MESSAGE\n\n":
-    // the message is what a user needs.
-    std::string text = call ? static_cast<const char*>(call) : "";
-    if (const size_t at = text.find("): "); at != std::string::npos) text.erase(0, at + 3);
-    while (!text.empty() && text.back() == '\n') text.pop_back();
-    static_cast<Internals*>(client)->LastError = text;
-  });
-  in.Algorithm->AddObserver(vtkCommand::ErrorEvent, on_error);
-  in.Tree->AddObserver(vtkCommand::ErrorEvent, on_error);
-  in.BVH->AddObserver(vtkCommand::ErrorEvent, on_error);
+  in.WatchErrors(in.Algorithm);
+  in.WatchErrors(in.Tree);
+  in.WatchErrors(in.BVH);
   if (!in.Algorithm->UpdateScene()) {
     in.Message = "cannot render the scene: " + in.LastError;
     vtkErrorMacro(<< in.Message);
@@ -168,6 +169,86 @@ int vtkRayScopeViewer::Initialize() {
 void vtkRayScopeViewer::Start() {
   if (!this->Initialize()) return;
   this->Internal->Interactor->Start();
+}
+
+// --- A lecture's chapters -------------------------------------------------------------
+
+void vtkRayScopeViewer::AddChapter(vtkRayScopeImageAlgorithm* source, const char* title,
+                                   const char* caption, int pickI, int pickJ, const char* keys) {
+  if (!source) {
+    vtkErrorMacro(<< "AddChapter: no scene source");
+    return;
+  }
+  Internals::ChapterEntry c{source, title ? title : "", caption ? caption : "", {pickI, pickJ}, {}};
+  std::istringstream list(keys ? keys : "");
+  for (std::string key; std::getline(list, key, ',');)
+    if (!key.empty()) c.Keys.push_back(key);
+  this->Internal->Chapters.push_back(std::move(c));
+  this->Modified();
+}
+
+int vtkRayScopeViewer::GetNumberOfChapters() {
+  return int(this->Internal->Chapters.size());
+}
+
+const char* vtkRayScopeViewer::GetCaption() {
+  return this->Internal->Caption.c_str();
+}
+
+int vtkRayScopeViewer::SetChapter(int n) {
+  Internals& in = *this->Internal;
+  if (n < 0 || n >= int(in.Chapters.size())) return 0;
+  if (in.Worker.joinable()) this->WaitForRender();
+  const Internals::ChapterEntry& c = in.Chapters[size_t(n)];
+  std::ostringstream caption;
+  caption << n + 1 << "/" << in.Chapters.size() << " " << c.Title << (c.Caption.empty() ? "" : ": ")
+          << c.Caption;
+  in.Caption = caption.str();
+  // The view as a new viewer shows it, on the chapter's scene.
+  this->Chapter = n;
+  this->PickedPixel[0] = this->PickedPixel[1] = -1;
+  this->ShownDepth = 0;
+  this->SelectedRay = -1;
+  this->ShownKind = -1;
+  this->TraversalSteps = -1;
+  this->ShowBVH = false;
+  this->BVHLevel = -1;
+  this->ShowLabels = false;
+  this->ImageMode = COLOR;
+  in.Algorithm = c.Source;
+  in.Tree->SetSceneSource(in.Algorithm);
+  in.BVH->SetSceneSource(in.Algorithm);
+  if (!in.Initialized) {
+    if (!this->Initialize()) return 0;
+  } else {
+    in.WatchErrors(in.Algorithm);
+    in.ClearOverlay();
+    if (!in.Restart("chapter " + std::to_string(n + 1) + ": " + c.Title)) return 0;
+    in.BuildSceneGeometry();
+    in.UpdateCameraGeometry();
+    in.FrameScene();
+    in.UpdateLegend();
+  }
+  in.ShowCaption();
+  this->WaitForRender();
+  if (c.Pick[0] >= 0 && !this->PickPixel(c.Pick[0], c.Pick[1])) {
+    in.Say("chapter " + std::to_string(n + 1) + ": pixel (" + std::to_string(c.Pick[0]) + ", " +
+           std::to_string(c.Pick[1]) + ") is outside its image");
+    in.Redraw();
+    return 0;
+  }
+  for (const std::string& key : c.Keys) {
+    this->WaitForRender();
+    if (!this->HandleKey(key.c_str())) {
+      in.Say("chapter " + std::to_string(n + 1) + ": '" + key + "' is not a key of the viewer");
+      in.Redraw();
+      return 0;
+    }
+  }
+  this->WaitForRender();
+  in.Changed = kAllViews;
+  in.Redraw();
+  return 1;
 }
 
 // --- Picking ------------------------------------------------------------------------
@@ -291,5 +372,6 @@ void vtkRayScopeViewer::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "BVHLevel: " << this->BVHLevel << "\n";
   os << indent << "ShowLabels: " << this->ShowLabels << "\n";
   os << indent << "ImageMode: " << rayscope_vtkmodule::display_mode_name(this->ImageMode) << "\n";
+  os << indent << "Chapter: " << this->Chapter << " of " << this->Internal->Chapters.size() << "\n";
   os << indent << "OutputPrefix: " << (this->OutputPrefix ? this->OutputPrefix : "") << "\n";
 }

@@ -39,9 +39,10 @@
  *   shows one ray kind only (cycles); d shows labels (ray id, depth,
  *   weight); m cycles the image mode; +/- change the samples per pixel, ]/[
  *   the maximum depth, p switches central and parallel projection, r takes
- *   the 3D view's camera, each then re-renders; s saves a screenshot; x exports the ray tree and
- *   the BVH as .vtp; q quits. At the end of a range a key does nothing and
- *   says so in the message line.
+ *   the 3D view's camera, each then re-renders; f/F frame the selected ray / the scene;
+ *   PageDown/PageUp go to the next/previous chapter of a lecture (AddChapter()); s saves a
+ *   screenshot; x exports the ray tree and the BVH as .vtp; q quits. At the end of a range a key
+ * does nothing and says so in the message line.
  *
  * Renders run on a worker thread (the core's frame loop, tile by tile); a
  * repeating timer on the interactor shows finished tiles and the progress
@@ -194,6 +195,30 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   vtkGetStringMacro(OutputPrefix);
   ///@}
 
+  ///@{
+  /// A lecture: chapters shown one at a time, PageDown / PageUp (keysyms
+  /// "Next", "Prior") going to the next / previous one. A chapter is a scene
+  /// source (its scene and render settings), a title, a one-line caption of
+  /// what to look at (drawn on top of the 3D view, with the chapter's number
+  /// and title), a pixel picked on entering it (VTK image coordinates; -1, -1:
+  /// none) and the keys then pressed (comma-separated, as HandleKey() names
+  /// them; empty: none).
+  void AddChapter(vtkRayScopeImageAlgorithm* source, const char* title, const char* caption,
+                  int pickI, int pickJ, const char* keys);
+  int GetNumberOfChapters();
+  /// Shows chapter n (from 0): its scene, framed in the 3D view and rendered,
+  /// the other settings of the view as a new viewer has them, then its pixel
+  /// picked and its keys pressed. Returns 0 and changes nothing for n outside
+  /// the chapters; returns 0 with the error in GetMessage() when the
+  /// chapter's scene cannot be rendered or a key is not the viewer's.
+  int SetChapter(int n);
+  /// The chapter shown (-1: none).
+  vtkGetMacro(Chapter, int);
+  /// The caption line on top of the 3D view ("3/16 Shadow rays: ..."; empty
+  /// without chapters).
+  const char* GetCaption();
+  ///@}
+
   /// Window size in pixels (default 1400 x 820; set before Initialize()).
   vtkSetVector2Macro(WindowSize, int);
   vtkGetVector2Macro(WindowSize, int);
@@ -228,6 +253,7 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   char* OutputPrefix;
   int WindowSize[2];
   double FontScale;
+  int Chapter;
 
  private:
   vtkRayScopeViewer(const vtkRayScopeViewer&) = delete;

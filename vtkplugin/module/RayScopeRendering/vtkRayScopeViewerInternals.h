@@ -123,6 +123,9 @@ inline constexpr double kWalkColors[6][3] = {{0, 0, 0},       {0.9, 0.9, 0.3}, {
 inline constexpr const char* kWalkNames[6] = {"",        "box hit, not entered yet",   "box missed",
                                               "entered", "culled (early termination)", "hit leaf"};
 
+// The panel's line before a pick.
+inline constexpr const char* kPickPrompt = "click a pixel of the image (left) or a surface (right)";
+
 // The window's viewports, as bits of Internals::Changed.
 inline constexpr unsigned kHeaderView = 1, kImageView = 2, kSceneView = 4, kPanelView = 8,
                           kAllViews = 15;
@@ -209,6 +212,21 @@ struct vtkRayScopeViewer::Internals {
   std::vector<std::string> PanelLineText;  // what each of them shows
   int PanelLineHeight = 0;                 // pixels from one line to the next
 
+  // A lecture's chapters (AddChapter()) and the caption on top of the 3D
+  // view.
+  struct ChapterEntry {
+    vtkSmartPointer<vtkRayScopeImageAlgorithm> Source;
+    std::string Title, Caption;
+    int Pick[2];
+    std::vector<std::string> Keys;
+  };
+  std::vector<ChapterEntry> Chapters;
+  vtkNew<vtkTextActor> CaptionActor;
+  std::string Caption;
+  /// Keeps the error of a source (the scene, the ray tree, the structure) in
+  /// LastError, without VTK's "ERROR: In FILE, line N" prefix.
+  vtkNew<vtkCallbackCommand> OnError;
+
   vtkSmartPointer<vtkRayScopeViewerStyle> Style;
   int ScreenshotCount = 0, ExportCount = 0;
   /// The viewports changed since the window was last drawn (k*View bits).
@@ -221,6 +239,11 @@ struct vtkRayScopeViewer::Internals {
   }
 
   rayscope::Scene* scene() { return this->Algorithm->GetCoreScene(); }
+  /// Keeps `source`'s errors in LastError (OnError), once per source.
+  void WatchErrors(vtkObject* source) {
+    if (!source->HasObserver(vtkCommand::ErrorEvent, this->OnError))
+      source->AddObserver(vtkCommand::ErrorEvent, this->OnError);
+  }
   /// A text's size in points at the viewer's FontScale (`points` at 1).
   int FontSize(int points) const {
     return std::max(1, int(std::lround(points * this->Self->GetFontScale())));
@@ -266,6 +289,9 @@ struct vtkRayScopeViewer::Internals {
   void UpdateBVH();
   void UpdateLabels();
   void UpdateOccluders();
+  /// Hides the overlay of the pick (rays, labels, markers, boxes, panel): a
+  /// new scene has no picked pixel.
+  void ClearOverlay();
 
   // The text (RayScopeViewerTextPanel.cxx).
   void BuildTextPanel();
@@ -274,6 +300,14 @@ struct vtkRayScopeViewer::Internals {
   /// the 3D view take the rest): at a large FontScale or in a narrow window
   /// the help line no longer runs off the right edge.
   void LayoutHeader();
+  /// `text` broken into lines no wider than `room` pixels in `prop`'s font,
+  /// at each `sep` (which a broken line drops); a piece wider than `room`
+  /// keeps a line of its own.
+  std::string WrapText(vtkTextProperty* prop, const std::string& text, const std::string& sep,
+                       int room) const;
+  /// Lays out the caption (Caption) on top of the 3D view, wrapped to its
+  /// width.
+  void ShowCaption();
   void Say(const std::string& message);
   void UpdatePanel();
   void ShowPanelLines(const std::vector<std::string>& lines);
