@@ -14,11 +14,14 @@
 #include <filesystem>
 #include <map>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include <vtkActor2DCollection.h>
+#include <vtkBoundingBox.h>
 #include <vtkCamera.h>
+#include <vtkCell.h>
 #include <vtkCellData.h>
 #include <vtkCommand.h>
 #include <vtkDataArray.h>
@@ -420,6 +423,37 @@ TEST_F(Viewer, PlaysTheSelectedRaysBvhWalk) {
       EXPECT_FALSE(shown[vtkRayScopeAccelSource::BOX_MISSED].empty() &&
                    shown[vtkRayScopeAccelSource::BOX_HIT].empty() && n < nodes.size())
           << "step " << n << ": the boxes tested on the way are shown";
+      // The step numbers 1..n, each once, and the node entered last drawn
+      // on its own: its box's cells, with the bounds of the box of the
+      // walk's n-th node.
+      std::multiset<int> numbers;
+      vtkStringArray* steps = vtkStringArray::SafeDownCast(
+          f.viewer->GetWalkSteps()->GetPointData()->GetAbstractArray("Step"));
+      ASSERT_NE(steps, nullptr);
+      for (vtkIdType k = 0; k < steps->GetNumberOfValues(); ++k) {
+        std::istringstream list(steps->GetValue(k));
+        for (std::string number; std::getline(list, number, ',');)
+          numbers.insert(std::stoi(number));
+      }
+      std::multiset<int> expected;
+      for (int k = 1; k <= int(n); ++k) expected.insert(k);
+      EXPECT_EQ(numbers, expected) << "step " << n;
+      vtkPolyData* boxes = f.viewer->GetShownBVH();
+      vtkDataArray* order = boxes->GetCellData()->GetArray("EntryOrder");
+      ASSERT_NE(order, nullptr);
+      vtkBoundingBox last;
+      for (vtkIdType c = 0; c < boxes->GetNumberOfCells(); ++c)
+        if (int(order->GetTuple1(c)) == int(n) - 1) {
+          double b[6];
+          boxes->GetCell(c)->GetBounds(b);
+          last.AddBounds(b);
+        }
+      vtkPolyData* current = f.viewer->GetWalkCurrentNode();
+      EXPECT_EQ(current->GetNumberOfCells(), 12) << "step " << n;
+      double b[6], want[6];
+      current->GetBounds(b);
+      last.GetBounds(want);
+      for (int k = 0; k < 6; ++k) EXPECT_DOUBLE_EQ(b[k], want[k]) << "step " << n;
     }
     std::map<int, std::set<int>> done = boxes_by_state(f.viewer->GetShownBVH());
     if (walk.hit_leaf != rayscope::kNoNode) {
@@ -618,14 +652,20 @@ TEST_F(Viewer, DrawsNamesAndPlaysTheChosenStructure) {
     ASSERT_NE(structure, nullptr);
     EXPECT_EQ(structure->GetValue(0), name);
     const rayscope::AccelView view = rayscope::make_accel_view(f.alg->GetCoreScene()->accel());
-    // Every node or cell is drawn (a box as 12 edges, a sphere as circles, a
-    // BSP node also as its split polygon), each cell naming its node.
+    // Every node or cell that holds something is drawn (a box as 12 edges,
+    // a sphere as circles, a BSP node also as its split polygon), each cell
+    // naming its node; empty leaves (a grid's empty cells) are left out.
     vtkDataArray* node_ids = shown->GetCellData()->GetArray("NodeId");
     ASSERT_NE(node_ids, nullptr);
-    std::set<int> drawn;
+    std::set<int> drawn, occupied;
     for (vtkIdType c = 0; c < node_ids->GetNumberOfTuples(); ++c)
       drawn.insert(int(node_ids->GetTuple1(c)));
-    EXPECT_EQ(drawn.size(), view.nodes.size());
+    for (size_t i = 0; i < view.nodes.size(); ++i)
+      if (!view.nodes[i].leaf || view.nodes[i].count > 0) occupied.insert(int(i));
+    EXPECT_EQ(drawn, occupied);
+    if (name == "grid") {
+      EXPECT_LT(occupied.size(), view.nodes.size() / 2) << "most cells are empty";
+    }
     EXPECT_TRUE(has_label(legend_labels(f.viewer), name + ": level 0 (root)"));
     EXPECT_FALSE(has_label(legend_labels(f.viewer), "BVH: level 0 (root)"));
     f.key("l");

@@ -195,7 +195,8 @@ int vtkRayScopeViewer::Internals::KeyPress::Walk() {
 // The whole structure shown / hidden, colored by level.
 int vtkRayScopeViewer::Internals::KeyPress::Structure() {
   self->ShowBVH = !self->ShowBVH;
-  const std::string m = in.StructureLabel() + (self->ShowBVH ? " shown" : " hidden");
+  const std::string m =
+      in.StructureLabel() + (self->ShowBVH ? " shown (its empty leaves left out)" : " hidden");
   if (!picked) {  // without a pick the structure is still worth seeing
     in.UpdateBVH();
     return say(m);

@@ -3,6 +3,10 @@
 // the selected ray white, labels, where shadow rays are blocked), filtered by
 // depth, ray and kind; and the structure the rays walk (vtkRayScopeAccelSource),
 // by level or as the selected ray's walk played node by node.
+#include <map>
+
+#include "vtkBoundingBox.h"
+
 #include "vtkRayScopeViewerInternals.h"
 
 using namespace rayscope_vtkmodule::viewer;
@@ -107,25 +111,40 @@ void vtkRayScopeViewer::Internals::BuildOverlay() {
                                                kOccluderColor[2]);
   this->OccluderActor->GetProperty()->SetPointSize(13.0);
   this->OccluderActor->GetProperty()->RenderPointsAsSpheresOn();
-  this->OccluderActor->GetProperty()->LightingOff();
-  this->OccluderActor->PickableOff();
-  this->OccluderActor->VisibilityOff();
-  this->SceneRen->AddActor(this->OccluderActor);
-  // Labels on demand: "#id dDEPTH wWEIGHT" at the middle of each shown ray
-  // (the mapper's "field data" mode reads the named point-data array).
-  vtkNew<vtkLabeledDataMapper> label_mapper;
-  label_mapper->SetInputData(this->Labels);
-  label_mapper->SetLabelModeToLabelFieldData();
-  label_mapper->SetFieldDataName("Label");
-  label_mapper->GetLabelTextProperty()->SetFontSize(this->FontSize(12));
-  label_mapper->GetLabelTextProperty()->SetColor(1.0, 1.0, 1.0);
-  label_mapper->GetLabelTextProperty()->ShadowOn();
-  this->LabelActor->SetMapper(label_mapper);
-  this->LabelActor->VisibilityOff();
-  this->SceneRen->AddActor2D(this->LabelActor);
+  // A marker of the overlay: unlit, not picked, hidden until there is
+  // something to mark.
+  auto add_marker = [&](vtkActor* a) {
+    a->GetProperty()->LightingOff();
+    a->PickableOff();
+    a->VisibilityOff();
+    this->SceneRen->AddActor(a);
+  };
+  add_marker(this->OccluderActor);
+  // Text at points of the 3D view: each vertex of `points` labelled with
+  // its point-data string `array` (the mapper's "field data" mode), hidden
+  // until asked for.
+  auto add_labels = [&](vtkPolyData* points, const char* array, int size, const double color[3],
+                        vtkActor2D* actor) {
+    vtkNew<vtkLabeledDataMapper> mapper;
+    mapper->SetInputData(points);
+    mapper->SetLabelModeToLabelFieldData();
+    mapper->SetFieldDataName(array);
+    mapper->GetLabelTextProperty()->SetFontSize(this->FontSize(size));
+    mapper->GetLabelTextProperty()->SetColor(color[0], color[1], color[2]);
+    mapper->GetLabelTextProperty()->ShadowOn();
+    actor->SetMapper(mapper);
+    actor->VisibilityOff();
+    this->SceneRen->AddActor2D(actor);
+    return mapper->GetLabelTextProperty();
+  };
+  // Labels on demand: "#id dDEPTH wWEIGHT" at the middle of each shown ray.
+  add_labels(this->Labels, "Label", 12, kSelectedColor, this->LabelActor);
 
   // BVH boxes: by level, or a played walk by state.
   this->BVH->SetSceneSource(this->Algorithm);
+  // A grid's empty cells would fill its box with lines; the cells that hold
+  // something show where the objects are.
+  this->BVH->HideEmptyLeavesOn();
   this->LevelTable = vtkSmartPointer<vtkLookupTable>::New();
   this->LevelTable->SetHueRange(0.66, 0.0);
   this->LevelTable->Build();
@@ -133,10 +152,81 @@ void vtkRayScopeViewer::Internals::BuildOverlay() {
   this->BVHMapper->SetInputData(this->NoBoxes);
   this->BVHMapper->SetScalarModeToUseCellFieldData();
   this->BVHActor->SetMapper(this->BVHMapper);
-  this->BVHActor->GetProperty()->SetLineWidth(1.5);
+  this->BVHActor->GetProperty()->SetLineWidth(kWalkBoxWidth);
   this->BVHActor->GetProperty()->LightingOff();
   this->BVHActor->PickableOff();
   this->SceneRen->AddActor(this->BVHActor);
+  // The played walk's order: the current node thick, in its state's color.
+  vtkNew<vtkPolyDataMapper> current_mapper;
+  current_mapper->SetInputData(this->WalkCurrent);
+  current_mapper->SetScalarModeToUseCellFieldData();
+  current_mapper->SetLookupTable(this->WalkTable);
+  current_mapper->SelectColorArray("TraversalState");
+  current_mapper->SetScalarRange(0, 5);
+  this->WalkCurrentActor->SetMapper(current_mapper);
+  this->WalkCurrentActor->GetProperty()->SetLineWidth(kWalkCurrentWidth);
+  add_marker(this->WalkCurrentActor);
+  add_labels(this->WalkSteps, "Step", 16, kWalkColors[3], this->WalkStepActor)->BoldOn();
+}
+
+void vtkRayScopeViewer::Internals::UpdateWalkOrder(bool played) {
+  this->WalkCurrentActor->SetVisibility(played);
+  this->WalkStepActor->SetVisibility(played);
+  if (!played) {
+    this->WalkSteps->Initialize();
+    this->WalkCurrent->Initialize();
+    return;
+  }
+  // A box is 12 line cells (faces: 6 quads) sharing its EntryOrder: the step
+  // number goes on its top left corner (largest y, smallest x: above the
+  // scene's floor, where nested boxes' corners stand apart); the cells of the
+  // node entered last (EntryOrder steps - 1) are copied into WalkCurrent.
+  vtkPolyData* boxes = this->BVH->GetOutput();
+  vtkDataArray* order = boxes->GetCellData()->GetArray("EntryOrder");
+  vtkDataArray* state = boxes->GetCellData()->GetArray("TraversalState");
+  const int current = this->Self->TraversalSteps - 1;
+  vtkNew<vtkPoints> current_points;
+  vtkNew<vtkCellArray> current_lines;
+  vtkNew<vtkIntArray> current_state;
+  current_state->SetName("TraversalState");
+  std::map<int, vtkBoundingBox> entered;
+  for (vtkIdType c = 0; order && state && c < boxes->GetNumberOfCells(); ++c) {
+    const int k = int(order->GetTuple1(c));
+    if (k < 0) continue;
+    vtkCell* cell = boxes->GetCell(c);
+    vtkBoundingBox& box = entered[k];
+    for (vtkIdType p = 0; p < cell->GetNumberOfPoints(); ++p)
+      box.AddPoint(boxes->GetPoint(cell->GetPointId(p)));
+    if (k != current) continue;
+    current_lines->InsertNextCell(cell->GetNumberOfPoints());
+    for (vtkIdType p = 0; p < cell->GetNumberOfPoints(); ++p)
+      current_lines->InsertCellPoint(
+          current_points->InsertNextPoint(boxes->GetPoint(cell->GetPointId(p))));
+    current_state->InsertNextValue(int(state->GetTuple1(c)));
+  }
+  vtkNew<vtkPoints> step_points;
+  vtkNew<vtkCellArray> step_verts;
+  vtkNew<vtkStringArray> steps;
+  steps->SetName("Step");
+  // Nested boxes that share that corner share one label: "2, 3".
+  std::map<std::array<double, 3>, std::string> corners;
+  for (const auto& [k, box] : entered) {
+    std::string& text = corners[{box.GetMinPoint()[0], box.GetMaxPoint()[1], box.GetMaxPoint()[2]}];
+    text += (text.empty() ? "" : ", ") + std::to_string(k + 1);
+  }
+  for (const auto& [corner, text] : corners) {
+    const vtkIdType v = step_points->InsertNextPoint(corner.data());
+    step_verts->InsertNextCell(1, &v);
+    steps->InsertNextValue(text);
+  }
+  this->WalkSteps->Initialize();
+  this->WalkSteps->SetPoints(step_points);
+  this->WalkSteps->SetVerts(step_verts);
+  this->WalkSteps->GetPointData()->AddArray(steps);
+  this->WalkCurrent->Initialize();
+  this->WalkCurrent->SetPoints(current_points);
+  this->WalkCurrent->SetLines(current_lines);
+  this->WalkCurrent->GetCellData()->AddArray(current_state);
 }
 
 // Records the picked pixel (its tree and the inspect text) and shows what
@@ -246,7 +336,9 @@ void vtkRayScopeViewer::Internals::UpdateBVH() {
     this->BVHMapper->SelectColorArray("TraversalState");
     this->BVHMapper->SetScalarRange(0, 5);
     this->BVHMapper->ScalarVisibilityOn();
+    this->UpdateWalkOrder(true);
   } else if (self->ShowBVH) {
+    this->UpdateWalkOrder(false);
     bvh->SetVisitModeToNone();
     bvh->SetTraversalSteps(-1);
     if (self->BVHLevel < 0)
@@ -261,6 +353,7 @@ void vtkRayScopeViewer::Internals::UpdateBVH() {
     this->BVHMapper->SetScalarRange(0, depth ? std::max(1.0, depth->GetTuple1(0) - 1) : 1.0);
     this->BVHMapper->ScalarVisibilityOn();
   } else {
+    this->UpdateWalkOrder(false);
     this->BVHMapper->SetInputData(this->NoBoxes);
   }
   this->Changed |= kSceneView;
@@ -269,10 +362,10 @@ void vtkRayScopeViewer::Internals::UpdateBVH() {
 void vtkRayScopeViewer::Internals::ClearOverlay() {
   this->HasRecord = false;
   this->InspectText.clear();
-  const std::initializer_list<vtkProp*> shown = {this->TracedActor.Get(), this->SkippedActor.Get(),
-                                                 this->NormalActor.Get(), this->SelectedActor.Get(),
-                                                 this->LabelActor.Get(),  this->OccluderActor.Get(),
-                                                 this->MarkerActor.Get()};
+  const std::initializer_list<vtkProp*> shown = {
+      this->TracedActor.Get(),   this->SkippedActor.Get(),     this->NormalActor.Get(),
+      this->SelectedActor.Get(), this->LabelActor.Get(),       this->OccluderActor.Get(),
+      this->MarkerActor.Get(),   this->WalkCurrentActor.Get(), this->WalkStepActor.Get()};
   for (vtkProp* a : shown) a->VisibilityOff();
   this->BVHMapper->SetInputData(this->NoBoxes);
   this->ShowPanelLines({kPickPrompt});

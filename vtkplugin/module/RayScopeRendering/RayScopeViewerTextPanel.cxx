@@ -252,6 +252,7 @@ void vtkRayScopeViewer::Internals::UpdateLegend() {
   if (this->Self->TraversalSteps >= 0) {
     const std::string name = this->StructureLabel();
     for (int k = 1; k < 6; ++k) add(name + ": " + kWalkNames[k], kWalkColors[k]);
+    add(name + ": 1 2 3.. order entered, thick: last", kWalkColors[3]);
   } else if (this->Self->ShowBVH) {
     vtkDataArray* depth = this->BVH->GetOutput()->GetFieldData()->GetArray("TreeDepth");
     const int deepest = depth ? std::max(0, int(depth->GetTuple1(0)) - 1) : 0;

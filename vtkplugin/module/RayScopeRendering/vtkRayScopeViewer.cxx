@@ -115,6 +115,14 @@ vtkPolyData* vtkRayScopeViewer::GetShownBVH() {
   return vtkPolyData::SafeDownCast(this->Internal->BVHMapper->GetInput());
 }
 
+vtkPolyData* vtkRayScopeViewer::GetWalkSteps() {
+  return this->Internal->WalkSteps;
+}
+
+vtkPolyData* vtkRayScopeViewer::GetWalkCurrentNode() {
+  return this->Internal->WalkCurrent;
+}
+
 std::string vtkRayScopeViewer::SettingsError() const {
   const int w = this->WindowSize[0], h = this->WindowSize[1];
   if (w < MinWindowWidth || h < MinWindowHeight)

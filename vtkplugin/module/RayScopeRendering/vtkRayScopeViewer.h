@@ -168,6 +168,12 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   vtkPolyData* GetOccluderMarkers();
   /// The BVH boxes shown (empty when hidden).
   vtkPolyData* GetShownBVH();
+  /// While a walk is played: the step numbers of the nodes entered (a vertex
+  /// at each box's top left corner, point data "Step": "1", or "2, 3" for
+  /// nested boxes sharing that corner), and the node entered last (its
+  /// box's cells, drawn thick in its state's color). Empty otherwise.
+  vtkPolyData* GetWalkSteps();
+  vtkPolyData* GetWalkCurrentNode();
   /// The sources behind the overlay.
   vtkRayScopeRayTreeSource* GetRayTreeSource();
   vtkRayScopeAccelSource* GetAccelSource();

@@ -122,6 +122,8 @@ inline constexpr double kWalkColors[6][3] = {{0, 0, 0},       {0.9, 0.9, 0.3}, {
                                              {0.2, 0.9, 0.2}, {0.3, 0.5, 1.0}, {1.0, 1.0, 1.0}};
 inline constexpr const char* kWalkNames[6] = {"",        "box hit, not entered yet",   "box missed",
                                               "entered", "culled (early termination)", "hit leaf"};
+inline constexpr double kWalkCurrentWidth = 5.0;  // line width of the node entered last
+inline constexpr double kWalkBoxWidth = 1.5;      // and of every other box
 
 // The panel's line before a pick.
 inline constexpr const char* kPickPrompt = "click a pixel of the image (left) or a surface (right)";
@@ -192,6 +194,11 @@ struct vtkRayScopeViewer::Internals {
   vtkNew<vtkPolyDataMapper> BVHMapper;
   vtkNew<vtkActor> BVHActor;
   vtkSmartPointer<vtkLookupTable> LevelTable, WalkTable;
+  // A played walk's order: each entered node's step number at a corner of
+  // its box, and the node entered last (the walk's current node) drawn thick.
+  vtkNew<vtkPolyData> WalkSteps, WalkCurrent;
+  vtkNew<vtkActor2D> WalkStepActor;
+  vtkNew<vtkActor> WalkCurrentActor;
 
   // The scene in 3D.
   std::vector<vtkSmartPointer<vtkActor>> GeometryActors;
@@ -289,6 +296,10 @@ struct vtkRayScopeViewer::Internals {
   void UpdateBVH();
   void UpdateLabels();
   void UpdateOccluders();
+  /// The played walk's step numbers and current node (WalkSteps,
+  /// WalkCurrent) from the structure source's output; hidden when no walk
+  /// is played.
+  void UpdateWalkOrder(bool played);
   /// Hides the overlay of the pick (rays, labels, markers, boxes, panel): a
   /// new scene has no picked pixel.
   void ClearOverlay();

@@ -36,6 +36,7 @@ vtkStandardNewMacro(vtkRayScopeAccelSource);
 vtkRayScopeAccelSource::vtkRayScopeAccelSource()
     : LevelRange{0, VTK_INT_MAX},
       OnlyLeaves(0),
+      HideEmptyLeaves(0),
       GenerateFaces(0),
       VisitMode(VISIT_NONE),
       Pixel{0, 0},
@@ -208,7 +209,8 @@ int vtkRayScopeAccelSource::RequestData(vtkInformation*, vtkInformationVector** 
   std::vector<uint32_t> shown;
   for (uint32_t i = 0; i < uint32_t(nn); ++i)
     if (nodes[i].level >= this->LevelRange[0] && nodes[i].level <= this->LevelRange[1] &&
-        (!this->OnlyLeaves || nodes[i].leaf) && (!play || state[i] != 0))
+        (!this->OnlyLeaves || nodes[i].leaf) && (!play || state[i] != 0) &&
+        (play || !this->HideEmptyLeaves || !nodes[i].leaf || nodes[i].count > 0))
       shown.push_back(i);
 
   // A node with a sphere (the sphere tree) is drawn as that sphere: with
@@ -398,6 +400,7 @@ void vtkRayScopeAccelSource::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "LevelRange: " << this->LevelRange[0] << " " << this->LevelRange[1] << "\n";
   os << indent << "OnlyLeaves: " << this->OnlyLeaves << "\n";
+  os << indent << "HideEmptyLeaves: " << this->HideEmptyLeaves << "\n";
   os << indent << "GenerateFaces: " << this->GenerateFaces << "\n";
   os << indent << "VisitMode: " << this->VisitMode << "\n";
   os << indent << "Pixel: " << this->Pixel[0] << " " << this->Pixel[1] << "\n";

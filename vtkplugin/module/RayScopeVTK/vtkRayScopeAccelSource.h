@@ -95,6 +95,16 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeAccelSource : public vtkRayScopeSceneFilter 
   ///@}
 
   ///@{
+  /// Leave out the leaves that hold no primitive (default off): a uniform
+  /// grid's empty cells, which drawn with the others fill its box, and the
+  /// empty leaves of the kD-tree, octree and BSP tree. Played walks
+  /// (TraversalSteps) show every node the ray touched, empty or not.
+  vtkSetMacro(HideEmptyLeaves, vtkTypeBool);
+  vtkGetMacro(HideEmptyLeaves, vtkTypeBool);
+  vtkBooleanMacro(HideEmptyLeaves, vtkTypeBool);
+  ///@}
+
+  ///@{
   /// Quads (6 per box) instead of lines (12 per box).
   vtkSetMacro(GenerateFaces, vtkTypeBool);
   vtkGetMacro(GenerateFaces, vtkTypeBool);
@@ -153,6 +163,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeAccelSource : public vtkRayScopeSceneFilter 
 
   int LevelRange[2];
   vtkTypeBool OnlyLeaves;
+  vtkTypeBool HideEmptyLeaves;
   vtkTypeBool GenerateFaces;
   int VisitMode;
   int Pixel[2];
