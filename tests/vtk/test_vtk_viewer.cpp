@@ -27,6 +27,7 @@
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
 #include <vtkImageData.h>
+#include <vtkIntArray.h>
 #include <vtkLegendBoxActor.h>
 #include <vtkNew.h>
 #include <vtkPNGReader.h>
@@ -48,6 +49,7 @@
 #include "rayscope/shapes.h"
 #include "vtkRayScopeAccelSource.h"
 #include "vtkRayScopeImageAlgorithm.h"
+#include "vtkRayScopeRayTreeSource.h"
 #include "vtkRayScopeViewer.h"
 
 namespace {
@@ -930,6 +932,87 @@ TEST_F(Viewer, ChapterKeysWithoutALectureSaySo) {
   EXPECT_EQ(f.viewer->HandleKey("Next"), 1);
   EXPECT_NE(std::string(f.viewer->GetMessage()).find("--lecture"), std::string::npos);
   EXPECT_EQ(std::string(f.viewer->GetCaption()), "");
+}
+
+// Key g draws the picked pixel's tree as a diagram in the panel: a dot per
+// ray, a line from each ray's parent to it, every ray below its parent,
+// leaves left to right in trace order; the selected ray white, the rays the
+// 3D view hides dimmed; g again brings the text back.
+TEST_F(Viewer, TreeDiagramPutsEachRayBelowItsParent) {
+  Fixture f;
+  ASSERT_TRUE(f.start());
+  f.key("g");
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("pick a pixel first"), std::string::npos);
+  ASSERT_TRUE(f.viewer->PickPixel(kGlassI, kGlassJ));
+  f.key("g");
+  ASSERT_TRUE(f.viewer->GetShowTreeDiagram());
+  const rayscope::PixelRecord rec = f.record(kGlassI, kGlassJ);
+  const size_t n = rec.rays.size();
+  ASSERT_GE(n, 4u);
+  vtkPolyData* d = f.viewer->GetTreeDiagram();
+  ASSERT_EQ(d->GetNumberOfVerts(), vtkIdType(n));
+  auto* ids = vtkIntArray::SafeDownCast(d->GetCellData()->GetArray("RayId"));
+  auto* colors = vtkUnsignedCharArray::SafeDownCast(d->GetCellData()->GetScalars());
+  ASSERT_NE(ids, nullptr);
+  ASSERT_NE(colors, nullptr);
+  // Each ray's dot, and whether it has children.
+  std::vector<std::array<double, 3>> dot(n);
+  std::vector<bool> parent(n, false);
+  vtkIdType lines = 0;
+  for (vtkIdType c = 0; c < d->GetNumberOfCells(); ++c) {
+    vtkCell* cell = d->GetCell(c);
+    const int id = ids->GetValue(c);
+    if (d->GetCellType(c) == VTK_VERTEX) {
+      d->GetPoint(cell->GetPointId(0), dot[size_t(id)].data());
+      continue;
+    }
+    ++lines;
+    double a[3], b[3];
+    d->GetPoint(cell->GetPointId(0), a);
+    d->GetPoint(cell->GetPointId(1), b);
+    const rayscope::RayRecord& r = rec.rays[size_t(id)];
+    ASSERT_GE(r.parent, 0);
+    parent[size_t(r.parent)] = true;
+    EXPECT_GT(a[1], b[1]) << "ray #" << id << " below its parent #" << r.parent;
+  }
+  vtkIdType with_parent = 0;
+  for (const rayscope::RayRecord& r : rec.rays) with_parent += r.parent >= 0;
+  EXPECT_EQ(lines, with_parent);
+  double last_leaf_x = -1e300;
+  std::map<int, double> row;  // the dots of one depth share a row
+  for (size_t k = 0; k < n; ++k) {
+    const auto at = row.insert({rec.rays[k].depth, dot[k][1]});
+    EXPECT_DOUBLE_EQ(dot[k][1], at.first->second) << "ray #" << k << " on its depth's row";
+    if (parent[k]) continue;
+    EXPECT_GT(dot[k][0], last_leaf_x) << "leaf #" << k;
+    last_leaf_x = dot[k][0];
+  }
+  // The primary ray's dot in its kind's color; ray #1 selected: white, and
+  // the rays after it dimmed.
+  auto dot_color = [&](int ray) {
+    for (vtkIdType c = 0; c < d->GetNumberOfCells(); ++c)
+      if (d->GetCellType(c) == VTK_VERTEX && ids->GetValue(c) == ray)
+        return std::array<int, 3>{colors->GetValue(3 * c), colors->GetValue(3 * c + 1),
+                                  colors->GetValue(3 * c + 2)};
+    return std::array<int, 3>{-1, -1, -1};
+  };
+  double primary[3];
+  vtkRayScopeRayTreeSource::GetKindColor(0, primary);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_EQ(dot_color(0)[size_t(k)], int(std::lround(255 * primary[k])));
+  f.key("Right");
+  f.key("Right");
+  ASSERT_EQ(f.viewer->GetSelectedRay(), 1);
+  d = f.viewer->GetTreeDiagram();
+  colors = vtkUnsignedCharArray::SafeDownCast(d->GetCellData()->GetScalars());
+  ids = vtkIntArray::SafeDownCast(d->GetCellData()->GetArray("RayId"));
+  EXPECT_EQ(dot_color(1), (std::array<int, 3>{255, 255, 255}));
+  const std::array<int, 3> after = dot_color(2);
+  EXPECT_LT(std::max({after[0], after[1], after[2]}), 128) << "ray #2 is hidden in 3D: dimmed";
+  f.key("g");
+  EXPECT_FALSE(f.viewer->GetShowTreeDiagram());
+  EXPECT_EQ(f.viewer->GetTreeDiagram()->GetNumberOfCells(), 0);
+  EXPECT_NE(std::string(f.viewer->GetPanelText()).find("#1 "), std::string::npos);
 }
 
 // A scene source without a scene: Initialize fails with a message, no crash.

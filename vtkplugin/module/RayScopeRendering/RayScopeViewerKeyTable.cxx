@@ -28,6 +28,7 @@ struct vtkRayScopeViewer::Internals::KeyPress {
   int Level();
   int Kind();
   int Labels();
+  int Diagram();
   int NextImageMode();
   int Samples();
   int MaxDepth();
@@ -80,6 +81,7 @@ const std::vector<vtkRayScopeViewer::Internals::Key>& vtkRayScopeViewer::Interna
       {"l/L", {"l", "L"}, "level", true, &KeyPress::Level},
       {"k", {"k"}, "kind", false, &KeyPress::Kind},
       {"d", {"d"}, "labels", false, &KeyPress::Labels},
+      {"g", {"g"}, "tree diagram", false, &KeyPress::Diagram},
       {"m", {"m"}, "image", false, &KeyPress::NextImageMode},
       {"+/-", {"plus", "KP_Add", "minus", "KP_Subtract"}, "spp", false, &KeyPress::Samples},
       {"]/[", {"bracketright", "bracketleft"}, "depth", true, &KeyPress::MaxDepth},
@@ -240,6 +242,14 @@ int vtkRayScopeViewer::Internals::KeyPress::Labels() {
   const std::string m = self->ShowLabels ? "ray labels: #id, depth, weight" : "ray labels hidden";
   if (!picked) return say(m);
   return refresh(m);
+}
+
+// The panel's tree diagram instead of its text, or the text again.
+int vtkRayScopeViewer::Internals::KeyPress::Diagram() {
+  if (!picked) return need_pick();
+  self->ShowTreeDiagram = !self->ShowTreeDiagram;
+  in.UpdatePanel();
+  return say(self->ShowTreeDiagram ? "tree diagram: each ray below its parent" : "tree as text");
 }
 
 // The next image mode (one the image has data for).

@@ -368,6 +368,7 @@ void vtkRayScopeViewer::Internals::ClearOverlay() {
       this->MarkerActor.Get(),   this->WalkCurrentActor.Get(), this->WalkStepActor.Get()};
   for (vtkProp* a : shown) a->VisibilityOff();
   this->BVHMapper->SetInputData(this->NoBoxes);
+  this->UpdateTreeDiagram();
   this->ShowPanelLines({kPickPrompt});
   this->Changed |= kAllViews;
 }

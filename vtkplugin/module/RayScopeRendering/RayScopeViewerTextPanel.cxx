@@ -172,6 +172,20 @@ void vtkRayScopeViewer::Internals::Say(const std::string& message) {
 // The panel: the inspect text from a few lines before the selected ray,
 // that ray's line marked ">>".
 void vtkRayScopeViewer::Internals::UpdatePanel() {
+  this->UpdateTreeDiagram();
+  if (this->Self->ShowTreeDiagram) {
+    // The diagram below one line that says what it shows.
+    int deepest = 0;
+    for (const rayscope::RayRecord& r : this->Record.rays) deepest = std::max(deepest, r.depth);
+    const int* pixel = this->Self->PickedPixel;
+    // (Counted from the top, as the text and the rayscope command count.)
+    this->PanelText = "ray tree of pixel (" + std::to_string(pixel[0]) + ", " +
+                      std::to_string(this->Settings.height - 1 - pixel[1]) + "): " + std::to_string(this->Record.rays.size()) +
+                      " rays, depth 0 (top) to " + std::to_string(deepest) +
+                      "; dimmed: hidden in 3D; g: the text again";
+    this->ShowPanelLines({this->PanelText});
+    return;
+  }
   std::vector<std::string> lines;
   std::istringstream text(this->InspectText);
   for (std::string l; std::getline(text, l);) lines.push_back(l);

@@ -89,6 +89,7 @@ void vtkRayScopeViewer::Internals::Build() {
 
   // The text: help and message lines, the inspect panel, the legend.
   this->BuildTextPanel();
+  this->BuildTreeDiagram();
 
   this->Picker->PickFromListOn();
   this->Picker->SetTolerance(0.0005);

@@ -18,6 +18,7 @@ vtkRayScopeViewer::vtkRayScopeViewer()
       BVHLevel(-1),
       ImageMode(COLOR),
       ShowLabels(false),
+      ShowTreeDiagram(false),
       LastRenderSeconds(0.0),
       OutputPrefix(nullptr),
       WindowSize{1400, 820},
@@ -113,6 +114,10 @@ vtkPolyData* vtkRayScopeViewer::GetRayLabels() {
 
 vtkPolyData* vtkRayScopeViewer::GetShownBVH() {
   return vtkPolyData::SafeDownCast(this->Internal->BVHMapper->GetInput());
+}
+
+vtkPolyData* vtkRayScopeViewer::GetTreeDiagram() {
+  return this->Internal->Diagram;
 }
 
 vtkPolyData* vtkRayScopeViewer::GetWalkSteps() {
@@ -222,6 +227,7 @@ int vtkRayScopeViewer::SetChapter(int n) {
   this->ShowBVH = false;
   this->BVHLevel = -1;
   this->ShowLabels = false;
+  this->ShowTreeDiagram = false;
   this->ImageMode = COLOR;
   in.Algorithm = c.Source;
   in.Tree->SetSceneSource(in.Algorithm);
@@ -379,6 +385,7 @@ void vtkRayScopeViewer::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "ShowBVH: " << this->ShowBVH << "\n";
   os << indent << "BVHLevel: " << this->BVHLevel << "\n";
   os << indent << "ShowLabels: " << this->ShowLabels << "\n";
+  os << indent << "ShowTreeDiagram: " << this->ShowTreeDiagram << "\n";
   os << indent << "ImageMode: " << rayscope_vtkmodule::display_mode_name(this->ImageMode) << "\n";
   os << indent << "Chapter: " << this->Chapter << " of " << this->Internal->Chapters.size() << "\n";
   os << indent << "OutputPrefix: " << (this->OutputPrefix ? this->OutputPrefix : "") << "\n";

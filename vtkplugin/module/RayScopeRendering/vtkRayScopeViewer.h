@@ -37,10 +37,10 @@
  *   order (rays after it are hidden); t/T play the selected ray's BVH walk
  *   one node forward/back; b shows/hides the BVH, l/L walk its levels; k
  *   shows one ray kind only (cycles); d shows labels (ray id, depth,
- *   weight); m cycles the image mode; +/- change the samples per pixel, ]/[
- *   the maximum depth, p switches central and parallel projection, r takes
- *   the 3D view's camera, each then re-renders; f/F frame the selected ray / the scene;
- *   PageDown/PageUp go to the next/previous chapter of a lecture (AddChapter()); s saves a
+ *   weight); g draws the tree as a diagram in the panel instead of its text; m cycles the image
+ * mode; +/- change the samples per pixel, ]/[ the maximum depth, p switches central and parallel
+ * projection, r takes the 3D view's camera, each then re-renders; f/F frame the selected ray / the
+ * scene; PageDown/PageUp go to the next/previous chapter of a lecture (AddChapter()); s saves a
  *   screenshot; x exports the ray tree and the BVH as .vtp; q quits. At the end of a range a key
  * does nothing and says so in the message line.
  *
@@ -140,6 +140,8 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   vtkGetMacro(BVHLevel, int);
   /// Labels "#id dDEPTH wWEIGHT" on the shown rays (key d).
   vtkGetMacro(ShowLabels, bool);
+  /// The panel shows the tree diagram instead of the text (key g).
+  vtkGetMacro(ShowTreeDiagram, bool);
   ///@}
 
   /// Image modes (the values of the image viewport's ImageMode).
@@ -166,6 +168,12 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   /// The markers of blocked shadow rays: a vertex where each shown shadow
   /// ray meets its nearest occluder.
   vtkPolyData* GetOccluderMarkers();
+  /// The tree diagram (key g; empty when not shown): a vertex per ray and a
+  /// line from each ray's parent to it, in pixels of the panel's viewport,
+  /// each ray below its parent and leaves in trace order from left to right;
+  /// cell data "Colors" (RGB bytes: the kind's color, dimmed for a ray the
+  /// 3D view hides, white for the selected ray) and "RayId".
+  vtkPolyData* GetTreeDiagram();
   /// The BVH boxes shown (empty when hidden).
   vtkPolyData* GetShownBVH();
   /// While a walk is played: the step numbers of the nodes entered (a vertex
@@ -255,6 +263,7 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   int BVHLevel;
   int ImageMode;
   bool ShowLabels;
+  bool ShowTreeDiagram;
   double LastRenderSeconds;
   char* OutputPrefix;
   int WindowSize[2];

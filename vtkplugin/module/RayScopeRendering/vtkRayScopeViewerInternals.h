@@ -9,6 +9,7 @@
 //                                       and the selected ray's walk
 //   RayScopeViewerTextPanel.cxx         the text: help and message lines, the inspect
 //                                       panel, the legend
+//   RayScopeViewerTreeDiagram.cxx       the panel's tree diagram of the ray tree (key g)
 //   RayScopeViewerKeyTable.cxx          the table of keys, from which HandleKey() and
 //                                       the help line are made
 //   vtkRayScopeViewerStyle.h/.cxx       the interactor style
@@ -122,6 +123,8 @@ inline constexpr double kWalkColors[6][3] = {{0, 0, 0},       {0.9, 0.9, 0.3}, {
                                              {0.2, 0.9, 0.2}, {0.3, 0.5, 1.0}, {1.0, 1.0, 1.0}};
 inline constexpr const char* kWalkNames[6] = {"",        "box hit, not entered yet",   "box missed",
                                               "entered", "culled (early termination)", "hit leaf"};
+inline constexpr int kDiagramMostLabels = 64;     // rays of a tree diagram named "#id"
+inline constexpr double kDiagramDim = 0.3;        // brightness of the rays the 3D view hides
 inline constexpr double kWalkCurrentWidth = 5.0;  // line width of the node entered last
 inline constexpr double kWalkBoxWidth = 1.5;      // and of every other box
 
@@ -194,6 +197,10 @@ struct vtkRayScopeViewer::Internals {
   vtkNew<vtkPolyDataMapper> BVHMapper;
   vtkNew<vtkActor> BVHActor;
   vtkSmartPointer<vtkLookupTable> LevelTable, WalkTable;
+  // The tree diagram in the panel (key g): dots and lines in the panel's
+  // pixels, with cell colors; the rays' names in window pixels.
+  vtkNew<vtkPolyData> Diagram, DiagramLabels;
+  vtkNew<vtkActor2D> DiagramActor, DiagramLabelActor;
   // A played walk's order: each entered node's step number at a corner of
   // its box, and the node entered last (the walk's current node) drawn thick.
   vtkNew<vtkPolyData> WalkSteps, WalkCurrent;
@@ -303,6 +310,12 @@ struct vtkRayScopeViewer::Internals {
   /// Hides the overlay of the pick (rays, labels, markers, boxes, panel): a
   /// new scene has no picked pixel.
   void ClearOverlay();
+
+  // The tree diagram (RayScopeViewerTreeDiagram.cxx).
+  void BuildTreeDiagram();
+  /// Lays out the picked pixel's tree in the panel (shown with
+  /// ShowTreeDiagram, else hidden).
+  void UpdateTreeDiagram();
 
   // The text (RayScopeViewerTextPanel.cxx).
   void BuildTextPanel();
