@@ -849,6 +849,23 @@ TEST_F(Viewer, FrameKeyFillsThe3DViewWithTheSelectedRay) {
   }
 }
 
+// The legend names what the 3D view draws, and only that: nothing before a
+// pick, the kinds of the shown rays after it (one kind after k).
+TEST_F(Viewer, TheLegendNamesWhatTheViewDraws) {
+  Fixture f;
+  ASSERT_TRUE(f.start());
+  EXPECT_TRUE(legend_labels(f.viewer).empty());
+  ASSERT_TRUE(f.viewer->PickPixel(kGlassI, kGlassJ));
+  const std::map<int, int> kinds = recorded_by_kind(f.record(kGlassI, kGlassJ));
+  ASSERT_EQ(kinds.size(), 4u);
+  for (const char* kind : {"primary ray", "shadow ray", "reflection ray", "refraction ray"})
+    EXPECT_TRUE(has_label(legend_labels(f.viewer), kind)) << kind;
+  f.key("k");  // the primary rays only
+  EXPECT_TRUE(has_label(legend_labels(f.viewer), "primary ray"));
+  for (const char* kind : {"shadow ray", "reflection ray", "refraction ray"})
+    EXPECT_FALSE(has_label(legend_labels(f.viewer), kind)) << kind;
+}
+
 // A lecture's chapters: each opens its own scene (framed in 3D, rendered at
 // its own size), with its pixel picked and its keys pressed, and the view
 // settings of the chapter before left behind; PageDown / PageUp step through

@@ -1,6 +1,8 @@
 // vtkRayScopeViewer's text: the help line (made from the key table) and the
 // message line on top, the panel below with the picked pixel's tree as
 // `rayscope inspect` prints it, and the legend of the 3D view.
+#include <set>
+
 #include "vtkRayScopeViewerInternals.h"
 
 using namespace rayscope_vtkmodule::viewer;
@@ -79,10 +81,6 @@ void vtkRayScopeViewer::Internals::BuildTextPanel() {
   // The legend, in the 3D view's bottom left corner.
   this->Legend->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
   this->Legend->GetPositionCoordinate()->SetValue(0.0, 0.0);
-  // Its entries' text fills the box: a larger font is a larger box.
-  const double scale = this->Self->GetFontScale();
-  this->Legend->GetPosition2Coordinate()->SetValue(std::min(0.2 * scale, 0.6),
-                                                   std::min(0.3 * scale, 0.9));
   this->Legend->UseBackgroundOn();
   this->Legend->SetBackgroundColor(0.0, 0.0, 0.0);
   this->SceneRen->AddActor2D(this->Legend);
@@ -180,7 +178,8 @@ void vtkRayScopeViewer::Internals::UpdatePanel() {
     const int* pixel = this->Self->PickedPixel;
     // (Counted from the top, as the text and the rayscope command count.)
     this->PanelText = "ray tree of pixel (" + std::to_string(pixel[0]) + ", " +
-                      std::to_string(this->Settings.height - 1 - pixel[1]) + "): " + std::to_string(this->Record.rays.size()) +
+                      std::to_string(this->Settings.height - 1 - pixel[1]) +
+                      "): " + std::to_string(this->Record.rays.size()) +
                       " rays, depth 0 (top) to " + std::to_string(deepest) +
                       "; dimmed: hidden in 3D; g: the text again";
     this->ShowPanelLines({this->PanelText});
@@ -249,20 +248,38 @@ void vtkRayScopeViewer::Internals::ShowPanelLines(const std::vector<std::string>
 }
 
 void vtkRayScopeViewer::Internals::UpdateLegend() {
-  // The entries for what is shown: the ray kinds and markers, then the
-  // played walk's states or the BVH's level ramp (root to deepest level).
+  // The entries for what the 3D view draws now: the kinds of the shown rays
+  // and the markers among them, then the played walk's states or the BVH's
+  // level ramp (root to deepest level). Only those: at a lecture hall's font
+  // scale a legend of everything covered half the view.
   std::vector<std::pair<std::string, std::array<double, 3>>> entries;
   auto add = [&](std::string label, const double(&c)[3]) {
     entries.push_back({std::move(label), {c[0], c[1], c[2]}});
   };
-  for (int k = 0; k < rayscope::kRayKindCount; ++k) {
-    double c[3];
-    vtkRayScopeRayTreeSource::GetKindColor(k, c);
-    add(std::string(rayscope::to_string(rayscope::RayKind(k))) + " ray", c);
+  if (this->HasRecord && this->Self->PickedPixel[0] >= 0) {
+    vtkPolyData* rays = this->Shown->GetOutput();
+    vtkDataArray* kind = rays->GetCellData()->GetArray("Kind");
+    vtkDataArray* skipped = rays->GetCellData()->GetArray("Skipped");
+    std::set<int> kinds;
+    bool any_skipped = false, any_hit = false;
+    for (vtkIdType c = 0; kind && skipped && c < rays->GetNumberOfCells(); ++c) {
+      if (rays->GetCellType(c) != VTK_LINE) {
+        any_hit = true;  // a hit point
+      } else if (skipped->GetTuple1(c) != 0) {
+        any_skipped = true;
+      } else {
+        kinds.insert(int(kind->GetTuple1(c)));
+      }
+    }
+    for (int k : kinds) {
+      double c[3];
+      vtkRayScopeRayTreeSource::GetKindColor(k, c);
+      add(std::string(rayscope::to_string(rayscope::RayKind(k))) + " ray", c);
+    }
+    if (any_skipped) add("skipped (not traced)", kSkippedColor);
+    if (any_hit) add("shading normal", kNormalColor);
+    if (this->Occluders->GetNumberOfVerts() > 0) add("shadow ray blocked here", kOccluderColor);
   }
-  add("skipped (not traced)", kSkippedColor);
-  add("shading normal", kNormalColor);
-  add("shadow ray blocked here", kOccluderColor);
   if (this->Self->TraversalSteps >= 0) {
     const std::string name = this->StructureLabel();
     for (int k = 1; k < 6; ++k) add(name + ": " + kWalkNames[k], kWalkColors[k]);
@@ -283,6 +300,25 @@ void vtkRayScopeViewer::Internals::UpdateLegend() {
   if (entries == this->LegendEntries) return;
   this->LegendEntries = entries;
   this->Changed |= kSceneView;
+  this->Legend->SetVisibility(!entries.empty());
+  // Its entries' text fills the box: the box is as tall as its entries at
+  // the viewer's font size and as wide as the longest, so that it covers no
+  // more of the view than it needs.
+  vtkNew<vtkTextProperty> text;
+  text->SetFontSize(this->FontSize(12));
+  vtkTextRenderer* renderer = vtkTextRenderer::GetInstance();
+  int widest = 0;
+  for (const auto& [label, color] : entries) {
+    int box[4] = {0, 0, 0, 0};
+    if (renderer &&
+        renderer->GetBoundingBox(text, vtkStdString(label), box, this->Window->GetDPI()))
+      widest = std::max(widest, box[1] - box[0]);
+  }
+  const int* view = this->SceneRen->GetSize();
+  const double line = 1.5 * this->FontSize(12), mark = 2.5 * this->FontSize(12);
+  this->Legend->GetPosition2Coordinate()->SetValue(
+      std::min(0.6, (widest + mark) / std::max(1, view[0])),
+      std::min(0.9, line * double(entries.size()) / std::max(1, view[1])));
   this->Legend->SetNumberOfEntries(int(entries.size()));
   vtkSmartPointer<vtkPolyData> symbol = legend_symbol();
   for (size_t e = 0; e < entries.size(); ++e)
