@@ -4,7 +4,6 @@
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -36,22 +35,6 @@ struct Query {
   double radius = 0.0;
   uint32_t k = 0;
 };
-
-// Exactly n comma-separated numbers (strtod's syntax, so "nan" and "inf"
-// parse and are refused later as non-finite, with the value in the message).
-bool parse_numbers(const std::string& s, int n, double* out) {
-  size_t pos = 0;
-  for (int i = 0; i < n; ++i) {
-    const size_t end = i + 1 < n ? s.find(',', pos) : s.size();
-    if (end == std::string::npos || end == pos) return false;
-    const std::string part = s.substr(pos, end - pos);
-    char* stop = nullptr;
-    out[i] = std::strtod(part.c_str(), &stop);
-    if (stop != part.c_str() + part.size()) return false;
-    pos = end + 1;
-  }
-  return true;
-}
 
 Vec3 to_float(const DVec3& v) {
   return Vec3(v);

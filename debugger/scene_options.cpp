@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -79,6 +80,20 @@ std::string accel_kind_names(const char* sep, const char* last_sep) {
   for (size_t i = 0; i < n; ++i)
     s += std::string(i == 0 ? "" : i + 1 == n ? last_sep : sep) + to_string(kAccelKinds[i]);
   return s;
+}
+
+bool parse_numbers(const std::string& s, int n, double* out) {
+  size_t pos = 0;
+  for (int i = 0; i < n; ++i) {
+    const size_t end = i + 1 < n ? s.find(',', pos) : s.size();
+    if (end == std::string::npos || end == pos) return false;
+    const std::string part = s.substr(pos, end - pos);
+    char* stop = nullptr;
+    out[i] = std::strtod(part.c_str(), &stop);
+    if (stop != part.c_str() + part.size()) return false;
+    pos = end + 1;
+  }
+  return true;
 }
 
 bool parse_ints(const std::string& s, int n, int* out) {

@@ -18,6 +18,9 @@ std::string accel_kind_names(const char* sep, const char* last_sep);
 /// Parses n comma-separated integers ("X,Y" or "X,Y,W,H") into out; false when
 /// the text is not exactly that.
 bool parse_ints(const std::string& s, int n, int* out);
+/// The same for n numbers (strtod's syntax, so "nan" and "inf" parse, for
+/// the caller to refuse as non-finite with the value in its message).
+bool parse_numbers(const std::string& s, int n, double* out);
 
 /// A --pixel X,Y option: parsed (throws std::invalid_argument "--pixel:
 /// expected X,Y, got '...'"), and checked against the image once the settings

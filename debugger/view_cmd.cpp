@@ -8,6 +8,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
@@ -69,7 +70,20 @@ struct ViewOptions {
   double fps = 1.0;
   std::string window;
   double font_scale = 1.0;
+  std::string view_camera;
 };
+
+// --view-camera EX,EY,EZ,AX,AY,AZ: six finite numbers, the eye apart from
+// the point it looks at.
+void parse_view_camera(const std::string& text, double out[6]) {
+  if (!parse_numbers(text, 6, out))
+    throw std::invalid_argument("--view-camera: expected EX,EY,EZ,AX,AY,AZ, got '" + text + "'");
+  for (int k = 0; k < 6; ++k)
+    if (!std::isfinite(out[k]))
+      throw std::invalid_argument("--view-camera: '" + text + "' is not six finite numbers");
+  if (out[0] == out[3] && out[1] == out[4] && out[2] == out[5])
+    throw std::invalid_argument("--view-camera: the eye and the point it looks at are the same");
+}
 
 struct ViewModule {
   ViewHelpFn help = nullptr;
@@ -132,6 +146,10 @@ int run_view(const ViewOptions& o) {
   ViewRequest request;
   if (!o.window.empty()) parse_size("--window", o.window, request.window[0], request.window[1]);
   request.font_scale = o.font_scale;
+  if (!o.view_camera.empty()) {
+    parse_view_camera(o.view_camera, request.view_camera);
+    request.aim = true;
+  }
   ViewChapter shown;
   if (!o.lecture.empty()) {
     request.chapters = load_course(o.lecture);
@@ -179,6 +197,10 @@ void add_view_command(CLI::App& app, int& exit_code) {
       ->needs(lecture);
   cmd->add_option("--window", opts->window,
                   "WIDTHxHEIGHT: the window's size in pixels (e.g. 1920x1080 for a projector)");
+  cmd->add_option("--view-camera", opts->view_camera,
+                  "EX,EY,EZ,AX,AY,AZ: point the 3D view from the eye (EX,EY,EZ) at (AX,AY,AZ), "
+                  "in the scene's coordinates (default: framing the whole scene)")
+      ->excludes(lecture);
   cmd->add_option("--font-scale", opts->font_scale,
                   "S: scale every text of the window (help, panel, labels, legend) by S (default "
                   "1; 2 for a lecture hall)");

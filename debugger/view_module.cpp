@@ -96,6 +96,8 @@ int run(const ViewRequest& r) {
       viewer->PickPixel(r.pixel[0], viewer_row(*r.loaded, r.pixel[1]));
     }
   }
+  if (r.aim && !viewer->SetSceneView(r.view_camera, r.view_camera + 3))
+    throw std::invalid_argument("--view-camera: the 3D view cannot look from a point at itself");
   std::vector<rayscope::Rgb8Image> frames;
   const bool record = !r.record.empty();
   if (record) frames.push_back(grab(viewer));

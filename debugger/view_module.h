@@ -36,6 +36,8 @@ struct ViewRequest {
   std::string record;      ///< An animated GIF of the window after the pick and each key.
   double fps = 1.0;        ///< Its frames per second.
   int window[2] = {0, 0};  ///< Window size in pixels (0: the viewer's default).
+  bool aim = false;        ///< view_camera holds the 3D view's eye and look-at point.
+  double view_camera[6] = {0, 0, 0, 0, 0, 0};
   double font_scale = 1.0;
 };
 

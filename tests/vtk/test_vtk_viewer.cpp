@@ -1032,6 +1032,53 @@ TEST_F(Viewer, TreeDiagramPutsEachRayBelowItsParent) {
   EXPECT_NE(std::string(f.viewer->GetPanelText()).find("#1 "), std::string::npos);
 }
 
+// SetSceneView aims the 3D view (rayscope view --view-camera); f with a
+// played walk frames the walk's current node, which then fills the view.
+TEST_F(Viewer, TheSceneViewIsAimedAndFramesTheWalksCurrentNode) {
+  Fixture f;
+  const double eye[3] = {6, 3, 6}, at[3] = {0, 0.5, 0};
+  EXPECT_EQ(f.viewer->SetSceneView(eye, at), 0) << "not before Initialize()";
+  ASSERT_TRUE(f.start_on_glass());
+  vtkCamera* cam = f.viewer->GetSceneRenderer()->GetActiveCamera();
+  ASSERT_EQ(f.viewer->SetSceneView(eye, at), 1);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_DOUBLE_EQ(cam->GetPosition()[k], eye[k]);
+    EXPECT_DOUBLE_EQ(cam->GetFocalPoint()[k], at[k]);
+  }
+  EXPECT_EQ(f.viewer->SetSceneView(at, at), 0);
+  const double nan[3] = {0, std::nan(""), 0};
+  EXPECT_EQ(f.viewer->SetSceneView(nan, at), 0);
+  EXPECT_DOUBLE_EQ(cam->GetPosition()[0], eye[0]);
+
+  f.key("Right");
+  for (int k = 0; k < 3; ++k) f.key("t");
+  vtkPolyData* node = f.viewer->GetWalkCurrentNode();
+  ASSERT_GT(node->GetNumberOfPoints(), 0);
+  f.key("f");
+  const std::string node_n = "node " + std::to_string(f.viewer->GetTraversalSteps()) + " of";
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find(node_n), std::string::npos)
+      << f.viewer->GetMessage();
+  // The node's box, corner by corner on the screen: inside the view and
+  // spanning at least 40% of its smaller side.
+  vtkRenderer* ren = f.viewer->GetSceneRenderer();
+  double b[6];
+  node->GetBounds(b);
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (int c = 0; c < 8; ++c) {
+    ren->SetWorldPoint(b[c & 1], b[2 + ((c >> 1) & 1)], b[4 + ((c >> 2) & 1)], 1.0);
+    ren->WorldToDisplay();
+    double d[3];
+    ren->GetDisplayPoint(d);
+    EXPECT_TRUE(ren->IsInViewport(int(d[0]), int(d[1]))) << "corner " << c;
+    for (int k = 0; k < 2; ++k) {
+      lo[k] = std::min(lo[k], d[k]);
+      hi[k] = std::max(hi[k], d[k]);
+    }
+  }
+  const int* size = ren->GetSize();
+  EXPECT_GT(std::max(hi[0] - lo[0], hi[1] - lo[1]), 0.4 * std::min(size[0], size[1]));
+}
+
 // A scene source without a scene: Initialize fails with a message, no crash.
 TEST_F(Viewer, NoSceneFailsCleanly) {
   vtkNew<vtkRayScopeImageAlgorithm> empty;

@@ -87,7 +87,7 @@ const std::vector<vtkRayScopeViewer::Internals::Key>& vtkRayScopeViewer::Interna
       {"]/[", {"bracketright", "bracketleft"}, "depth", true, &KeyPress::MaxDepth},
       {"p", {"p"}, "projection", true, &KeyPress::Projection},
       {"r", {"r"}, "3D camera", true, &KeyPress::Camera},
-      {"f/F", {"f", "F"}, "frame ray/scene", true, &KeyPress::Frame},
+      {"f/F", {"f", "F"}, "frame node/ray/scene", true, &KeyPress::Frame},
       {"PgDn/PgUp",
        {"Next", "Prior", "Page_Down", "Page_Up"},
        "chapter",
@@ -324,7 +324,13 @@ int vtkRayScopeViewer::Internals::KeyPress::Frame() {
   if (!picked) return need_pick();
   vtkBoundingBox box;
   std::string what;
-  if (self->SelectedRay >= 0) {
+  if (in.WalkCurrent->GetNumberOfPoints() > 0) {
+    // The walk's current node, which deep in the tree is a few pixels wide.
+    double bounds[6];
+    in.WalkCurrent->GetBounds(bounds);
+    box.SetBounds(bounds);
+    what = "node " + std::to_string(self->TraversalSteps) + " of the walk";
+  } else if (self->SelectedRay >= 0) {
     in.Selected->Update();
     vtkDataSet* ray = in.Selected->GetOutput();
     for (vtkIdType p = 0; p < ray->GetNumberOfPoints(); ++p) box.AddPoint(ray->GetPoint(p));

@@ -313,6 +313,24 @@ int vtkRayScopeViewer::PickAtDisplay(int x, int y) {
   return this->PickPixel(int(std::floor(px)), in.Settings.height - 1 - int(std::floor(py)));
 }
 
+int vtkRayScopeViewer::SetSceneView(const double eye[3], const double at[3]) {
+  Internals& in = *this->Internal;
+  if (!in.Initialized) return 0;
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(eye[k]) || !std::isfinite(at[k])) return 0;
+  if (eye[0] == at[0] && eye[1] == at[1] && eye[2] == at[2]) return 0;
+  vtkCamera* cam = in.SceneRen->GetActiveCamera();
+  const rayscope::Vec3 up = in.scene()->camera.up;
+  cam->SetPosition(eye);
+  cam->SetFocalPoint(at);
+  cam->SetViewUp(up.x, up.y, up.z);
+  cam->OrthogonalizeViewUp();
+  in.SceneRen->ResetCameraClippingRange();
+  in.Changed |= kSceneView;
+  in.Redraw();
+  return 1;
+}
+
 // --- Image mode, screenshots, export -------------------------------------------
 
 void vtkRayScopeViewer::SetImageMode(int mode) {

@@ -123,6 +123,13 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   vtkGetVector2Macro(PickedPixel, int);
   ///@}
 
+  /// Points the 3D view's camera from `eye` at `at` (world coordinates),
+  /// with the scene camera's up direction as far as it is not along the
+  /// view: what `rayscope view --view-camera` sets. Returns 0 and changes
+  /// nothing before Initialize(), for points that are not finite, or for
+  /// the same point twice.
+  int SetSceneView(const double eye[3], const double at[3]);
+
   /// Handles a key as the window does (keysym as VTK names it: "Up", "plus",
   /// "t", ...); returns 0 for a key the viewer does not use.
   int HandleKey(const char* keysym);
