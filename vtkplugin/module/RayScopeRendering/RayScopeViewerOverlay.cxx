@@ -236,6 +236,9 @@ void vtkRayScopeViewer::Internals::UpdateOverlay() {
   vtkRayScopeViewer* self = this->Self;
   const int i = self->PickedPixel[0], j = self->PickedPixel[1];
   const rayscope::Scene& s = *this->scene();
+  // A tree shown whole stays whole when it is recorded again deeper (a
+  // re-render after ]): the new depths are shown too.
+  const bool whole = !this->HasRecord || self->ShownDepth >= this->RecordDepth;
   try {
     this->Record = rayscope::record_pixel(s, this->Settings, i, this->Settings.height - 1 - j);
   } catch (const std::exception& e) {
@@ -246,7 +249,7 @@ void vtkRayScopeViewer::Internals::UpdateOverlay() {
   this->RecordDepth = 0;
   for (const rayscope::RayRecord& r : this->Record.rays)
     this->RecordDepth = std::max(this->RecordDepth, r.depth);
-  self->ShownDepth = std::min(self->ShownDepth, this->RecordDepth);
+  self->ShownDepth = whole ? this->RecordDepth : std::min(self->ShownDepth, this->RecordDepth);
   if (self->SelectedRay >= int(this->Record.rays.size())) self->SelectedRay = -1;
   this->InspectText = rayscope::format_text(this->Record, s);
 
