@@ -39,6 +39,7 @@
 #include <vtkRendererCollection.h>
 #include <vtkStringArray.h>
 #include <vtkTextActor.h>
+#include <vtkTextProperty.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkXMLPolyDataReader.h>
 
@@ -847,6 +848,47 @@ TEST_F(Viewer, FrameKeyFillsThe3DViewWithTheSelectedRay) {
       EXPECT_NEAR(position[k], start_position[k], 1e-9);
     }
   }
+}
+
+// The panel breaks the inspect text's long lines to its width and shows the
+// lines that fit its height: at font scale 2 in a 960x600 window every line
+// shown lies within the panel, the selected ray's line among them.
+TEST_F(Viewer, ThePanelWrapsItsLinesToItsWidth) {
+  Fixture f;
+  f.viewer->SetWindowSize(960, 600);
+  f.viewer->SetFontScale(2.0);
+  ASSERT_TRUE(f.start_on_glass());
+  f.key("Right");
+  const std::string panel = f.viewer->GetPanelText();
+  EXPECT_NE(panel.find(">>#0 primary"), std::string::npos) << panel;
+  vtkRenderer* ren = f.viewer->GetTextRenderer();
+  f.viewer->GetRenderWindow()->Render();
+  const int* size = ren->GetSize();
+  int shown = 0;
+  vtkActor2DCollection* actors = ren->GetActors2D();
+  actors->InitTraversal();
+  while (vtkActor2D* actor = actors->GetNextActor2D()) {
+    auto* t = vtkTextActor::SafeDownCast(actor);
+    if (!t || !t->GetVisibility() || !t->GetInput() || !*t->GetInput()) continue;
+    ++shown;
+    double box[4];
+    t->GetBoundingBox(ren, box);
+    const int* anchor = t->GetPositionCoordinate()->GetComputedViewportValue(ren);
+    EXPECT_LE(anchor[0] + box[1], double(size[0])) << t->GetInput();
+    EXPECT_GE(anchor[1] + box[2], 0.0) << t->GetInput();
+  }
+  EXPECT_GE(shown, 4);
+  // The whole text is longer than the panel is wide: some line was broken.
+  size_t longest = 0;
+  std::istringstream text(f.viewer->GetInspectText());
+  for (std::string line; std::getline(text, line);) longest = std::max(longest, line.size());
+  double box[4];
+  vtkNew<vtkTextActor> probe;
+  probe->GetTextProperty()->SetFontFamilyToCourier();
+  probe->GetTextProperty()->SetFontSize(24);
+  probe->SetInput(std::string(longest, 'X').c_str());
+  probe->GetBoundingBox(ren, box);
+  EXPECT_GT(box[1] - box[0], double(size[0]));
 }
 
 // The legend names what the 3D view draws, and only that: nothing before a

@@ -52,6 +52,12 @@ void vtkRayScopeViewer::Internals::BuildTextPanel() {
               text->GetBoundingBox(panel_text, vtkStdString("Xg\nXg"), two, this->Window->GetDPI())
           ? (two[3] - two[2]) - (one[3] - one[2])
           : 14;
+  // Courier: every character as wide as one tenth of ten.
+  int ten[4];
+  this->PanelCharWidth = text && text->GetBoundingBox(panel_text, vtkStdString("XXXXXXXXXX"), ten,
+                                                      this->Window->GetDPI())
+                             ? std::max(1.0, (ten[1] - ten[0]) / 10.0)
+                             : 0.6 * this->FontSize(12);
   vtkNew<vtkCoordinate> panel_corner;
   panel_corner->SetCoordinateSystemToNormalizedViewport();
   panel_corner->SetValue(0.005, 0.98);
@@ -204,15 +210,41 @@ void vtkRayScopeViewer::Internals::UpdatePanel() {
       }
     }
   }
+  // Lines longer than the panel is wide are broken at a space, the rest
+  // indented under the line's own text (a lecture hall's font scale makes
+  // the long ones, such as the lecture's tests, run off the right edge);
+  // the panel shows as many lines as fit its height.
+  const int* size = this->PanelRen->GetSize();
+  // (FreeType's box of ten characters is a little narrower than ten
+  // advances: 5% spare.)
+  const int columns =
+      std::max(kPanelLeastColumns, int(0.95 * (size[0] - 8) / this->PanelCharWidth));
+  const int rows =
+      std::clamp(int((size[1] * 0.98) / std::max(1, this->PanelLineHeight)), 1, kPanelLines);
+  std::vector<std::string> wrapped;
+  int selected_row = -1;
+  for (size_t k = 0; k < lines.size(); ++k) {
+    if (int(k) == selected) selected_row = int(wrapped.size());
+    std::string rest = lines[k];
+    // The continuation's indent: under the line's text, at most half a line.
+    const size_t text = std::min(rest.find_first_not_of(" >"), rest.size());
+    const std::string indent(std::min(text + 4, size_t(columns / 2)), ' ');
+    while (int(rest.size()) > columns) {
+      size_t cut = rest.rfind(' ', size_t(columns));
+      if (cut == std::string::npos || cut <= indent.size()) cut = size_t(columns);
+      wrapped.push_back(rest.substr(0, cut));
+      const size_t next = rest.find_first_not_of(' ', cut);
+      rest = indent + (next == std::string::npos ? std::string() : rest.substr(next));
+    }
+    wrapped.push_back(rest);
+  }
   const int first =
-      std::max(0, std::min(selected - kPanelLinesBefore, int(lines.size()) - kPanelLines));
-  std::string shown;
-  for (int k = std::max(0, first); k < int(lines.size()) && k < first + kPanelLines; ++k)
-    shown += lines[size_t(k)] + "\n";
-  this->PanelText = shown;
-  this->ShowPanelLines(std::vector<std::string>(
-      lines.begin() + std::max(0, first),
-      lines.begin() + std::min<int>(int(lines.size()), first + kPanelLines)));
+      std::max(0, std::min(selected_row - kPanelLinesBefore, int(wrapped.size()) - rows));
+  const std::vector<std::string> shown(
+      wrapped.begin() + first, wrapped.begin() + std::min<int>(int(wrapped.size()), first + rows));
+  this->PanelText.clear();
+  for (const std::string& line : shown) this->PanelText += line + "\n";
+  this->ShowPanelLines(shown);
 }
 
 // Puts `lines` (at most kPanelLines) on the panel, top down. A line already

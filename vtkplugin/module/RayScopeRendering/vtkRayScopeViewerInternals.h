@@ -97,10 +97,11 @@ namespace rayscope_vtkmodule::viewer {
 // and the 3D view side by side, the text panel below.
 inline constexpr double kHeaderBottom = 0.95;
 inline constexpr double kPanelTop = 0.30;
-inline constexpr int kProgressTimerMs = 40;          // how often finished tiles are shown
-inline constexpr int kPanelLines = 18;               // lines of the inspect text shown at once
-inline constexpr int kPanelLinesBefore = 4;          // of them, before the selected ray's line
-inline constexpr int kGridRadius = 4;                // pixel grid shown: the picked pixel +- this
+inline constexpr int kProgressTimerMs = 40;    // how often finished tiles are shown
+inline constexpr int kPanelLines = 18;         // lines of the inspect text shown at once, most
+inline constexpr int kPanelLinesBefore = 4;    // of them, before the selected ray's line
+inline constexpr int kPanelLeastColumns = 40;  // characters a panel line is broken at, least
+inline constexpr int kGridRadius = 4;          // pixel grid shown: the picked pixel +- this
 inline constexpr double kImagePlaneFraction = 0.25;  // image plane at this fraction of eye..look_at
 inline constexpr double kNormalFraction = 0.04;  // normals drawn this fraction of the scene size
 inline constexpr double kLightFraction = 0.015;  // light markers' radius, same
@@ -225,6 +226,7 @@ struct vtkRayScopeViewer::Internals {
   std::vector<vtkSmartPointer<vtkTextActor>> PanelLines;
   std::vector<std::string> PanelLineText;  // what each of them shows
   int PanelLineHeight = 0;                 // pixels from one line to the next
+  double PanelCharWidth = 7.0;             // pixels of one character (Courier)
 
   // A lecture's chapters (AddChapter()) and the caption on top of the 3D
   // view.
