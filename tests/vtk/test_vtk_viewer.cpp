@@ -656,15 +656,20 @@ TEST_F(Viewer, DrawsNamesAndPlaysTheChosenStructure) {
     EXPECT_EQ(structure->GetValue(0), name);
     const rayscope::AccelView view = rayscope::make_accel_view(f.alg->GetCoreScene()->accel());
     // Every node or cell that holds something is drawn (a box as 12 edges,
-    // a sphere as circles, a BSP node also as its split polygon), each cell
-    // naming its node; empty leaves (a grid's empty cells) are left out.
+    // a sphere as circles), each cell naming its node; empty leaves (a
+    // grid's empty cells) are left out.
     vtkDataArray* node_ids = shown->GetCellData()->GetArray("NodeId");
     ASSERT_NE(node_ids, nullptr);
     std::set<int> drawn, occupied;
     for (vtkIdType c = 0; c < node_ids->GetNumberOfTuples(); ++c)
       drawn.insert(int(node_ids->GetTuple1(c)));
-    for (size_t i = 0; i < view.nodes.size(); ++i)
-      if (!view.nodes[i].leaf || view.nodes[i].count > 0) occupied.insert(int(i));
+    // The BSP tree is drawn as its partition: the root's box and every split
+    // polygon (OnlySplitPlanes).
+    for (size_t i = 0; i < view.nodes.size(); ++i) {
+      const rayscope::AccelViewNode& n = view.nodes[i];
+      if (name == "bsp" ? n.parent < 0 || n.polygon_count >= 3 : !n.leaf || n.count > 0)
+        occupied.insert(int(i));
+    }
     EXPECT_EQ(drawn, occupied);
     if (name == "grid") {
       EXPECT_LT(occupied.size(), view.nodes.size() / 2) << "most cells are empty";

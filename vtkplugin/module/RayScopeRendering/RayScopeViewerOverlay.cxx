@@ -342,6 +342,9 @@ void vtkRayScopeViewer::Internals::UpdateBVH() {
     this->UpdateWalkOrder(true);
   } else if (self->ShowBVH) {
     this->UpdateWalkOrder(false);
+    // A BSP tree as its split planes: the boxes around its cells overlap
+    // one another in a tangle.
+    bvh->SetOnlySplitPlanes(this->StructureLabel() == "bsp");
     bvh->SetVisitModeToNone();
     bvh->SetTraversalSteps(-1);
     if (self->BVHLevel < 0)

@@ -37,6 +37,7 @@ vtkRayScopeAccelSource::vtkRayScopeAccelSource()
     : LevelRange{0, VTK_INT_MAX},
       OnlyLeaves(0),
       HideEmptyLeaves(0),
+      OnlySplitPlanes(0),
       GenerateFaces(0),
       VisitMode(VISIT_NONE),
       Pixel{0, 0},
@@ -212,6 +213,14 @@ int vtkRayScopeAccelSource::RequestData(vtkInformation*, vtkInformationVector** 
         (!this->OnlyLeaves || nodes[i].leaf) && (!play || state[i] != 0) &&
         (play || !this->HideEmptyLeaves || !nodes[i].leaf || nodes[i].count > 0))
       shown.push_back(i);
+  // The nodes drawn as volumes: every node shown, or with OnlySplitPlanes
+  // (a BSP tree's partition; not for a played walk, whose states are the
+  // boxes') only the root's box, whatever the levels, around the planes.
+  std::vector<uint32_t> volumes;
+  const bool planes_only = this->OnlySplitPlanes && !play;
+  for (uint32_t i = 0; i < uint32_t(nn); ++i)
+    if (planes_only ? nodes[i].parent < 0 : std::binary_search(shown.begin(), shown.end(), i))
+      volumes.push_back(i);
 
   // A node with a sphere (the sphere tree) is drawn as that sphere: with
   // faces, a latitude-longitude surface of kRings x kSegments cells
@@ -228,7 +237,7 @@ int vtkRayScopeAccelSource::RequestData(vtkInformation*, vtkInformationVector** 
     return faces ? vtkIdType(kRings * kSegments) : vtkIdType(3 * kSegments);
   };
   vtkIdType npoints = 0, nvolume_cells = 0;
-  for (uint32_t i : shown) {
+  for (uint32_t i : volumes) {
     npoints += point_count(nodes[i]);
     nvolume_cells += cell_count(nodes[i]);
   }
@@ -275,7 +284,7 @@ int vtkRayScopeAccelSource::RequestData(vtkInformation*, vtkInformationVector** 
     }
   };
   vtkIdType cell = 0, point = 0;
-  for (uint32_t i : shown) {
+  for (uint32_t i : volumes) {
     const rayscope::AccelViewNode& n = nodes[i];
     const vtkIdType p0 = point;
     point += point_count(n);
@@ -401,6 +410,7 @@ void vtkRayScopeAccelSource::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "LevelRange: " << this->LevelRange[0] << " " << this->LevelRange[1] << "\n";
   os << indent << "OnlyLeaves: " << this->OnlyLeaves << "\n";
   os << indent << "HideEmptyLeaves: " << this->HideEmptyLeaves << "\n";
+  os << indent << "OnlySplitPlanes: " << this->OnlySplitPlanes << "\n";
   os << indent << "GenerateFaces: " << this->GenerateFaces << "\n";
   os << indent << "VisitMode: " << this->VisitMode << "\n";
   os << indent << "Pixel: " << this->Pixel[0] << " " << this->Pixel[1] << "\n";

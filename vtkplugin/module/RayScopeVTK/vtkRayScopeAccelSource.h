@@ -105,6 +105,17 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeAccelSource : public vtkRayScopeSceneFilter 
   ///@}
 
   ///@{
+  /// A BSP tree as its partition (default off): the split polygons of the
+  /// levels shown and the root's box, not the boxes around the other nodes'
+  /// cells, which overlap one another (a played walk still shows them: its
+  /// states are theirs). No effect on the other structures' boxes, which
+  /// have no polygons: only their roots are drawn.
+  vtkSetMacro(OnlySplitPlanes, vtkTypeBool);
+  vtkGetMacro(OnlySplitPlanes, vtkTypeBool);
+  vtkBooleanMacro(OnlySplitPlanes, vtkTypeBool);
+  ///@}
+
+  ///@{
   /// Quads (6 per box) instead of lines (12 per box).
   vtkSetMacro(GenerateFaces, vtkTypeBool);
   vtkGetMacro(GenerateFaces, vtkTypeBool);
@@ -164,6 +175,7 @@ class RAYSCOPEVTK_EXPORT vtkRayScopeAccelSource : public vtkRayScopeSceneFilter 
   int LevelRange[2];
   vtkTypeBool OnlyLeaves;
   vtkTypeBool HideEmptyLeaves;
+  vtkTypeBool OnlySplitPlanes;
   vtkTypeBool GenerateFaces;
   int VisitMode;
   int Pixel[2];
