@@ -120,8 +120,13 @@ inline constexpr double kSelectedColor[3] = {1.0, 1.0, 1.0};
 inline constexpr double kOccluderColor[3] = {0.95, 0.2, 0.15};
 inline constexpr int kEndOccluder =
     3;  // vtkRayScopeRayTreeSource's EndKind of a blocked shadow ray
-inline constexpr double kWalkColors[6][3] = {{0, 0, 0},       {0.9, 0.9, 0.3}, {0.9, 0.2, 0.2},
-                                             {0.2, 0.9, 0.2}, {0.3, 0.5, 1.0}, {1.0, 1.0, 1.0}};
+// The walk's colors share no hue with the ray kinds' (yellow, blue, green,
+// magenta), so that a box is never taken for a ray: boxes hit but not
+// entered lavender, missed dark red, entered cyan, culled tan, the hit leaf
+// white.
+inline constexpr double kWalkColors[6][3] = {{0, 0, 0},          {0.7, 0.6, 1.0},
+                                             {0.75, 0.15, 0.15}, {0.0, 0.85, 0.85},
+                                             {0.8, 0.6, 0.35},   {1.0, 1.0, 1.0}};
 inline constexpr const char* kWalkNames[6] = {"",        "box hit, not entered yet",   "box missed",
                                               "entered", "culled (early termination)", "hit leaf"};
 inline constexpr int kDiagramMostLabels = 64;     // rays of a tree diagram named "#id"
