@@ -145,8 +145,11 @@ void vtkRayScopeViewer::Internals::BuildOverlay() {
   // A grid's empty cells would fill its box with lines; the cells that hold
   // something show where the objects are.
   this->BVH->HideEmptyLeavesOn();
+  // Levels from blue (the root) to red (the deepest), light enough to read
+  // on the legend's black (pure blue is not).
   this->LevelTable = vtkSmartPointer<vtkLookupTable>::New();
-  this->LevelTable->SetHueRange(0.66, 0.0);
+  this->LevelTable->SetHueRange(0.62, 0.0);
+  this->LevelTable->SetSaturationRange(0.7, 0.7);
   this->LevelTable->Build();
   this->WalkTable = make_table(6, kWalkColors);
   this->BVHMapper->SetInputData(this->NoBoxes);
