@@ -6,6 +6,8 @@
 #include <map>
 
 #include "vtkBoundingBox.h"
+#include "vtkLabelPlacementMapper.h"
+#include "vtkPointSetToLabelHierarchy.h"
 
 #include "vtkRayScopeViewerInternals.h"
 
@@ -123,19 +125,26 @@ void vtkRayScopeViewer::Internals::BuildOverlay() {
   // Text at points of the 3D view: each vertex of `points` labelled with
   // its point-data string `array` (the mapper's "field data" mode), hidden
   // until asked for.
+  // Text at points of the 3D view: each vertex of `points` labelled with
+  // its point-data string `array`, hidden until asked for. VTK's label
+  // placement draws only the labels that do not overlap one already placed
+  // (a label hierarchy, front to back), so that labels never pile up; the
+  // others appear as the view zooms in (f).
   auto add_labels = [&](vtkPolyData* points, const char* array, int size, const double color[3],
                         vtkActor2D* actor) {
-    vtkNew<vtkLabeledDataMapper> mapper;
-    mapper->SetInputData(points);
-    mapper->SetLabelModeToLabelFieldData();
-    mapper->SetFieldDataName(array);
-    mapper->GetLabelTextProperty()->SetFontSize(this->FontSize(size));
-    mapper->GetLabelTextProperty()->SetColor(color[0], color[1], color[2]);
-    mapper->GetLabelTextProperty()->ShadowOn();
+    vtkNew<vtkPointSetToLabelHierarchy> hierarchy;
+    hierarchy->SetInputData(points);
+    hierarchy->SetLabelArrayName(array);
+    vtkTextProperty* text = hierarchy->GetTextProperty();
+    text->SetFontSize(this->FontSize(size));
+    text->SetColor(color[0], color[1], color[2]);
+    text->ShadowOn();
+    vtkNew<vtkLabelPlacementMapper> mapper;
+    mapper->SetInputConnection(hierarchy->GetOutputPort());
     actor->SetMapper(mapper);
     actor->VisibilityOff();
     this->SceneRen->AddActor2D(actor);
-    return mapper->GetLabelTextProperty();
+    return text;
   };
   // Labels on demand: "#id dDEPTH wWEIGHT" at the middle of each shown ray.
   add_labels(this->Labels, "Label", 12, kSelectedColor, this->LabelActor);
