@@ -75,6 +75,16 @@ int viewer_row(const rayscope::LoadedScene& loaded, int y) {
 }
 
 int run(const ViewRequest& r) {
+  // Scripted keys are checked before a window opens.
+  for (const std::string& key : r.keys)
+    if (!vtkRayScopeViewer::IsKey(key.c_str()))
+      throw std::invalid_argument("--keys: '" + key + "' is not a key of the viewer");
+  for (size_t n = 0; n < r.chapters.size(); ++n)
+    for (const std::string& key : r.chapters[n].keys)
+      if (!vtkRayScopeViewer::IsKey(key.c_str()))
+        throw std::invalid_argument("chapter " + std::to_string(n + 1) + " (" +
+                                    r.chapters[n].title + "): --keys: '" + key +
+                                    "' is not a key of the viewer");
   vtkNew<vtkRayScopeViewer> viewer;
   if (r.window[0] > 0) viewer->SetWindowSize(r.window[0], r.window[1]);
   viewer->SetFontScale(r.font_scale);
@@ -103,8 +113,7 @@ int run(const ViewRequest& r) {
   if (record) frames.push_back(grab(viewer));
   for (const std::string& key : r.keys) {
     viewer->WaitForRender();  // keys that re-render finish before the next key
-    if (!viewer->HandleKey(key.c_str()))
-      throw std::invalid_argument("--keys: '" + key + "' is not a key of the viewer");
+    viewer->HandleKey(key.c_str());
     if (record) frames.push_back(grab(viewer));
   }
   if (record) rayscope::write_animation(r.record, frames, r.fps);

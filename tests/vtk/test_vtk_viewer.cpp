@@ -996,6 +996,10 @@ TEST_F(Viewer, ChapterKeysWithoutALectureSaySo) {
   EXPECT_EQ(f.viewer->HandleKey("Next"), 1);
   EXPECT_NE(std::string(f.viewer->GetMessage()).find("--lecture"), std::string::npos);
   EXPECT_EQ(std::string(f.viewer->GetCaption()), "");
+  // The keys scripts may press are the key table's, checked without a window.
+  for (const char* key : {"Next", "Prior", "g", "t", "bracketright"})
+    EXPECT_TRUE(vtkRayScopeViewer::IsKey(key)) << key;
+  for (const char* key : {"zz", "q", ""}) EXPECT_FALSE(vtkRayScopeViewer::IsKey(key)) << key;
 }
 
 // Key g draws the picked pixel's tree as a diagram in the panel: a dot per

@@ -114,6 +114,14 @@ const std::string& vtkRayScopeViewer::Internals::HelpLine() {
   return line;
 }
 
+bool vtkRayScopeViewer::IsKey(const char* keysym) {
+  if (!keysym) return false;
+  for (const Internals::Key& k : Internals::KeyTable())
+    if (k.action && std::find(k.keysyms.begin(), k.keysyms.end(), keysym) != k.keysyms.end())
+      return true;
+  return false;
+}
+
 int vtkRayScopeViewer::HandleKey(const char* keysym) {
   Internals& in = *this->Internal;
   if (!keysym || !in.Initialized) return 0;

@@ -130,6 +130,10 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   /// the same point twice.
   int SetSceneView(const double eye[3], const double at[3]);
 
+  /// Whether HandleKey() has an action for `keysym` (so that scripted keys,
+  /// such as a lecture's chapters' or `rayscope view --keys`, are checked
+  /// before a window opens).
+  static bool IsKey(const char* keysym);
   /// Handles a key as the window does (keysym as VTK names it: "Up", "plus",
   /// "t", ...); returns 0 for a key the viewer does not use.
   int HandleKey(const char* keysym);
