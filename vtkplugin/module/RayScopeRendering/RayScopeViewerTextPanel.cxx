@@ -179,14 +179,12 @@ void vtkRayScopeViewer::Internals::UpdatePanel() {
   this->UpdateTreeDiagram();
   if (this->Self->ShowTreeDiagram) {
     // The diagram below one line that says what it shows.
-    int deepest = 0;
-    for (const rayscope::RayRecord& r : this->Record.rays) deepest = std::max(deepest, r.depth);
     const int* pixel = this->Self->PickedPixel;
     // (Counted from the top, as the text and the rayscope command count.)
     this->PanelText = "ray tree of pixel (" + std::to_string(pixel[0]) + ", " +
                       std::to_string(this->Settings.height - 1 - pixel[1]) +
                       "): " + std::to_string(this->Record.rays.size()) +
-                      " rays, depth 0 (top) to " + std::to_string(deepest) +
+                      " rays, depth 0 (top) to " + std::to_string(this->RecordDepth) +
                       "; dimmed: hidden in 3D; g: the text again";
     this->ShowPanelLines({this->PanelText});
     return;

@@ -30,8 +30,8 @@ std::vector<double> tree_columns(const std::vector<rayscope::RayRecord>& rays, i
   }
   std::vector<double> x(n, 0.0);
   columns = 0;
-  // Post order without recursion (a tree may be hundreds of rays deep in
-  // children, never in depth, but the walk is written once either way).
+  // Post order, with an explicit stack: each ray's column after its
+  // children's.
   std::vector<std::pair<int, size_t>> stack;
   for (int root : roots) {
     stack.push_back({root, 0});
