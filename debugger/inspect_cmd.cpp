@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "rayscope/packet_replay.h"
 #include "rayscope/raytree_format.h"
 #include "rayscope/replay.h"
 #include "scene_options.h"
@@ -23,6 +24,7 @@ struct InspectOptions {
   int sample = -1;
   std::string format = "text";
   std::string output;
+  bool packet = false;
 };
 
 int run_inspect(const InspectOptions& o) {
@@ -50,6 +52,15 @@ int run_inspect(const InspectOptions& o) {
     std::fprintf(stderr, "rayscope: warning: %s: %s\n",
                  o.scene.scene.empty() ? "default scene" : o.scene.scene.c_str(), w.c_str());
   prepare_frame(loaded.scene, loaded.settings);
+  if (o.packet) {
+    if (o.format != "text") throw std::invalid_argument("--packet: only --format text");
+    std::string text;
+    for (const glm::ivec2& p : pixels)
+      text += format_packet_text(record_packet(loaded.scene, loaded.settings, p.x, p.y, o.sample),
+                                 loaded.scene);
+    write_text_output(text, o.output);
+    return 0;
+  }
   std::vector<PixelRecord> records;
   for (const glm::ivec2& p : pixels)
     records.push_back(record_pixel(loaded.scene, loaded.settings, p.x, p.y, o.sample));
@@ -88,6 +99,10 @@ void add_inspect_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--format", opts->format, "text or json")
       ->check(CLI::IsMember({"text", "json"}))
       ->capture_default_str();
+  cmd->add_flag("--packet", opts->packet,
+                "Print the packet the pixel's primary ray was traced in instead of its ray tree: "
+                "the block of pixels traced together, each node the packet entered with the rays "
+                "active there, and where each ray left the walk (one sample: --sample, default 0)");
   cmd->add_option("-o,--output", opts->output, "Write to this file instead of standard output");
   cmd->callback([opts, &exit_code]() { exit_code = run_inspect(*opts); });
 }

@@ -14,8 +14,10 @@
 // hot loops of every level as RayScope ships them (kernels.h; Kernels.*).
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cstring>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -23,6 +25,7 @@
 #include "rayscope/camera.h"
 #include "rayscope/integrator.h"
 #include "rayscope/kernels.h"
+#include "rayscope/packet_replay.h"
 #include "rayscope/render.h"
 #include "rayscope/render_block.h"
 #include "rayscope/scene.h"
@@ -218,6 +221,111 @@ TEST(Packets, FrameLoopInBlocksGivesTheSingleRayImage) {
       EXPECT_GT(single.primary_hits, 0u);
     }
   });
+}
+
+// A pixel's packet replayed (record_packet) is the packet the frame loop
+// traced: with primary rays only (no shadows, depth 0), each pixel's cost AOV
+// is its lane's work in the replayed packet, for every pixel of an image whose
+// tiles leave partial blocks. The log of its walk agrees with its counts, and
+// its hits are the single-ray hits.
+TEST(Packets, ReplayIsTheFrameLoopsPacket) {
+  for_each_data_scene([](Scene& scene, const std::string&) {
+    for (Light& l : scene.lights) l.casts_shadows = false;
+    RenderSettings rs;
+    rs.width = 67;
+    rs.height = 45;
+    rs.tile_size = 14;
+    rs.max_depth = 0;
+    rs.statistics = true;
+    const Framebuffer fb = render(scene, rs);
+    ASSERT_EQ(fb.cost.size(), size_t(rs.width) * size_t(rs.height));
+    size_t walked = 0, partial = 0;
+    for (int y = 0; y < rs.height; ++y)
+      for (int x = 0; x < rs.width; ++x) {
+        const PacketReplay r = record_packet(scene, rs, x, y);
+        ASSERT_EQ(r.every_ray_alone, "");
+        const int w = r.width();
+        ASSERT_EQ(r.block.x0 + r.lane % w, x);
+        ASSERT_EQ(r.block.y0 + r.lane / w, y);
+        partial += r.rays() < kPacketRays;
+        const PixelCost& aov = fb.cost[fb.index(x, y)];
+        ASSERT_EQ(aov.nodes, r.cost.nodes[r.lane]) << x << "," << y;
+        ASSERT_EQ(aov.boxes, r.cost.boxes[r.lane]) << x << "," << y;
+        ASSERT_EQ(aov.prims, r.cost.prims[r.lane]) << x << "," << y;
+        if (r.lane != 0) continue;  // the rest once per block
+        if (r.fell_back) {
+          EXPECT_TRUE(r.steps.empty());
+          continue;
+        }
+        ++walked;
+        ASSERT_EQ(r.steps.size(), r.cost.node_visits);
+        uint32_t active = 0, per_lane[kPacketRays] = {};
+        for (const PacketStep& st : r.steps) {
+          active += uint32_t(__builtin_popcount(st.lanes));
+          for (int k = 0; k < kPacketRays; ++k) per_lane[k] += st.lanes >> k & 1u;
+          EXPECT_EQ(st.lanes >> r.rays(), 0u);
+        }
+        EXPECT_EQ(active, r.cost.active_lanes);
+        for (int k = 0; k < r.rays(); ++k) {
+          EXPECT_EQ(per_lane[k], r.cost.nodes[k]);
+          RayDifferential diff;
+          const Ray ray = primary_ray(scene, rs, r.block.x0 + k % w, r.block.y0 + k / w, 0, &diff);
+          PrimHit single;
+          const bool hit = scene.intersect(ray, single);
+          ASSERT_EQ(hit, bool(r.hits >> k & 1u));
+          if (hit) {
+            EXPECT_TRUE(same_bits(single.t, r.hit[k].t));
+            EXPECT_EQ(single.prim, r.hit[k].prim);
+            EXPECT_EQ(single.plane, r.hit[k].plane);
+          }
+        }
+      }
+    EXPECT_GT(partial, 0u);
+    if (scene.accel().walks_structure()) {
+      EXPECT_GT(walked, 0u);
+    }
+  });
+}
+
+// The replay's text names the block, the pixel's lane and each step's active
+// rays as the block's rows; a pixel outside the image is refused.
+TEST(Packets, ReplayTextDrawsTheBlocksRows) {
+  LoadedScene ls = load_scene(std::filesystem::path(RAYSCOPE_SOURCE_DIR) / "data/scenes/bunny.json",
+                              rayscope_vtkio::load_meshes);
+  ls.scene.commit();
+  RenderSettings rs = ls.settings;
+  rs.width = 320;
+  rs.height = 240;
+  prepare_frame(ls.scene, rs);
+  // A block on the bunny's silhouette: its rays part ways.
+  const PacketReplay r = record_packet(ls.scene, rs, 86, 122);
+  ASSERT_FALSE(r.fell_back);
+  EXPECT_EQ(r.block.x0, 84);
+  EXPECT_EQ(r.block.y0, 120);
+  EXPECT_EQ(r.lane, 10);
+  const std::string text = format_packet_text(r, ls.scene);
+  EXPECT_NE(text.find("from (84, 120) to (87, 123)"), std::string::npos) << text;
+  EXPECT_NE(text.find("lane 10 is this pixel"), std::string::npos) << text;
+  EXPECT_NE(text.find("   1  node 0                  16  #### #### #### ####"), std::string::npos)
+      << text;
+  // One line per step; a step where only lane 10 is active draws one '#',
+  // in row 2, column 2.
+  size_t steps = 0, only_this = 0;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.size() > 4 && std::isdigit(static_cast<unsigned char>(line[3]))) ++steps;
+    if (line.find(".... .... ..#. ....") != std::string::npos) {
+      ++only_this;
+      EXPECT_EQ(line.substr(line.size() - 2), "in") << line;
+    }
+  }
+  EXPECT_EQ(steps, r.steps.size());
+  EXPECT_GT(r.cost.node_visits, 16u);
+  EXPECT_LT(double(r.cost.active_lanes) / r.cost.node_visits, 8.0);
+  EXPECT_GT(only_this, 0u);
+  EXPECT_THROW(record_packet(ls.scene, rs, 320, 0), std::out_of_range);
+  EXPECT_THROW(record_packet(ls.scene, rs, 0, 0, rs.sample_grid() * rs.sample_grid()),
+               std::out_of_range);
 }
 
 /// A closed icosphere and a flat grid of triangles with shared edges and

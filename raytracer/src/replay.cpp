@@ -7,13 +7,19 @@
 
 namespace rayscope {
 
-namespace {
-
-[[noreturn]] void outside(int x, int y, const RenderSettings& s) {
-  throw std::out_of_range("pixel (" + std::to_string(x) + ", " + std::to_string(y) +
-                          ") is outside the " + std::to_string(s.width) + "x" +
-                          std::to_string(s.height) + " image");
+void check_replay(const RenderSettings& settings, int x, int y, int sample) {
+  if (x < 0 || y < 0 || x >= settings.width || y >= settings.height)
+    throw std::out_of_range("pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                            ") is outside the " + std::to_string(settings.width) + "x" +
+                            std::to_string(settings.height) + " image");
+  const int n2 = settings.sample_grid() * settings.sample_grid();
+  if (sample < -1 || sample >= n2)
+    throw std::out_of_range("sample " + std::to_string(sample) + " is outside 0.." +
+                            std::to_string(n2 - 1) + " (" + std::to_string(settings.sample_grid()) +
+                            "x" + std::to_string(settings.sample_grid()) + " samples per pixel)");
 }
+
+namespace {
 
 // Frame policy: plain pixels, except the selected ones, whose full ray trees
 // are recorded (in the same pass, so recording costs nothing in other tiles).
@@ -49,12 +55,7 @@ struct RecordSelected : FramePolicy {
 
 PixelRecord record_pixel(const Scene& scene, const RenderSettings& settings, int x, int y,
                          int sample) {
-  if (x < 0 || y < 0 || x >= settings.width || y >= settings.height) outside(x, y, settings);
-  const int n2 = settings.sample_grid() * settings.sample_grid();
-  if (sample < -1 || sample >= n2)
-    throw std::out_of_range("sample " + std::to_string(sample) + " is outside 0.." +
-                            std::to_string(n2 - 1) + " (" + std::to_string(settings.sample_grid()) +
-                            "x" + std::to_string(settings.sample_grid()) + " samples per pixel)");
+  check_replay(settings, x, y, sample);
   RayTreeRecorder rec(sample);
   RayCounters counters;
   PixelRecord out;
@@ -85,8 +86,7 @@ Framebuffer render_and_record(Scene& scene, const RenderSettings& settings,
   records.assign(pixels.size(), PixelRecord{});
   for (size_t k = 0; k < pixels.size(); ++k) {
     const glm::ivec2& p = pixels[k];
-    if (p.x < 0 || p.y < 0 || p.x >= settings.width || p.y >= settings.height)
-      outside(p.x, p.y, settings);
+    check_replay(settings, p.x, p.y);
     sel.slot[size_t(p.y) * size_t(settings.width) + size_t(p.x)] = int32_t(k);
     sel.tiles[grid.tile_of(p.x, p.y)] = 1;
   }

@@ -45,6 +45,7 @@
 
 #include "rayscope/accel/accel_view.h"
 #include "rayscope/image.h"
+#include "rayscope/packet_replay.h"
 #include "rayscope/render.h"
 #include "rayscope/replay.h"
 #include "rayscope/shapes.h"
@@ -1006,6 +1007,53 @@ TEST_F(Viewer, ChapterKeysWithoutALectureSaySo) {
 // ray, a line from each ray's parent to it, every ray below its parent,
 // leaves left to right in trace order; the selected ray white, the rays the
 // 3D view hides dimmed; g again brings the text back.
+// Key c: the panel shows the packet the picked pixel's primary ray was
+// traced in (the core's replay), and the image outlines the packet's block;
+// g and c take turns in the panel.
+TEST_F(Viewer, PacketKeyShowsThePixelsPacket) {
+  Fixture f;
+  ASSERT_TRUE(f.start());
+  f.key("c");
+  EXPECT_NE(std::string(f.viewer->GetMessage()).find("pick a pixel first"), std::string::npos);
+  ASSERT_TRUE(f.viewer->PickPixel(kGlassI, kGlassJ));
+  vtkPolyData* marker = f.viewer->GetPixelMarker();
+  const vtkIdType plain = marker->GetNumberOfCells();
+  f.key("c");
+  ASSERT_TRUE(f.viewer->GetShowPacket());
+  const rayscope::RenderSettings rs = f.alg->GetRenderSettings();
+  const rayscope::PacketReplay r =
+      rayscope::record_packet(*f.alg->GetCoreScene(), rs, kGlassI, rs.height - 1 - kGlassJ);
+  const std::string panel = f.viewer->GetPanelText();
+  EXPECT_EQ(panel.rfind("packet of pixel (49, 52), sample 0:", 0), 0u) << panel;
+  EXPECT_NE(panel.find("lane " + std::to_string(r.lane) + " is this pixel"), std::string::npos)
+      << panel;
+  // The viewer renders every ray alone for its cost heat map, and says so.
+  EXPECT_NE(r.every_ray_alone.find("packets are off"), std::string::npos);
+  EXPECT_NE(panel.find("packets are off"), std::string::npos) << panel;
+  // The block's outline: the pixels' edges, rows counted from the bottom.
+  ASSERT_EQ(marker->GetNumberOfCells(), plain + 1);
+  double b[6];
+  marker->GetCell(plain)->GetBounds(b);
+  EXPECT_DOUBLE_EQ(b[0], r.block.x0 - 0.5);
+  EXPECT_DOUBLE_EQ(b[1], r.block.x1 - 0.5);
+  EXPECT_DOUBLE_EQ(b[2], rs.height - r.block.y1 - 0.5);
+  EXPECT_DOUBLE_EQ(b[3], rs.height - r.block.y0 - 0.5);
+  EXPECT_LE(b[0], kGlassI);
+  EXPECT_GE(b[1], kGlassI);
+  EXPECT_LE(b[2], kGlassJ);
+  EXPECT_GE(b[3], kGlassJ);
+  f.key("g");
+  EXPECT_FALSE(f.viewer->GetShowPacket());
+  EXPECT_TRUE(f.viewer->GetShowTreeDiagram());
+  EXPECT_EQ(marker->GetNumberOfCells(), plain);
+  f.key("c");
+  EXPECT_TRUE(f.viewer->GetShowPacket());
+  EXPECT_FALSE(f.viewer->GetShowTreeDiagram());
+  f.key("c");
+  EXPECT_FALSE(f.viewer->GetShowPacket());
+  EXPECT_EQ(std::string(f.viewer->GetPanelText()).rfind("packet", 0), std::string::npos);
+}
+
 TEST_F(Viewer, TreeDiagramPutsEachRayBelowItsParent) {
   Fixture f;
   ASSERT_TRUE(f.start());

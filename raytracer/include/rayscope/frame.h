@@ -145,8 +145,8 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
       R recs[kBlockSide * kBlockSide];
       for (int by = y0; by < y1; by += kBlockSide)
         for (int bx = x0; bx < x1; bx += kBlockSide) {
-          const int ex = std::min(bx + kBlockSide, x1), ey = std::min(by + kBlockSide, y1);
-          const int count = (ex - bx) * (ey - by);
+          const TileRect b = pixel_block_at({x0, y0, x1, y1}, bx, by);
+          const int ex = b.x1, ey = b.y1, count = (ex - bx) * (ey - by);
           for (int k = 0; k < count; ++k) recs[k] = policy.recorder();
           render_block<R, kShadows, kSecondary>(scene, settings, bx, by, ex, ey, cnt, recs, px);
           int k = 0;

@@ -9,10 +9,13 @@
 // for bit, so every pixel has render_pixel()'s color, bit for bit.
 #pragma once
 
+#include <algorithm>
 #include <span>
+#include <string>
 
 #include "rayscope/accel/ray_packet.h"
 #include "rayscope/render.h"
+#include "rayscope/tiles.h"
 
 namespace rayscope {
 
@@ -20,17 +23,43 @@ namespace rayscope {
 inline constexpr int kBlockSide = 4;
 static_assert(kBlockSide * kBlockSide <= kPacketRays);
 
+/// The block of kBlockSide x kBlockSide pixels from (bx, by) on in `tile`, cut
+/// at the tile's edges: the frame loop's blocks start at each tile's corner.
+inline TileRect pixel_block_at(const TileRect& tile, int bx, int by) {
+  return {bx, by, std::min(bx + kBlockSide, tile.x1), std::min(by + kBlockSide, tile.y1)};
+}
+
+/// The block whose primary rays the frame loop traces in one packet with
+/// those of pixel (x, y) (top-left origin).
+inline TileRect pixel_block(const TileGrid& grid, int x, int y) {
+  const TileRect tile = grid.rect(grid.tile_of(x, y));
+  return pixel_block_at(tile, tile.x0 + (x - tile.x0) / kBlockSide * kBlockSide,
+                        tile.y0 + (y - tile.y0) / kBlockSide * kBlockSide);
+}
+
 /// Most lights whose shadow rays render_block() traces as packets (one bit per
 /// light); scenes with more lights render pixel by pixel.
 inline constexpr size_t kMaxPacketLights = 64;
 
-/// Whether the frame loop renders `settings` in blocks: settings.packets,
-/// every pixel takes the same samples (no adaptive sampling) and the scene has
-/// at most kMaxPacketLights lights. Policies whose recorder observes each
-/// ray's walk (recording ray trees, the structure views' visit counts)
-/// render pixel by pixel; statistics count the packets' walks.
+/// Why the frame loop renders `settings` pixel by pixel, every ray alone
+/// (empty: it renders in blocks): packets are off, adaptive sampling (pixels
+/// take different samples), or more than kMaxPacketLights lights.
+inline std::string why_every_ray_alone(const Scene& scene, const RenderSettings& settings) {
+  if (!settings.packets)
+    return "packets are off (--single-rays; in VTK, renders that make Cost arrays, such as the "
+           "viewer's cost heat map)";
+  if (settings.max_samples != 0) return "adaptive sampling gives the pixels different samples";
+  if (scene.lights.size() > kMaxPacketLights)
+    return "the scene has more than " + std::to_string(kMaxPacketLights) + " lights";
+  return {};
+}
+
+/// Whether the frame loop renders `settings` in blocks (why_every_ray_alone()
+/// says nothing against it). Policies whose recorder observes each ray's walk
+/// (recording ray trees, the structure views' visit counts) render pixel by
+/// pixel; statistics count the packets' walks.
 inline bool renders_in_blocks(const Scene& scene, const RenderSettings& settings) {
-  return settings.packets && settings.max_samples == 0 && scene.lights.size() <= kMaxPacketLights;
+  return why_every_ray_alone(scene, settings).empty();
 }
 
 /// What render_block() gives for each pixel: render_pixel()'s color, its

@@ -15,6 +15,11 @@
 
 namespace rayscope {
 
+/// Throws std::out_of_range, naming the image's size, for a pixel (x, y) (top-left
+/// origin) or a sample (0..N*N-1, or -1 for all) outside the image `settings`
+/// renders: the check of every replay.
+void check_replay(const RenderSettings& settings, int x, int y, int sample = -1);
+
 /// Replays pixel (x, y) (top-left origin) of a render with these settings,
 /// recording its ray tree (one sample, or all with sample == -1). scene.camera
 /// must be prepared for the settings (prepare_frame(), or render()). Throws

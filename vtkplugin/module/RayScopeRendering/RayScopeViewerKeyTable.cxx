@@ -29,6 +29,7 @@ struct vtkRayScopeViewer::Internals::KeyPress {
   int Kind();
   int Labels();
   int Diagram();
+  int Packet();
   int NextImageMode();
   int Samples();
   int MaxDepth();
@@ -82,6 +83,7 @@ const std::vector<vtkRayScopeViewer::Internals::Key>& vtkRayScopeViewer::Interna
       {"k", {"k"}, "kind", false, &KeyPress::Kind},
       {"d", {"d"}, "labels", false, &KeyPress::Labels},
       {"g", {"g"}, "tree diagram", false, &KeyPress::Diagram},
+      {"c", {"c"}, "packet", true, &KeyPress::Packet},
       {"m", {"m"}, "image", false, &KeyPress::NextImageMode},
       {"+/-", {"plus", "KP_Add", "minus", "KP_Subtract"}, "spp", false, &KeyPress::Samples},
       {"]/[", {"bracketright", "bracketleft"}, "depth", true, &KeyPress::MaxDepth},
@@ -256,8 +258,20 @@ int vtkRayScopeViewer::Internals::KeyPress::Labels() {
 int vtkRayScopeViewer::Internals::KeyPress::Diagram() {
   if (!picked) return need_pick();
   self->ShowTreeDiagram = !self->ShowTreeDiagram;
+  self->ShowPacket = false;
   in.UpdatePanel();
+  in.UpdateMarker();
   return say(self->ShowTreeDiagram ? "tree diagram: each ray below its parent" : "tree as text");
+}
+
+// The packet the picked pixel's primary ray was traced in, or the tree again.
+int vtkRayScopeViewer::Internals::KeyPress::Packet() {
+  if (!picked) return need_pick();
+  self->ShowPacket = !self->ShowPacket;
+  self->ShowTreeDiagram = false;
+  return refresh(self->ShowPacket
+                     ? "packet: the block of pixels traced together; '#': rays active in each node"
+                     : "tree as text");
 }
 
 // The next image mode (one the image has data for).

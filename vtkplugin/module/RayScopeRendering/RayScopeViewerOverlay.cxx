@@ -264,6 +264,10 @@ void vtkRayScopeViewer::Internals::UpdateOverlay() {
   self->ShownDepth = whole ? this->RecordDepth : std::min(self->ShownDepth, this->RecordDepth);
   if (self->SelectedRay >= int(this->Record.rays.size())) self->SelectedRay = -1;
   this->InspectText = rayscope::format_text(this->Record, s);
+  if (self->ShowPacket) {
+    this->Packet = rayscope::record_packet(s, this->Settings, i, this->Settings.height - 1 - j);
+    this->PacketText = rayscope::format_packet_text(this->Packet, s);
+  }
 
   this->Tree->SetPixel(i, j);
   this->ByDepth->SetUpperThreshold(self->ShownDepth);

@@ -190,10 +190,10 @@ void vtkRayScopeViewer::Internals::UpdatePanel() {
     return;
   }
   std::vector<std::string> lines;
-  std::istringstream text(this->InspectText);
+  std::istringstream text(this->Self->ShowPacket ? this->PacketText : this->InspectText);
   for (std::string l; std::getline(text, l);) lines.push_back(l);
   int selected = -1;
-  if (this->Self->SelectedRay >= 0) {
+  if (this->Self->SelectedRay >= 0 && !this->Self->ShowPacket) {
     // (Appended, not "#" + std::to_string(...): GCC 12 warns falsely on that
     // operator+ here, -Wrestrict.)
     std::string tag = "#";

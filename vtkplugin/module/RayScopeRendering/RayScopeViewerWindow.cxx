@@ -368,6 +368,17 @@ void vtkRayScopeViewer::Internals::UpdateMarker() {
     const vtkIdType seg[2] = {k, k + 1};
     lines->InsertNextCell(2, seg);
   }
+  if (this->Self->ShowPacket) {
+    // The packet's block of pixels (its rows counted from the top).
+    const rayscope::TileRect& b = this->Packet.block;
+    const double x0 = b.x0 - r, x1 = b.x1 - 1 + r;
+    const double y0 = this->Settings.height - b.y1 - r, y1 = this->Settings.height - 1 - b.y0 + r;
+    const vtkIdType first = pts->GetNumberOfPoints();
+    for (auto [px, py] : {std::pair{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}})
+      pts->InsertNextPoint(px, py, 0.5);
+    const vtkIdType block[5] = {first, first + 1, first + 2, first + 3, first};
+    lines->InsertNextCell(5, block);
+  }
   this->Marker->Initialize();
   this->Marker->SetPoints(pts);
   this->Marker->SetLines(lines);

@@ -19,6 +19,7 @@ vtkRayScopeViewer::vtkRayScopeViewer()
       ImageMode(COLOR),
       ShowLabels(false),
       ShowTreeDiagram(false),
+      ShowPacket(false),
       LastRenderSeconds(0.0),
       OutputPrefix(nullptr),
       WindowSize{1400, 820},
@@ -102,6 +103,10 @@ vtkImageData* vtkRayScopeViewer::GetLastImage() {
 
 vtkPolyData* vtkRayScopeViewer::GetShownRays() {
   return this->Internal->Shown->GetOutput();
+}
+
+vtkPolyData* vtkRayScopeViewer::GetPixelMarker() {
+  return this->Internal->Marker;
 }
 
 vtkPolyData* vtkRayScopeViewer::GetOccluderMarkers() {
@@ -228,6 +233,7 @@ int vtkRayScopeViewer::SetChapter(int n) {
   this->BVHLevel = -1;
   this->ShowLabels = false;
   this->ShowTreeDiagram = false;
+  this->ShowPacket = false;
   this->ImageMode = COLOR;
   in.Algorithm = c.Source;
   in.Tree->SetSceneSource(in.Algorithm);
@@ -404,6 +410,7 @@ void vtkRayScopeViewer::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "BVHLevel: " << this->BVHLevel << "\n";
   os << indent << "ShowLabels: " << this->ShowLabels << "\n";
   os << indent << "ShowTreeDiagram: " << this->ShowTreeDiagram << "\n";
+  os << indent << "ShowPacket: " << this->ShowPacket << "\n";
   os << indent << "ImageMode: " << rayscope_vtkmodule::display_mode_name(this->ImageMode) << "\n";
   os << indent << "Chapter: " << this->Chapter << " of " << this->Internal->Chapters.size() << "\n";
   os << indent << "OutputPrefix: " << (this->OutputPrefix ? this->OutputPrefix : "") << "\n";

@@ -153,6 +153,10 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   vtkGetMacro(ShowLabels, bool);
   /// The panel shows the tree diagram instead of the text (key g).
   vtkGetMacro(ShowTreeDiagram, bool);
+  /// The panel shows the packet the picked pixel's primary ray was traced in
+  /// (key c; rayscope::format_packet_text()) instead of the tree's text, and
+  /// the image outlines the packet's block of pixels.
+  vtkGetMacro(ShowPacket, bool);
   ///@}
 
   /// Image modes (the values of the image viewport's ImageMode).
@@ -179,6 +183,10 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   /// The markers of blocked shadow rays: a vertex where each shown shadow
   /// ray meets its nearest occluder.
   vtkPolyData* GetOccluderMarkers();
+  /// The picked pixel's marker in the image viewport (pixel coordinates): a
+  /// square around the pixel, four arms, and with ShowPacket the outline of
+  /// the packet's block of pixels (the last cell).
+  vtkPolyData* GetPixelMarker();
   /// The tree diagram (key g; empty when not shown): a vertex per ray and a
   /// line from each ray's parent to it, in pixels of the panel's viewport,
   /// each ray below its parent and leaves in trace order from left to right;
@@ -275,6 +283,7 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   int ImageMode;
   bool ShowLabels;
   bool ShowTreeDiagram;
+  bool ShowPacket;
   double LastRenderSeconds;
   char* OutputPrefix;
   int WindowSize[2];

@@ -82,6 +82,7 @@
 #include "RayScopeDisplay.h"
 #include "rayscope/frame.h"
 #include "rayscope/image.h"
+#include "rayscope/packet_replay.h"
 #include "rayscope/raytree_format.h"
 #include "rayscope/replay.h"
 #include "rayscope_vtkio/image_arrays.h"
@@ -153,6 +154,9 @@ struct vtkRayScopeViewer::Internals {
   vtkNew<vtkRenderer> ImageRen, SceneRen, PanelRen, HeaderRen;
   bool Initialized = false;
   std::string LastError, Message, InspectText, PanelText;
+  // The picked pixel's packet (key c), replayed when shown, and its text.
+  rayscope::PacketReplay Packet;
+  std::string PacketText;
 
   // The image: the last finished render with every array, and what is shown;
   // Next is the image the running render fills, tile by tile, on the worker's

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #if defined(__SSE2__)
 #include <immintrin.h>
@@ -116,6 +117,15 @@ struct alignas(64) RayPacket {
 
 using packet_detail::RayPacket;
 
+/// One node a packet entered, as PacketWalkCost::steps logs it: the wide
+/// BVH's child reference (WideBvhNode: an inner node's index, or kLeaf with
+/// the leaf's first lane), a leaf's record count (0 for an inner node) and
+/// the rays active in it, bit k for lane k.
+struct PacketStep {
+  uint32_t child = 0, count = 0;
+  unsigned lanes = 0;
+};
+
 /// The work a packet's walk did for each of its rays (statistics and cost
 /// AOVs), in the single-ray observer's units, per lane: the nodes the packet
 /// entered while the lane's ray was active in them, the boxes tested for it
@@ -131,13 +141,18 @@ struct PacketWalkCost {
   uint32_t node_visits = 0;   ///< Nodes the packet entered.
   uint32_t active_lanes = 0;  ///< The rays active in them, summed over the visits.
   bool fell_back = false;     ///< Its rays were traced one at a time.
+  /// When set, each node entered is appended here in walk order (the
+  /// packet view of record_packet(); renders leave it null).
+  std::vector<PacketStep>* steps = nullptr;
 
   /// Adds n to field[k] for each lane k in `lanes`.
   static void add(uint32_t* field, unsigned lanes, uint32_t n) {
     for (; lanes != 0; lanes &= lanes - 1) field[__builtin_ctz(lanes)] += n;
   }
-  /// The packet enters a node with the rays in `lanes` active.
-  void enter(unsigned lanes) {
+  /// The packet enters node `child` (a leaf of `count` records, or an inner
+  /// node with count 0) with the rays in `lanes` active.
+  void enter(uint32_t child, uint32_t count, unsigned lanes) {
+    if (steps) steps->push_back({child, count, lanes});
     ++node_visits;
     active_lanes += unsigned(__builtin_popcount(lanes));
     add(nodes, lanes, 1);

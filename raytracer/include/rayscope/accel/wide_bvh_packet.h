@@ -141,7 +141,7 @@ unsigned WideBvh::traverse_packet(RayPacket& p, LeafFn&& leaf, Cost& cost) const
     if (child & WideBvhNode::kLeaf) {
       if (count != 0) {
         if constexpr (Cost::kActive) {
-          cost.enter(mask);
+          cost.enter(child, count, mask);
           cost.add(cost.prims, mask, count);
         }
         const unsigned found = leaf(mask, child & ~WideBvhNode::kLeaf, count);
@@ -164,7 +164,7 @@ unsigned WideBvh::traverse_packet(RayPacket& p, LeafFn&& leaf, Cost& cost) const
       float key[WideBvhNode::kWidth];  // entry distance of the first ray that hits
       unsigned ks[WideBvhNode::kWidth];
       int m = 0;
-      if constexpr (Cost::kActive) cost.enter(mask);
+      if constexpr (Cost::kActive) cost.enter(child, 0, mask);
       const unsigned missed = frustum_misses(nx, fx, ny, fy, nz, fz);
       for (int k = 0; k < WideBvhNode::kWidth; ++k) {
         if (n.child[k] == WideBvhNode::kLeaf && n.count[k] == 0) break;  // empty slots
