@@ -62,13 +62,13 @@ class Aggregate {
   /// from the records when a tool asks for it), ids increasing with i;
   /// records with id < num_triangles are triangles, the others spheres,
   /// points or capsules (their PrimRecord::shape). record_of is called once
-  /// per primitive, in leaf order, from several threads at once: the records
-  /// are made where they are kept, with no copy in the caller's order (on
-  /// 1.1M triangles that copy was 53 MB to fill and reorder). Replaces what
-  /// was built.
+  /// per primitive (and once more for the last one), in leaf order, from
+  /// several threads at once: the records are made where they are kept (the
+  /// BVH's triangle blocks, or the other structures' records), with no copy
+  /// in the caller's order. Replaces what was built.
   void build(std::span<const Bounds3> bounds, std::span<const Vec3> centroids,
-             const std::function<PrimRecord(size_t)>& record_of, uint32_t num_triangles,
-             std::vector<PlaneRecord> planes, const AccelConfig& config = {});
+             const RecordSource& record_of, uint32_t num_triangles, std::vector<PlaneRecord> planes,
+             const AccelConfig& config = {});
 
   /// Closest hit within (0, ray.tmax). When several primitives are hit at
   /// exactly the same t, the result is the one a brute-force loop over all

@@ -64,7 +64,7 @@ int arity_of(AccelKind kind) {
 }  // namespace
 
 void BvhWalk::build(AccelKind kind, const Bvh& bvh, std::shared_ptr<const BvhOnDemand> hierarchy,
-                    std::span<const PrimRecord> records, uint32_t num_triangles) {
+                    const RecordSource& record_at, uint32_t num_triangles) {
   kind_ = kind;
   hierarchy_ = std::move(hierarchy);
   sources_ = std::make_shared<SlotSources>();
@@ -81,7 +81,7 @@ void BvhWalk::build(AccelKind kind, const Bvh& bvh, std::shared_ptr<const BvhOnD
                         TriangleBlock& b = blocks_[j];
                         b.first = layout.block_first[j];
                         for (unsigned lane = 0; lane < layout.block_lanes[j]; ++lane) {
-                          const PrimRecord& r = records[b.first + lane];
+                          const PrimRecord r = record_at(b.first + lane);
                           if (r.id >= num_triangles) {
                             b.others |= uint8_t(1u << lane);
                             continue;

@@ -25,9 +25,10 @@ static_assert(AccelStructure<BvhWalk> && AccelStructure<BruteForce> && AccelStru
               AccelStructure<UniformGrid> && AccelStructure<Octree> && AccelStructure<BspTree> &&
               AccelStructure<SphereTree>);
 
-/// Builds config.kind over `records`, the primitives in the leaf order of
-/// `built` (the binary BVH built over their prim_box()es in the scene's
-/// order: records[i] is primitive built.prim_indices[i]); records with id >=
+/// Builds config.kind over the primitives in the leaf order of `built` (the
+/// binary BVH built over their prim_box()es in the scene's order):
+/// record_at(i) is primitive built.prim_indices[i], called once for each i
+/// (the BVH walk calls it from several threads at once); records with id >=
 /// num_triangles are spheres, points or capsules (by their PrimRecord::shape).
 /// `hierarchy` is `built` as the tools ask for it later, kept by the
 /// structures that show it. Throws std::invalid_argument when
@@ -35,7 +36,7 @@ static_assert(AccelStructure<BvhWalk> && AccelStructure<BruteForce> && AccelStru
 /// BVH's build began (the BVH kinds count it in their build time).
 AccelStructureVariant build_accel(const AccelConfig& config, const Bvh& built,
                                   std::shared_ptr<const BvhOnDemand> hierarchy,
-                                  std::span<const PrimRecord> records, uint32_t num_triangles,
+                                  const RecordSource& record_at, uint32_t num_triangles,
                                   std::chrono::steady_clock::time_point build_start);
 
 }  // namespace rayscope

@@ -31,13 +31,14 @@ namespace rayscope {
 
 class BvhWalk {
  public:
-  /// Collapses `built` (built over `records`, which are in its leaf order)
-  /// into nodes of 8 children (AccelKind::Bvh) or 2 (BinaryBvh) and fills the
-  /// leaves' triangle blocks; records with id >= num_triangles (spheres,
+  /// Collapses `built` into nodes of 8 children (AccelKind::Bvh) or 2
+  /// (BinaryBvh) and fills the leaves' triangle blocks from record_at(i), the
+  /// record at position i of its leaf order (called once for each, from
+  /// several threads at once); records with id >= num_triangles (spheres,
   /// points, capsules) are left to the scalar test. `hierarchy` gives `built`
   /// again when the tools ask for it.
   void build(AccelKind kind, const Bvh& built, std::shared_ptr<const BvhOnDemand> hierarchy,
-             std::span<const PrimRecord> records, uint32_t num_triangles);
+             const RecordSource& record_at, uint32_t num_triangles);
   /// Asks `hierarchy` for the binary tree from now on (a copy of the
   /// aggregate's, over the same records).
   void share_hierarchy(std::shared_ptr<const BvhOnDemand> hierarchy) {

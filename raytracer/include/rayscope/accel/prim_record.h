@@ -3,7 +3,9 @@
 // beside the structure, and the closest hit found among them.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 
 #include "rayscope/math.h"
 
@@ -40,6 +42,12 @@ struct PrimRecord {
   PrimShape shape;
   Vec3 c;
 };
+
+/// The record at position i of an order (the scene's, or a structure's leaf
+/// order), made when asked for: what the builders are given instead of an
+/// array, so that a structure that keeps its primitives in its own form (the
+/// BVH's triangle blocks) needs no array of records in between.
+using RecordSource = std::function<PrimRecord(size_t)>;
 
 /// An unbounded plane (tested outside any structure).
 struct PlaneRecord {
