@@ -53,11 +53,19 @@ int run_inspect(const InspectOptions& o) {
                  o.scene.scene.empty() ? "default scene" : o.scene.scene.c_str(), w.c_str());
   prepare_frame(loaded.scene, loaded.settings);
   if (o.packet) {
-    if (o.format != "text") throw std::invalid_argument("--packet: only --format text");
-    std::string text;
+    std::vector<PacketReplay> replays;
     for (const glm::ivec2& p : pixels)
-      text += format_packet_text(record_packet(loaded.scene, loaded.settings, p.x, p.y, o.sample),
-                                 loaded.scene);
+      replays.push_back(record_packet(loaded.scene, loaded.settings, p.x, p.y, o.sample));
+    std::string text;
+    if (o.format == "json") {
+      text = "{\"packets\": [\n";
+      for (size_t i = 0; i < replays.size(); ++i)
+        text +=
+            format_packet_json(replays[i], loaded.scene) + (i + 1 < replays.size() ? ",\n" : "\n");
+      text += "]}\n";
+    } else {
+      for (const PacketReplay& r : replays) text += format_packet_text(r, loaded.scene);
+    }
     write_text_output(text, o.output);
     return 0;
   }
@@ -102,7 +110,8 @@ void add_inspect_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--packet", opts->packet,
                 "Print the packet the pixel's primary ray was traced in instead of its ray tree: "
                 "the block of pixels traced together, each node the packet entered with the rays "
-                "active there, and where each ray left the walk (one sample: --sample, default 0)");
+                "active there, and where each ray left the walk (one sample: --sample, default 0; "
+                "--format json: {\"packets\": [...]})");
   cmd->add_option("-o,--output", opts->output, "Write to this file instead of standard output");
   cmd->callback([opts, &exit_code]() { exit_code = run_inspect(*opts); });
 }

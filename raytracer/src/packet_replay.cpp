@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include <nlohmann/json.hpp>
+
 #include "rayscope/accel/wide_bvh.h"
 #include "rayscope/render_block.h"
 #include "rayscope/replay.h"
@@ -52,6 +54,16 @@ std::string rows(const PacketReplay& r, unsigned lanes) {
   return s;
 }
 
+// Per lane: the last step it was active in (where it left the walk; 0:
+// none).
+std::vector<int> last_steps(const PacketReplay& r) {
+  std::vector<int> last(kPacketRays, 0);
+  for (size_t i = 0; i < r.steps.size(); ++i)
+    for (unsigned m = r.steps[i].lanes; m != 0; m &= m - 1)
+      last[size_t(__builtin_ctz(m))] = int(i) + 1;
+  return last;
+}
+
 // What lane k's ray hit.
 std::string hit_text(const PacketReplay& r, const Scene& scene, int k) {
   if (!(r.hits >> k & 1u)) return "missed everything";
@@ -89,16 +101,13 @@ std::string format_packet_text(const PacketReplay& r, const Scene& scene) {
       "  walk: %u nodes entered, %.1f of %d rays active per node on average; this "
       "pixel's ray was active in %u of them\n",
       r.cost.node_visits, mean, n, r.cost.nodes[r.lane]);
-  // Per lane: the last step it was active in (where it left the walk).
-  int last[kPacketRays] = {};
-  for (size_t i = 0; i < r.steps.size(); ++i)
-    for (unsigned m = r.steps[i].lanes; m != 0; m &= m - 1) last[__builtin_ctz(m)] = int(i) + 1;
+  const std::vector<int> last = last_steps(r);
   s += "per pixel of the block (* this pixel): nodes entered while its ray was active, the step "
        "it left the walk at, hit or miss\n";
   for (int row = 0; row * w < n; ++row) {
     s += format("  row %d:", row);
     for (int k = row * w; k < std::min(n, (row + 1) * w); ++k)
-      s += format(" %c%4u @%-4d %-4s", k == r.lane ? '*' : ' ', r.cost.nodes[k], last[k],
+      s += format(" %c%4u @%-4d %-4s", k == r.lane ? '*' : ' ', r.cost.nodes[k], last[size_t(k)],
                   (r.hits >> k & 1u) ? "hit" : "miss");
     s += "\n";
   }
@@ -121,6 +130,52 @@ std::string format_packet_text(const PacketReplay& r, const Scene& scene) {
     out += c;
   }
   return out;
+}
+
+std::string format_packet_json(const PacketReplay& r, const Scene& scene, int indent) {
+  using json = nlohmann::json;
+  const std::vector<int> last = last_steps(r);
+  json lanes = json::array();
+  for (int k = 0; k < r.rays(); ++k) {
+    const bool hit = r.hits >> k & 1u;
+    const PrimHit& h = r.hit[k];
+    json lane = {{"pixel", {r.block.x0 + k % r.width(), r.block.y0 + k / r.width()}},
+                 {"hit", hit},
+                 {"nodes", r.cost.nodes[k]},
+                 {"boxes_tested", r.cost.boxes[k]},
+                 {"primitives_tested", r.cost.prims[k]},
+                 {"culled", r.cost.culled[k]},
+                 {"left_at_step", last[size_t(k)]}};
+    if (hit) {
+      lane["t"] = h.t;
+      lane["object"] = scene.object_name(h.plane >= 0 ? scene.plane_object(uint32_t(h.plane))
+                                                      : scene.prim_object(h.prim));
+      if (h.plane < 0) lane["primitive"] = h.prim;
+    }
+    lanes.push_back(std::move(lane));
+  }
+  json steps = json::array();
+  for (const PacketStep& st : r.steps) {
+    const bool leaf = st.child & WideBvhNode::kLeaf;
+    json step = {{"leaf", leaf}, {"active", __builtin_popcount(st.lanes)}, {"lanes", st.lanes}};
+    if (leaf)
+      step["primitives"] = st.count;
+    else
+      step["node"] = st.child;
+    steps.push_back(std::move(step));
+  }
+  const json j = {
+      {"pixel", {r.x, r.y}},
+      {"sample", r.sample},
+      {"block", {{"x0", r.block.x0}, {"y0", r.block.y0}, {"x1", r.block.x1}, {"y1", r.block.y1}}},
+      {"lane", r.lane},
+      {"every_ray_alone", r.every_ray_alone.empty() ? json(nullptr) : json(r.every_ray_alone)},
+      {"fell_back", r.fell_back},
+      {"node_visits", r.cost.node_visits},
+      {"active_lanes", r.cost.active_lanes},
+      {"lanes", std::move(lanes)},
+      {"steps", std::move(steps)}};
+  return j.dump(indent);
 }
 
 }  // namespace rayscope

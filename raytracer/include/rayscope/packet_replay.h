@@ -56,5 +56,8 @@ PacketReplay record_packet(const Scene& scene, const RenderSettings& settings, i
 /// it left the walk at and whether it hit, then the walk step by step with
 /// the active rays drawn as the block's rows ('#' active, '.' not).
 std::string format_packet_text(const PacketReplay& replay, const Scene& scene);
+/// The same as JSON, for tools: the block, the lane, per lane its pixel, hit
+/// and work, and the steps with each one's active lanes (bit k for lane k).
+std::string format_packet_json(const PacketReplay& replay, const Scene& scene, int indent = 2);
 
 }  // namespace rayscope
