@@ -259,6 +259,28 @@ TEST(Packets, ReplayIsTheFrameLoopsPacket) {
         }
         ++walked;
         ASSERT_EQ(r.steps.size(), r.cost.node_visits);
+        // The steps' boxes: the root's first, each one found, and each ray's
+        // hit on a primitive inside a leaf it was active in.
+        ASSERT_EQ(r.boxes.size(), r.steps.size());
+        const Bounds3 root = scene.bounds();
+        if (!r.steps.empty()) {  // (none when every ray misses the root's box)
+          EXPECT_TRUE(r.boxes[0].lo == root.lo && r.boxes[0].hi == root.hi);
+        }
+        for (const Bounds3& b : r.boxes)
+          EXPECT_TRUE(glm::all(glm::lessThanEqual(b.lo, b.hi)));  // found, not empty
+        for (int k = 0; k < r.rays(); ++k) {
+          if (!(r.hits >> k & 1u) || r.hit[k].plane >= 0) continue;
+          RayDifferential diff;
+          const Ray ray = primary_ray(scene, rs, r.block.x0 + k % w, r.block.y0 + k / w, 0, &diff);
+          const Vec3 p = ray.origin + r.hit[k].t * ray.dir;
+          const float slack = 1e-4f * glm::length(root.hi - root.lo);
+          bool inside = false;
+          for (size_t i = 0; i < r.steps.size(); ++i)
+            if ((r.steps[i].child & WideBvhNode::kLeaf) && (r.steps[i].lanes >> k & 1u))
+              inside |= glm::all(glm::lessThanEqual(r.boxes[i].lo - slack, p)) &&
+                        glm::all(glm::lessThanEqual(p, r.boxes[i].hi + slack));
+          EXPECT_TRUE(inside) << "lane " << k;
+        }
         uint32_t active = 0, per_lane[kPacketRays] = {};
         for (const PacketStep& st : r.steps) {
           active += uint32_t(__builtin_popcount(st.lanes));

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <variant>
 
 #include <nlohmann/json.hpp>
 
@@ -32,6 +33,26 @@ PacketReplay record_packet(const Scene& scene, const RenderSettings& settings, i
   r.hits = scene.intersect_packet(std::span<const Ray>(rays, size_t(n)), r.hit, &r.cost);
   r.cost.steps = nullptr;
   r.fell_back = r.cost.fell_back;
+  // The steps' boxes: the root's (the first node entered), then for each
+  // node the box of the slot that holds it in its parent, an inner node
+  // entered before it.
+  const BvhWalk* walk = std::get_if<BvhWalk>(&scene.accel().structure());
+  if (!r.steps.empty() && walk != nullptr) {
+    const std::vector<WideBvhNode>& nodes = walk->walk().nodes;
+    r.boxes.push_back(scene.accel().bounds());
+    for (size_t i = 1; i < r.steps.size(); ++i) {
+      Bounds3 box;
+      for (size_t j = i; j-- > 0 && box.lo.x == kInfinity;) {
+        if (r.steps[j].child & WideBvhNode::kLeaf) continue;
+        const WideBvhNode& n = nodes[r.steps[j].child];
+        for (int k = 0; k < WideBvhNode::kWidth; ++k)
+          if (n.child[k] == r.steps[i].child)
+            box = Bounds3(Vec3(n.lo_x[k], n.lo_y[k], n.lo_z[k]),
+                          Vec3(n.hi_x[k], n.hi_y[k], n.hi_z[k]));
+      }
+      r.boxes.push_back(box);
+    }
+  }
   return r;
 }
 

@@ -1042,10 +1042,25 @@ TEST_F(Viewer, PacketKeyShowsThePixelsPacket) {
   EXPECT_GE(b[1], kGlassI);
   EXPECT_LE(b[2], kGlassJ);
   EXPECT_GE(b[3], kGlassJ);
+  // In 3D, the box of each node the packet entered, colored by its active
+  // rays, the root's first.
+  vtkPolyData* boxes = f.viewer->GetPacketBoxes();
+  ASSERT_FALSE(r.steps.empty());
+  ASSERT_EQ(boxes->GetNumberOfCells(), vtkIdType(12 * r.steps.size()));
+  vtkDataArray* active = boxes->GetCellData()->GetArray("ActiveRays");
+  ASSERT_NE(active, nullptr);
+  for (size_t i = 0; i < r.steps.size(); ++i)
+    EXPECT_EQ(int(active->GetTuple1(vtkIdType(12 * i))), __builtin_popcount(r.steps[i].lanes));
+  double root[6];
+  boxes->GetCell(0)->GetBounds(root);  // an edge along x of the root's box
+  const rayscope::Bounds3 scene_box = f.alg->GetCoreScene()->bounds();
+  EXPECT_FLOAT_EQ(float(root[0]), scene_box.lo.x);
+  EXPECT_FLOAT_EQ(float(root[1]), scene_box.hi.x);
   f.key("g");
   EXPECT_FALSE(f.viewer->GetShowPacket());
   EXPECT_TRUE(f.viewer->GetShowTreeDiagram());
   EXPECT_EQ(marker->GetNumberOfCells(), plain);
+  EXPECT_EQ(boxes->GetNumberOfCells(), 0);
   f.key("c");
   EXPECT_TRUE(f.viewer->GetShowPacket());
   EXPECT_FALSE(f.viewer->GetShowTreeDiagram());

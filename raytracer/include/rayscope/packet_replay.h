@@ -36,6 +36,9 @@ struct PacketReplay {
   PrimHit hit[kPacketRays];
   /// Each node the packet entered, in walk order (none when it fell back).
   std::vector<PacketStep> steps;
+  /// The box of each step's node (the root's, then each node's box in its
+  /// parent), in the scene's coordinates.
+  std::vector<Bounds3> boxes;
   /// The walk's work per lane (nodes entered while active, boxes, primitives,
   /// culls) and the packet's node visits and active lanes.
   PacketWalkCost cost;

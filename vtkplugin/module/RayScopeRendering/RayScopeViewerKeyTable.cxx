@@ -261,6 +261,8 @@ int vtkRayScopeViewer::Internals::KeyPress::Diagram() {
   self->ShowPacket = false;
   in.UpdatePanel();
   in.UpdateMarker();
+  in.UpdatePacketBoxes();
+  in.UpdateLegend();
   return say(self->ShowTreeDiagram ? "tree diagram: each ray below its parent" : "tree as text");
 }
 

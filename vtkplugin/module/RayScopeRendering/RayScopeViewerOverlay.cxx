@@ -5,6 +5,7 @@
 // by level or as the selected ray's walk played node by node.
 #include <map>
 
+#include "RayScopeArrays.h"
 #include "vtkBoundingBox.h"
 #include "vtkLabelPlacementMapper.h"
 #include "vtkPointSetToLabelHierarchy.h"
@@ -179,6 +180,58 @@ void vtkRayScopeViewer::Internals::BuildOverlay() {
   this->WalkCurrentActor->GetProperty()->SetLineWidth(kWalkCurrentWidth);
   add_marker(this->WalkCurrentActor);
   add_labels(this->WalkSteps, "Step", 16, kWalkColors[3], this->WalkStepActor)->BoldOn();
+  // The packet's nodes: red where one ray was active, through yellow to
+  // cyan where the whole packet walked together.
+  this->PacketTable = vtkSmartPointer<vtkLookupTable>::New();
+  this->PacketTable->SetNumberOfTableValues(rayscope::kPacketRays);
+  this->PacketTable->SetHueRange(0.0, 0.5);
+  this->PacketTable->SetSaturationRange(0.8, 0.8);
+  this->PacketTable->Build();
+  vtkNew<vtkPolyDataMapper> packet_mapper;
+  packet_mapper->SetInputData(this->PacketBoxes);
+  packet_mapper->SetScalarModeToUseCellFieldData();
+  packet_mapper->SetLookupTable(this->PacketTable);
+  packet_mapper->SelectColorArray("ActiveRays");
+  packet_mapper->SetScalarRange(1, rayscope::kPacketRays);
+  this->PacketBoxActor->SetMapper(packet_mapper);
+  this->PacketBoxActor->GetProperty()->SetLineWidth(kWalkBoxWidth);
+  add_marker(this->PacketBoxActor);
+}
+
+// A line cell per box edge, with the rays active in the box's node as cell
+// data "ActiveRays" and its step as "Step" (1 for the root).
+void vtkRayScopeViewer::Internals::UpdatePacketBoxes() {
+  this->PacketBoxes->Initialize();
+  const bool shown = this->Self->ShowPacket && this->HasRecord && !this->Packet.boxes.empty();
+  this->PacketBoxActor->SetVisibility(shown);
+  this->Changed |= kSceneView;
+  if (!shown) return;
+  const rayscope::Scene& s = *this->scene();
+  const size_t n = this->Packet.boxes.size();
+  const vtkSmartPointer<vtkPoints> pts = rayscope_vtkmodule::make_world_points(s, vtkIdType(8 * n));
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkIntArray> active, step;
+  active->SetName("ActiveRays");
+  step->SetName("Step");
+  for (size_t i = 0; i < n; ++i) {
+    const rayscope::Bounds3& b = this->Packet.boxes[i];
+    const vtkIdType p0 = vtkIdType(8 * i);
+    for (int c = 0; c < 8; ++c)
+      rayscope_vtkmodule::set_world_point(
+          pts, p0 + c, s,
+          rayscope::Vec3((c & 1) ? b.hi.x : b.lo.x, (c & 2) ? b.hi.y : b.lo.y,
+                         (c & 4) ? b.hi.z : b.lo.z));
+    for (const auto& e : rayscope_vtkmodule::kBoxEdges) {
+      const vtkIdType ends[2] = {p0 + e[0], p0 + e[1]};
+      lines->InsertNextCell(2, ends);
+      active->InsertNextValue(__builtin_popcount(this->Packet.steps[i].lanes));
+      step->InsertNextValue(int(i) + 1);
+    }
+  }
+  this->PacketBoxes->SetPoints(pts);
+  this->PacketBoxes->SetLines(lines);
+  this->PacketBoxes->GetCellData()->AddArray(active);
+  this->PacketBoxes->GetCellData()->AddArray(step);
 }
 
 void vtkRayScopeViewer::Internals::UpdateWalkOrder(bool played) {
@@ -268,6 +321,7 @@ void vtkRayScopeViewer::Internals::UpdateOverlay() {
     this->Packet = rayscope::record_packet(s, this->Settings, i, this->Settings.height - 1 - j);
     this->PacketText = rayscope::format_packet_text(this->Packet, s);
   }
+  this->UpdatePacketBoxes();
 
   this->Tree->SetPixel(i, j);
   this->ByDepth->SetUpperThreshold(self->ShownDepth);
@@ -387,7 +441,8 @@ void vtkRayScopeViewer::Internals::ClearOverlay() {
   const std::initializer_list<vtkProp*> shown = {
       this->TracedActor.Get(),   this->SkippedActor.Get(),     this->NormalActor.Get(),
       this->SelectedActor.Get(), this->LabelActor.Get(),       this->OccluderActor.Get(),
-      this->MarkerActor.Get(),   this->WalkCurrentActor.Get(), this->WalkStepActor.Get()};
+      this->MarkerActor.Get(),   this->WalkCurrentActor.Get(), this->WalkStepActor.Get(),
+      this->PacketBoxActor.Get()};
   for (vtkProp* a : shown) a->VisibilityOff();
   this->BVHMapper->SetInputData(this->NoBoxes);
   this->UpdateTreeDiagram();

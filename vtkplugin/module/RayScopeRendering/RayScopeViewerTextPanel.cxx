@@ -326,6 +326,14 @@ void vtkRayScopeViewer::Internals::UpdateLegend() {
     add(name + ": level " + std::to_string(deepest) + " (deepest)",
         {leaves[0], leaves[1], leaves[2]});
   }
+  if (this->PacketBoxActor->GetVisibility()) {
+    double one[4], all[4];
+    this->PacketTable->GetTableValue(0, one);
+    this->PacketTable->GetTableValue(rayscope::kPacketRays - 1, all);
+    add("packet: node entered by 1 ray", {one[0], one[1], one[2]});
+    add("packet: by all " + std::to_string(rayscope::kPacketRays) + " rays",
+        {all[0], all[1], all[2]});
+  }
   // Rebuilt only when its entries change: each entry is text to rasterize.
   if (entries == this->LegendEntries) return;
   this->LegendEntries = entries;

@@ -109,6 +109,10 @@ vtkPolyData* vtkRayScopeViewer::GetPixelMarker() {
   return this->Internal->Marker;
 }
 
+vtkPolyData* vtkRayScopeViewer::GetPacketBoxes() {
+  return this->Internal->PacketBoxes;
+}
+
 vtkPolyData* vtkRayScopeViewer::GetOccluderMarkers() {
   return this->Internal->Occluders;
 }

@@ -187,6 +187,11 @@ class RAYSCOPERENDERING_EXPORT vtkRayScopeViewer : public vtkObject {
   /// square around the pixel, four arms, and with ShowPacket the outline of
   /// the packet's block of pixels (the last cell).
   vtkPolyData* GetPixelMarker();
+  /// The box of each node the picked pixel's packet entered (ShowPacket;
+  /// empty otherwise), in walk order: 12 line cells per box, cell data
+  /// "ActiveRays" (the rays active in the node, 1 to 16, its color) and
+  /// "Step" (1: the root).
+  vtkPolyData* GetPacketBoxes();
   /// The tree diagram (key g; empty when not shown): a vertex per ray and a
   /// line from each ray's parent to it, in pixels of the panel's viewport,
   /// each ray below its parent and leaves in trace order from left to right;

@@ -216,6 +216,13 @@ struct vtkRayScopeViewer::Internals {
   vtkNew<vtkPolyData> WalkSteps, WalkCurrent;
   vtkNew<vtkActor2D> WalkStepActor;
   vtkNew<vtkActor> WalkCurrentActor;
+  // The picked pixel's packet (key c): the box of each node it entered,
+  // colored by the rays active there (PacketTable: 1 to 16).
+  vtkNew<vtkPolyData> PacketBoxes;
+  vtkNew<vtkActor> PacketBoxActor;
+  vtkSmartPointer<vtkLookupTable> PacketTable;
+  /// Fills PacketBoxes from Packet and shows them with ShowPacket.
+  void UpdatePacketBoxes();
 
   // The scene in 3D.
   std::vector<vtkSmartPointer<vtkActor>> GeometryActors;
