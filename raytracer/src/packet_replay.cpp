@@ -1,12 +1,12 @@
 #include "rayscope/packet_replay.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <variant>
 
 #include <nlohmann/json.hpp>
 
 #include "rayscope/accel/wide_bvh.h"
+#include "rayscope/printf_string.h"
 #include "rayscope/render_block.h"
 #include "rayscope/replay.h"
 
@@ -32,21 +32,22 @@ PacketReplay record_packet(const Scene& scene, const RenderSettings& settings, i
   r.cost.steps = &r.steps;
   r.hits = scene.intersect_packet(std::span<const Ray>(rays, size_t(n)), r.hit, &r.cost);
   r.cost.steps = nullptr;
-  r.fell_back = r.cost.fell_back;
   // The steps' boxes: the root's (the first node entered), then for each
   // node the box of the slot that holds it in its parent, an inner node
-  // entered before it.
+  // entered before it. A slot holds the node when its child and count are the
+  // step's: an empty slot's child is kLeaf, as the leaf labelled 0's is, but
+  // its count is 0.
   const BvhWalk* walk = std::get_if<BvhWalk>(&scene.accel().structure());
   if (!r.steps.empty() && walk != nullptr) {
     const std::vector<WideBvhNode>& nodes = walk->walk().nodes;
-    r.boxes.push_back(scene.accel().bounds());
+    r.boxes.push_back(walk->walk().root_bounds());
     for (size_t i = 1; i < r.steps.size(); ++i) {
       Bounds3 box;
       for (size_t j = i; j-- > 0 && box.lo.x == kInfinity;) {
         if (r.steps[j].child & WideBvhNode::kLeaf) continue;
         const WideBvhNode& n = nodes[r.steps[j].child];
         for (int k = 0; k < WideBvhNode::kWidth; ++k)
-          if (n.child[k] == r.steps[i].child)
+          if (n.child[k] == r.steps[i].child && n.count[k] == r.steps[i].count)
             box = Bounds3(Vec3(n.lo_x[k], n.lo_y[k], n.lo_z[k]),
                           Vec3(n.hi_x[k], n.hi_y[k], n.hi_z[k]));
       }
@@ -57,13 +58,6 @@ PacketReplay record_packet(const Scene& scene, const RenderSettings& settings, i
 }
 
 namespace {
-
-template <class... Args>
-std::string format(const char* fmt, Args... args) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, fmt, args...);
-  return buf;
-}
 
 // The lanes of `lanes` as the block's rows, '#' for a lane in it.
 std::string rows(const PacketReplay& r, unsigned lanes) {
@@ -91,34 +85,35 @@ std::string hit_text(const PacketReplay& r, const Scene& scene, int k) {
   const PrimHit& h = r.hit[k];
   if (h.plane >= 0)
     return "hit \"" + scene.object_name(scene.plane_object(uint32_t(h.plane))) +
-           "\" at t = " + format("%.6g", double(h.t));
+           "\" at t = " + printf_string("%.6g", double(h.t));
   return "hit \"" + scene.object_name(scene.prim_object(h.prim)) + "\" (primitive " +
-         std::to_string(h.prim) + ") at t = " + format("%.6g", double(h.t));
+         std::to_string(h.prim) + ") at t = " + printf_string("%.6g", double(h.t));
 }
 
 }  // namespace
 
 std::string format_packet_text(const PacketReplay& r, const Scene& scene) {
   const int n = r.rays(), w = r.width();
-  std::string s = format(
+  std::string s = printf_string(
       "packet of pixel (%d, %d), sample %d: the primary rays of the %dx%d pixels "
       "from (%d, %d) to (%d, %d), traced together\n",
       r.x, r.y, r.sample, w, r.block.y1 - r.block.y0, r.block.x0, r.block.y0, r.block.x1 - 1,
       r.block.y1 - 1);
-  s += format("  lane %d is this pixel (row %d, column %d of the block); lanes run row by row\n",
-              r.lane, r.lane / w, r.lane % w);
+  s += printf_string(
+      "  lane %d is this pixel (row %d, column %d of the block); lanes run row by row\n", r.lane,
+      r.lane / w, r.lane % w);
   if (!r.every_ray_alone.empty())
     s += "  these settings trace every ray alone (" + r.every_ray_alone +
          "): this is the packet a plain render traces\n";
   s += "  this pixel's ray " + hit_text(r, scene, r.lane) + "\n";
-  if (r.fell_back) {
+  if (r.cost.fell_back) {
     s += "  the packet was traced one ray at a time: its rays disagree on the sign of a "
          "direction component, or the structure is not the BVH (the ray trees show each walk)\n";
     return s;
   }
   const double mean =
       r.cost.node_visits ? double(r.cost.active_lanes) / double(r.cost.node_visits) : 0.0;
-  s += format(
+  s += printf_string(
       "  walk: %u nodes entered, %.1f of %d rays active per node on average; this "
       "pixel's ray was active in %u of them\n",
       r.cost.node_visits, mean, n, r.cost.nodes[r.lane]);
@@ -126,10 +121,10 @@ std::string format_packet_text(const PacketReplay& r, const Scene& scene) {
   s += "per pixel of the block (* this pixel): nodes entered while its ray was active, the step "
        "it left the walk at, hit or miss\n";
   for (int row = 0; row * w < n; ++row) {
-    s += format("  row %d:", row);
+    s += printf_string("  row %d:", row);
     for (int k = row * w; k < std::min(n, (row + 1) * w); ++k)
-      s += format(" %c%4u @%-4d %-4s", k == r.lane ? '*' : ' ', r.cost.nodes[k], last[size_t(k)],
-                  (r.hits >> k & 1u) ? "hit" : "miss");
+      s += printf_string(" %c%4u @%-4d %-4s", k == r.lane ? '*' : ' ', r.cost.nodes[k],
+                         last[size_t(k)], (r.hits >> k & 1u) ? "hit" : "miss");
     s += "\n";
   }
   s += "step  node                  rays  active (the block's rows, '#' active)  this pixel\n";
@@ -137,11 +132,11 @@ std::string format_packet_text(const PacketReplay& r, const Scene& scene) {
     const PacketStep& st = r.steps[i];
     const std::string node =
         (st.child & WideBvhNode::kLeaf)
-            ? format("leaf, %u primitive%s", st.count, st.count == 1 ? "" : "s")
-            : format("node %u", st.child);
-    s += format("%4zu  %-20s  %4d  %-*s  %s\n", i + 1, node.c_str(), __builtin_popcount(st.lanes),
-                std::max(n + (n - 1) / w, 37), rows(r, st.lanes).c_str(),
-                (st.lanes >> r.lane & 1u) ? "in" : "");
+            ? printf_string("leaf, %u primitive%s", st.count, st.count == 1 ? "" : "s")
+            : printf_string("node %u", st.child);
+    s += printf_string("%4zu  %-20s  %4d  %-*s  %s\n", i + 1, node.c_str(),
+                       __builtin_popcount(st.lanes), std::max(n + (n - 1) / w, 37),
+                       rows(r, st.lanes).c_str(), (st.lanes >> r.lane & 1u) ? "in" : "");
   }
   // No line ends in the padding of an empty last column.
   std::string out;
@@ -191,7 +186,7 @@ std::string format_packet_json(const PacketReplay& r, const Scene& scene, int in
       {"block", {{"x0", r.block.x0}, {"y0", r.block.y0}, {"x1", r.block.x1}, {"y1", r.block.y1}}},
       {"lane", r.lane},
       {"every_ray_alone", r.every_ray_alone.empty() ? json(nullptr) : json(r.every_ray_alone)},
-      {"fell_back", r.fell_back},
+      {"fell_back", r.cost.fell_back},
       {"node_visits", r.cost.node_visits},
       {"active_lanes", r.cost.active_lanes},
       {"lanes", std::move(lanes)},

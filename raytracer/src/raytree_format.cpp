@@ -1,30 +1,20 @@
 #include "rayscope/raytree_format.h"
 
-#include <cstdarg>
-#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "rayscope/printf_string.h"
 #include "rayscope/textbook_intersect.h"
 
 namespace rayscope {
 
 namespace {
 
-std::string fmt(const char* f, ...) __attribute__((format(printf, 1, 2)));
-std::string fmt(const char* f, ...) {
-  char buf[512];
-  va_list ap;
-  va_start(ap, f);
-  std::vsnprintf(buf, sizeof buf, f, ap);
-  va_end(ap);
-  return buf;
-}
 std::string v3(const Vec3& v) {
-  return fmt("(%.4g, %.4g, %.4g)", v.x, v.y, v.z);
+  return printf_string("(%.4g, %.4g, %.4g)", v.x, v.y, v.z);
 }
 // A scene-local position in world coordinates (Scene::origin); with more
 // digits when the scene is far from the world's origin, where four would show
@@ -32,7 +22,7 @@ std::string v3(const Vec3& v) {
 std::string world(const Scene& s, const Vec3& local) {
   const DVec3 w = s.to_world(local);
   if (s.origin == DVec3(0.0)) return v3(local);
-  return fmt("(%.10g, %.10g, %.10g)", w.x, w.y, w.z);
+  return printf_string("(%.10g, %.10g, %.10g)", w.x, w.y, w.z);
 }
 float degrees_from_cos(float c) {
   return glm::degrees(std::acos(std::clamp(c, -1.0f, 1.0f)));
@@ -117,19 +107,21 @@ std::vector<std::string> textbook_text(const nlohmann::json& t) {
   const std::string test = t["test"];
   auto g = [&](const nlohmann::json& j, const char* key) { return j[key].get<double>(); };
   if (test == "ray-plane")
-    return {fmt("ray-plane: t_r.n = %.6g, lambda = (P_0 - P_r).n / t_r.n = %.6g", g(t, "tr_dot_n"),
-                g(t, "lambda"))};
+    return {printf_string("ray-plane: t_r.n = %.6g, lambda = (P_0 - P_r).n / t_r.n = %.6g",
+                          g(t, "tr_dot_n"), g(t, "lambda"))};
   if (test == "ray-triangle") {
     const double l1 = g(t, "lambda1"), l2 = g(t, "lambda2");
-    return {fmt("ray-triangle: its plane: t_r.n = %.6g, lambda = %.6g", g(t["plane"], "tr_dot_n"),
-                g(t["plane"], "lambda")),
-            fmt("P = P_0 + lambda1 t_1 + lambda2 t_2: lambda1 = %.6g, lambda2 = %.6g, sum %.6g: %s",
+    return {printf_string("ray-triangle: its plane: t_r.n = %.6g, lambda = %.6g",
+                          g(t["plane"], "tr_dot_n"), g(t["plane"], "lambda")),
+            printf_string(
+                "P = P_0 + lambda1 t_1 + lambda2 t_2: lambda1 = %.6g, lambda2 = %.6g, sum %.6g: %s",
                 l1, l2, l1 + l2, t["inside"].get<bool>() ? "inside" : "outside")};
   }
   return {
       "ray-sphere: a lambda^2 + b lambda + c = 0, a = t_r.t_r, b = 2 t_r.(P_r - center), "
       "c = (P_r - center)^2 - r^2",
-      fmt("a = %.6g, b = %.6g, c = %.6g; discriminant b^2 - 4ac = %.6g: lambda = %.6g or %.6g",
+      printf_string(
+          "a = %.6g, b = %.6g, c = %.6g; discriminant b^2 - 4ac = %.6g: lambda = %.6g or %.6g",
           g(t, "a"), g(t, "b"), g(t, "c"), g(t, "discriminant"), g(t, "lambda_near"),
           g(t, "lambda_far"))};
 }
@@ -137,39 +129,39 @@ std::vector<std::string> textbook_text(const nlohmann::json& t) {
 void text_ray(const PixelRecord& rec, const Scene& s, int id, int indent, std::string& out) {
   const RayRecord& r = rec.rays[size_t(id)];
   std::string pad(size_t(indent) * 2, ' ');
-  std::string line = pad + fmt("#%d %s  depth %d  weight %.4g", r.id, to_string(r.kind), r.depth,
-                               max_component(r.weight));
+  std::string line = pad + printf_string("#%d %s  depth %d  weight %.4g", r.id, to_string(r.kind),
+                                         r.depth, max_component(r.weight));
   if (r.kind == RayKind::Shadow) {
-    line += fmt("  to light %d \"%s\": ", r.light, light_name(s, r.light).c_str());
+    line += printf_string("  to light %d \"%s\": ", r.light, light_name(s, r.light).c_str());
     if (r.skipped)
-      line += fmt("skipped (%s)", to_string(r.skip_reason));
+      line += printf_string("skipped (%s)", to_string(r.skip_reason));
     else if (r.occluded)
-      line += fmt("occluded by \"%s\" (%s)", s.object_name(r.occluder).c_str(),
-                  object_kind(s, r.occluder));
+      line += printf_string("occluded by \"%s\" (%s)", s.object_name(r.occluder).c_str(),
+                            object_kind(s, r.occluder));
     else
       line += "visible, light " + v3(r.color);
   } else if (r.skipped) {
-    line += fmt("  skipped (%s)", to_string(r.skip_reason));
+    line += printf_string("  skipped (%s)", to_string(r.skip_reason));
   } else if (r.hit) {
     // What was hit within its object: "mesh triangle 5", "tube segment 28"
     // (of a tube set), "point 16" (of a point set), "sphere", "plane".
-    line += fmt("  hit \"%s\" (", s.object_name(r.object).c_str());
+    line += printf_string("  hit \"%s\" (", s.object_name(r.object).c_str());
     switch (s.object_type(r.object)) {
       case ObjectType::Mesh:
-        line += fmt("mesh triangle %u", r.prim);
+        line += printf_string("mesh triangle %u", r.prim);
         break;
       case ObjectType::Tubes:
-        line += fmt("tube segment %u", r.prim);
+        line += printf_string("tube segment %u", r.prim);
         break;
       case ObjectType::Points:
-        line += fmt("point %u", r.prim);
+        line += printf_string("point %u", r.prim);
         break;
       case ObjectType::Sphere:
       case ObjectType::Plane:
         line += object_kind(s, r.object);
         break;
     }
-    line += fmt(", material \"%s\") t=%.5g", s.materials[r.material].name.c_str(), r.t);
+    line += printf_string(", material \"%s\") t=%.5g", s.materials[r.material].name.c_str(), r.t);
     line += "\n" + pad + "   at " + world(s, r.point) + "  normal " + v3(r.ns);
     if (r.ns != r.ng) line += "  geometric " + v3(r.ng);
     const std::vector<std::string> test = textbook_text(textbook_json(s, r));
@@ -179,7 +171,8 @@ void text_ray(const PixelRecord& rec, const Scene& s, int id, int indent, std::s
     line += "\n" + pad + "   local: ambient " + v3(r.ambient);
     for (const LightTerms& l : r.lights)
       line += "\n" + pad +
-              fmt("     + light %d \"%s\": diffuse ", l.light, light_name(s, l.light).c_str()) +
+              printf_string("     + light %d \"%s\": diffuse ", l.light,
+                            light_name(s, l.light).c_str()) +
               v3(l.diffuse) + " specular " + v3(l.specular);
   } else {
     line += "  miss (background) returned " + v3(r.color);
@@ -187,22 +180,22 @@ void text_ray(const PixelRecord& rec, const Scene& s, int id, int indent, std::s
   out += line + "\n";
   if (!r.skipped) {
     const TraversalRecord& w = r.traversal;
-    out += pad + fmt("   walk: %zu nodes visited, %u boxes tested, %u primitives tested",
-                     w.nodes().size(), w.boxes_tested(), w.prims_tested);
-    if (w.culled()) out += fmt(", %u nodes culled", w.culled());
+    out += pad + printf_string("   walk: %zu nodes visited, %u boxes tested, %u primitives tested",
+                               w.nodes().size(), w.boxes_tested(), w.prims_tested);
+    if (w.culled()) out += printf_string(", %u nodes culled", w.culled());
     if (w.early_terminated) out += ", early termination";
-    if (w.hit_leaf != kNoNode) out += fmt(", hit in leaf %u", w.hit_leaf);
+    if (w.hit_leaf != kNoNode) out += printf_string(", hit in leaf %u", w.hit_leaf);
     out += "\n";
   }
   if (r.has_refraction) {
     const RefractionEvent& e = r.refraction;
-    out += pad + fmt("   refraction: n1 %.4g -> n2 %.4g, incidence %.2f deg, ", e.n1, e.n2,
-                     degrees_from_cos(e.cos_incidence));
+    out += pad + printf_string("   refraction: n1 %.4g -> n2 %.4g, incidence %.2f deg, ", e.n1,
+                               e.n2, degrees_from_cos(e.cos_incidence));
     if (e.total_internal_reflection)
       out += "total internal reflection";
     else
-      out += fmt("transmission %.2f deg", degrees_from_cos(e.cos_transmission));
-    out += fmt(", Fresnel R %.4f T %.4f\n", e.fresnel_reflect, e.fresnel_transmit);
+      out += printf_string("transmission %.2f deg", degrees_from_cos(e.cos_transmission));
+    out += printf_string(", Fresnel R %.4f T %.4f\n", e.fresnel_reflect, e.fresnel_transmit);
   }
   for (int c : r.children) text_ray(rec, s, c, indent + 1, out);
 }
@@ -246,14 +239,15 @@ nlohmann::json jf(float f) {
 std::string format_text(const PixelRecord& rec, const Scene& s) {
   const int grid = rec.samples * rec.samples;
   std::string out =
-      fmt("pixel (%d, %d): %dx%d samples", rec.x, rec.y, rec.samples, rec.samples) +
-      (rec.samples_taken == grid ? std::string()
-                                 : fmt(" (adaptive: took %d of %d)", rec.samples_taken, grid)) +
-      ", color " + v3(rec.color) + fmt(", %zu rays recorded\n", rec.rays.size());
+      printf_string("pixel (%d, %d): %dx%d samples", rec.x, rec.y, rec.samples, rec.samples) +
+      (rec.samples_taken == grid
+           ? std::string()
+           : printf_string(" (adaptive: took %d of %d)", rec.samples_taken, grid)) +
+      ", color " + v3(rec.color) + printf_string(", %zu rays recorded\n", rec.rays.size());
   out += walk_legend(s);
   for (const RayRecord& r : rec.rays)
     if (r.parent < 0) {
-      out += fmt("sample %d\n", r.sample);
+      out += printf_string("sample %d\n", r.sample);
       text_ray(rec, s, r.id, 1, out);
     }
   return out;

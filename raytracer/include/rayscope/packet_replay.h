@@ -29,9 +29,6 @@ struct PacketReplay {
   /// (why_every_ray_alone(); empty: they trace this packet). The replay
   /// traces the block as a packet either way: the packet a plain render traces.
   std::string every_ray_alone;
-  /// The rays were traced one at a time: they disagree on a direction
-  /// component's sign, or the structure is not the BVH (PacketWalkCost::fell_back).
-  bool fell_back = false;
   unsigned hits = 0;  ///< Lanes whose ray hit something.
   PrimHit hit[kPacketRays];
   /// Each node the packet entered, in walk order (none when it fell back).
@@ -40,7 +37,9 @@ struct PacketReplay {
   /// parent), in the scene's coordinates.
   std::vector<Bounds3> boxes;
   /// The walk's work per lane (nodes entered while active, boxes, primitives,
-  /// culls) and the packet's node visits and active lanes.
+  /// culls), the packet's node visits and active lanes, and whether its rays
+  /// were traced one at a time instead (cost.fell_back: they disagree on a
+  /// direction component's sign, or the structure is not the BVH).
   PacketWalkCost cost;
 
   int width() const { return block.x1 - block.x0; }
