@@ -12,12 +12,15 @@
 #include <cstring>
 #include <memory>
 
+#include <tbb/global_control.h>
+
 #include "accel_test_util.h"
 #include "rayscope/accel/accel_view.h"
 #include "rayscope/intersect_capsule.h"
 #include "rayscope/render.h"
 #include "rayscope/scene.h"
 #include "rayscope/shapes.h"
+#include "written_heap.h"
 
 namespace {
 
@@ -152,9 +155,9 @@ TEST(Aggregate, OneCheckOfStructureAndStorage) {
 
 // A mesh, a tube set, a point set, a sphere and a plane, with many triangles
 // so that the hierarchy has many levels.
-Scene scene_of_every_shape() {
+Scene scene_of_every_shape(int subdivisions = 3) {
   Scene s;
-  s.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, 3));
+  s.meshes.push_back(make_icosphere(Vec3(0.0f), 1.0f, subdivisions));
   TubeSet line;
   line.name = "line";
   line.positions = {Vec3(-4, 0, 0), Vec3(0, 2, 0), Vec3(4, 0, 1)};
@@ -251,6 +254,69 @@ TEST(Aggregate, APlainRenderHoldsWhatItWalksAndTheToolsBuildTheRestWhenAsked) {
   EXPECT_EQ(obs.order[0], 0u);
   EXPECT_EQ(w.slot_sources().size(), W * w.walk().nodes.size());
   EXPECT_EQ(a.memory_bytes(), walked + records + binary + W * w.walk().nodes.size() * 4);
+}
+
+// Every byte an aggregate holds that grows with its scene is counted by
+// memory_bytes(), for every structure and storage: the heap bytes its commit
+// leaves written (written_heap.h), and those the tools' parts add when first
+// asked for (the binary tree, every primitive's record, the wide slots'
+// binary ids). What is left is the same for a scene with four times the
+// triangles: the aggregate's few holders of a fixed size (shared pointers'
+// blocks, locks) and the scene's first primitive of each object, under
+// kFixedBytes. The bytes per triangle of bench_trace
+// and docs/performance.md are these counts.
+TEST(Aggregate, MemoryCountsEveryStructure) {
+  // The measure itself: a vector's elements are written, its reserve is not.
+  {
+    written_heap::start();
+    std::vector<uint32_t> v;
+    v.reserve(1000);
+    v.resize(10, 7u);
+    const written_heap::Held held = written_heap::stop();
+    EXPECT_EQ(held.bytes, 10 * sizeof(uint32_t));
+    EXPECT_EQ(held.blocks, 1u);
+  }
+  // On one thread, and after a first commit of the larger scene: what the
+  // builders keep per thread for their next build (the binary builder's node
+  // array for a subtree, bvh_builder.h) is made before the measures, once.
+  tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+  {
+    Scene warm = scene_of_every_shape(4);
+    warm.commit();
+  }
+  constexpr size_t kFixedBytes = 1024;
+  for (AccelKind kind : kAccelKinds)
+    for (PrimStorage storage : kPrimStorages) {
+      if (!accel_storage_error(kind, storage).empty()) continue;
+      const std::string name = std::string(to_string(kind)) + " " + to_string(storage);
+      // Per part (the commit, then each one asked for): bytes held but not
+      // counted, for the scene with 1280 triangles and then with 5120.
+      std::vector<size_t> uncounted[2];
+      for (int size = 0; size < 2; ++size) {
+        Scene scene = scene_of_every_shape(3 + size);
+        AccelConfig ac;
+        ac.kind = kind;
+        ac.storage = storage;
+        auto part = [&](const char* what, auto&& make) {
+          const Aggregate& a = scene.accel();
+          const size_t before = a.memory_bytes();
+          written_heap::start();
+          make();
+          const written_heap::Held held = written_heap::stop();
+          const size_t counted = a.memory_bytes() - before;
+          EXPECT_GE(held.bytes, counted) << name << ", " << what << ", blocks:" << held.sizes;
+          EXPECT_LE(held.bytes, counted + kFixedBytes)
+              << name << ", " << what << ", blocks:" << held.sizes;
+          uncounted[size].push_back(held.bytes - counted);
+        };
+        part("the commit", [&] { scene.commit(ac); });
+        part("the binary tree", [&] { scene.accel().bvh(); });
+        part("the records", [&] { scene.accel().records(); });
+        if (kind == AccelKind::Bvh)
+          part("the slots' ids", [&] { scene.accel().structure_as<BvhWalk>().slot_sources(); });
+      }
+      EXPECT_EQ(uncounted[0], uncounted[1]) << name;
+    }
 }
 
 TEST(Aggregate, ACopyBuildsItsHierarchyFromItsOwnRecords) {

@@ -153,7 +153,7 @@ struct BspQuality {
   size_t inner_refs = 0;
   uint32_t max_leaf_refs = 0;
   double mean_leaf_refs = 0.0;  ///< Over the leaves.
-  size_t memory_bytes = 0;      ///< Nodes, reference lists, cell boxes.
+  size_t memory_bytes = 0;      ///< Nodes, reference lists, cell boxes, planes, fragments.
   double build_seconds = 0.0;
 };
 
@@ -205,7 +205,9 @@ class BspTree {
   std::string walk_legend() const;
   size_t memory_bytes() const {
     return nodes.size() * sizeof(BspNode) + refs.size() * sizeof(uint32_t) +
-           cell_boxes.size() * sizeof(Bounds3);
+           cell_boxes.size() * sizeof(Bounds3) + plane_polygons.size() * sizeof(Range32) +
+           plane_vertices.size() * sizeof(Vec3) + fragments.size() * sizeof(BspFragment) +
+           fragment_vertices.size() * sizeof(Vec3);
   }
   /// The depth of every node, by node index (root: 0).
   std::vector<uint32_t> depths() const;
