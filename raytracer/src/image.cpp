@@ -38,6 +38,7 @@ void Framebuffer::resize(int w, int h) {
   depth.assign(n, kInfinity);
   normal.assign(n, Vec3(0.0f));
   object_id.assign(n, -1.0f);
+  cost.clear();
   samples.clear();
 }
 

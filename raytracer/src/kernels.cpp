@@ -12,14 +12,15 @@ namespace rayscope {
 inline namespace RAYSCOPE_ISA {
 namespace {
 
-Framebuffer render_prepared(const Scene& scene, const RenderSettings& settings,
-                            RayCounters* counters, const ProgressFn& progress) {
+void render_prepared(Framebuffer& fb, const Scene& scene, const RenderSettings& settings,
+                     RayCounters* counters, const ProgressFn& progress) {
   if (settings.statistics) {
     StatsPolicy stats;
-    return render_frame(scene, settings, stats, counters, progress);
+    render_frame_into(fb, scene, settings, stats, counters, progress);
+    return;
   }
   FramePolicy plain;
-  return render_frame(scene, settings, plain, counters, progress);
+  render_frame_into(fb, scene, settings, plain, counters, progress);
 }
 
 void intersect_each(const Scene& scene, std::span<const Ray> rays, PrimHit* hits, uint8_t* found) {

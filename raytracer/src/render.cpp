@@ -53,8 +53,15 @@ void prepare_frame(Scene& scene, const RenderSettings& settings) {
 
 Framebuffer render(Scene& scene, const RenderSettings& settings, RayCounters* counters,
                    const ProgressFn& progress) {
+  Framebuffer fb;
+  render_into(fb, scene, settings, counters, progress);
+  return fb;
+}
+
+void render_into(Framebuffer& fb, Scene& scene, const RenderSettings& settings,
+                 RayCounters* counters, const ProgressFn& progress) {
   prepare_frame(scene, settings);
-  return kernels().render(scene, settings, counters, progress);
+  kernels().render(fb, scene, settings, counters, progress);
 }
 
 }  // namespace rayscope

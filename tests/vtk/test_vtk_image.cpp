@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <string>
 #include <tuple>
@@ -565,6 +566,45 @@ TEST(VtkImage, InPlaceUpdatesMatchFreshRender) {
     // Updated in place: the geometry is not converted again, the BVH not rebuilt.
     EXPECT_EQ(reused->GetNumberOfGeometryConversions(), 1);
     EXPECT_EQ(reused->GetNumberOfSceneCommits(), 1);
+  }
+}
+
+// An algorithm renders frame after frame into the framebuffer it keeps: each
+// output is a fresh algorithm's, array for array and bit for bit, when the
+// size changes and when the Cost arrays come and go between frames.
+TEST(VtkImage, FrameAfterFrameEqualsAFreshRender) {
+  vtkNew<vtkSphereSource> a;
+  configure_sphere(a, 0, 0, 0, 0.5);
+  auto setup = [&](vtkRayScopeImageAlgorithm* alg, int w, int h, bool cost) {
+    alg->RemoveAllInputConnections(0);
+    alg->AddInputConnection(a->GetOutputPort());
+    alg->SetSize(w, h);
+    alg->SetPosition(0, 0.5, 3);
+    alg->SetComputeCost(cost);
+  };
+  vtkNew<vtkRayScopeImageAlgorithm> reused;
+  for (auto [w, h, cost] : {std::tuple{40, 30, true}, std::tuple{40, 30, false},
+                            std::tuple{24, 20, true}, std::tuple{40, 30, false}}) {
+    SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + (cost ? " cost" : ""));
+    setup(reused, w, h, cost);
+    reused->Update();
+    vtkNew<vtkRayScopeImageAlgorithm> fresh;
+    setup(fresh, w, h, cost);
+    fresh->Update();
+    vtkPointData* got = reused->GetOutput()->GetPointData();
+    vtkPointData* want = fresh->GetOutput()->GetPointData();
+    ASSERT_EQ(got->GetNumberOfArrays(), want->GetNumberOfArrays());
+    EXPECT_EQ(got->GetArray("Cost") != nullptr, cost);
+    for (int i = 0; i < want->GetNumberOfArrays(); ++i) {
+      vtkDataArray* wa = want->GetArray(i);
+      vtkDataArray* ga = got->GetArray(wa->GetName());
+      ASSERT_NE(ga, nullptr) << wa->GetName();
+      ASSERT_EQ(ga->GetDataSize(), wa->GetDataSize()) << wa->GetName();
+      EXPECT_EQ(std::memcmp(ga->GetVoidPointer(0), wa->GetVoidPointer(0),
+                            size_t(wa->GetDataSize()) * size_t(wa->GetDataTypeSize())),
+                0)
+          << wa->GetName();
+    }
   }
 }
 

@@ -28,6 +28,9 @@ struct Framebuffer {
   /// Samples each pixel took; empty unless adaptive sampling was on.
   std::vector<float> samples;
 
+  /// A w x h image cleared to the background (no hit): color 0, depth
+  /// infinity, normal 0, object id -1; no cost or sample counts. Storage is
+  /// kept for a framebuffer reused frame after frame.
   void resize(int w, int h);
   size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
 };

@@ -23,10 +23,11 @@ namespace rayscope {
 /// One instruction set's hot loops.
 struct Kernels {
   Isa isa;
-  /// The frame loop of a prepared scene (prepare_frame): render()'s body,
-  /// with the statistics policy when settings.statistics is set.
-  Framebuffer (*render)(const Scene& scene, const RenderSettings& settings, RayCounters* counters,
-                        const ProgressFn& progress);
+  /// The frame loop of a prepared scene (prepare_frame) into `fb`:
+  /// render_into()'s body, with the statistics policy when
+  /// settings.statistics is set.
+  void (*render)(Framebuffer& fb, const Scene& scene, const RenderSettings& settings,
+                 RayCounters* counters, const ProgressFn& progress);
   /// Closest hits of rays one at a time (Scene::intersect): found[i] = 1
   /// and hits[i] set when rays[i] hits, else found[i] = 0.
   void (*intersect)(const Scene& scene, std::span<const Ray> rays, PrimHit* hits, uint8_t* found);

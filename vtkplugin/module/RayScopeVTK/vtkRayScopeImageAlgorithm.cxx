@@ -530,15 +530,15 @@ int vtkRayScopeImageAlgorithm::RequestData(vtkInformation*, vtkInformationVector
   const int left = in.progressive.total() - in.progressive.passes();
   const int passes = !progressive ? 1 : to_the_end ? left : std::min(left, 1);
   rayscope::RayCounters counters;
-  rayscope::Framebuffer fb;
+  rayscope::Framebuffer& fb = in.frame;
   for (int pass = 0; pass < passes; ++pass) {
     const rayscope::RenderSettings traced =
         progressive ? in.progressive.next_pass(settings) : settings;
     rayscope::RayCounters pass_counters;
     auto start = std::chrono::steady_clock::now();
     try {
-      fb = rayscope_vtkmodule::render_relaying_progress(
-          scene, traced, &pass_counters,
+      rayscope_vtkmodule::render_relaying_progress(
+          fb, scene, traced, &pass_counters,
           [&](double p) { this->UpdateProgress((pass + p) / passes); });
     } catch (const std::exception& e) {
       vtkErrorMacro(<< "render failed: " << e.what());

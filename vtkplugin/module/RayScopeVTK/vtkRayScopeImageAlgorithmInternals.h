@@ -54,6 +54,9 @@ struct vtkRayScopeImageAlgorithm::Internals {
   // Refine() asked of the next update: to go on with this image (when
   // nothing changed since), and to trace all the passes it lacks.
   rayscope::ProgressiveImage progressive;
+  // The framebuffer each update renders into, kept so that its memory is
+  // not allocated and page-faulted in again for every frame.
+  rayscope::Framebuffer frame;
   rayscope::RenderSettings image_settings;
   vtkIdType image_conversions = -1, image_commits = -1;
   vtkMTimeType image_mtime = 0, refine_mtime = 0;
