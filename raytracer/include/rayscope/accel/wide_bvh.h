@@ -91,8 +91,8 @@ class WideBvh {
   int arity() const { return arity_; }
   /// Levels of wide nodes on the longest path (0 when the root is a leaf).
   uint32_t depth() const { return depth_; }
-  /// The root's box, the one the walks test first (the binary root's box,
-  /// rounded as the wide nodes' boxes are); empty for an empty hierarchy.
+  /// The root's box, the one the walks test first (the binary root's);
+  /// empty for an empty hierarchy.
   Bounds3 root_bounds() const { return Bounds3(root_lo_, root_hi_); }
   size_t memory_bytes() const {
     return nodes.size() * sizeof(WideBvhNode) + slot_source.size() * sizeof(uint32_t);
