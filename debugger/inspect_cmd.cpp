@@ -27,6 +27,20 @@ struct InspectOptions {
   bool packet = false;
 };
 
+// JSON objects, each already formatted, as {"key": [object, ...]}.
+std::string json_list(const char* key, const std::vector<std::string>& objects) {
+  std::string text = std::string("{\"") + key + "\": [\n";
+  for (size_t i = 0; i < objects.size(); ++i)
+    text += objects[i] + (i + 1 < objects.size() ? ",\n" : "\n");
+  return text + "]}\n";
+}
+
+std::string concatenated(const std::vector<std::string>& texts) {
+  std::string text;
+  for (const std::string& t : texts) text += t;
+  return text;
+}
+
 int run_inspect(const InspectOptions& o) {
   std::vector<glm::ivec2> pixels;
   for (const std::string& p : o.pixels) {
@@ -53,38 +67,29 @@ int run_inspect(const InspectOptions& o) {
                  o.scene.scene.empty() ? "default scene" : o.scene.scene.c_str(), w.c_str());
   prepare_frame(loaded.scene, loaded.settings);
   if (o.packet) {
-    std::vector<PacketReplay> replays;
-    for (const glm::ivec2& p : pixels)
-      replays.push_back(record_packet(loaded.scene, loaded.settings, p.x, p.y, o.sample));
-    std::string text;
-    if (o.format == "json") {
-      text = "{\"packets\": [\n";
-      for (size_t i = 0; i < replays.size(); ++i)
-        text +=
-            format_packet_json(replays[i], loaded.scene) + (i + 1 < replays.size() ? ",\n" : "\n");
-      text += "]}\n";
-    } else {
-      for (const PacketReplay& r : replays) text += format_packet_text(r, loaded.scene);
+    std::vector<std::string> items;
+    for (const glm::ivec2& p : pixels) {
+      const PacketReplay r = record_packet(loaded.scene, loaded.settings, p.x, p.y, o.sample);
+      items.push_back(o.format == "json" ? format_packet_json(r, loaded.scene)
+                                         : format_packet_text(r, loaded.scene));
     }
-    write_text_output(text, o.output);
+    write_text_output(o.format == "json" ? json_list("packets", items) : concatenated(items),
+                      o.output);
     return 0;
   }
-  std::vector<PixelRecord> records;
-  for (const glm::ivec2& p : pixels)
-    records.push_back(record_pixel(loaded.scene, loaded.settings, p.x, p.y, o.sample));
-  std::string text;
-  if (o.format == "json") {
-    if (records.size() == 1) {
-      text = format_json(records[0], loaded.scene) + "\n";
-    } else {
-      text = "{\"pixels\": [\n";
-      for (size_t i = 0; i < records.size(); ++i)
-        text += format_json(records[i], loaded.scene) + (i + 1 < records.size() ? ",\n" : "\n");
-      text += "]}\n";
-    }
-  } else {
-    for (const PixelRecord& r : records) text += format_text(r, loaded.scene);
+  std::vector<std::string> items;
+  for (const glm::ivec2& p : pixels) {
+    const PixelRecord r = record_pixel(loaded.scene, loaded.settings, p.x, p.y, o.sample);
+    items.push_back(o.format == "json" ? format_json(r, loaded.scene)
+                                       : format_text(r, loaded.scene));
   }
+  std::string text;
+  if (o.format != "json")
+    text = concatenated(items);
+  else if (items.size() == 1)
+    text = items[0] + "\n";
+  else
+    text = json_list("pixels", items);
   write_text_output(text, o.output);
   return 0;
 }
