@@ -14,6 +14,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -185,9 +186,9 @@ TEST(ImageFiles, APngOnAFullDiskIsAnError) {
   fs::remove_all(scratch("ok.png").parent_path());
 }
 
-// srgb_byte() (a table; the 8-bit colors of the VTK module's images) is
-// std::lround(255 * linear_to_srgb(v)) for every float of [2^-16, 1]
-// (2^27 of them), every 64th below, and outside [0, 1].
+// srgb_byte() and srgb_bytes() (a table; the 8-bit colors of the VTK
+// module's images) are std::lround(255 * linear_to_srgb(v)) for every float of
+// [2^-16, 1] (2^27 of them), every 64th below, and outside [0, 1].
 TEST(Srgb, BytesOfEveryFloat) {
   auto exact = [](float v) { return (unsigned char)std::lround(255.0f * linear_to_srgb(v)); };
   auto bits_of = [](float v) {
@@ -196,15 +197,29 @@ TEST(Srgb, BytesOfEveryFloat) {
     return b;
   };
   const uint32_t low = bits_of(1.0f / 65536.0f), one = bits_of(1.0f);
-  uint64_t wrong = 0;
+  std::vector<float> values;  // converted a batch at a time by srgb_bytes()
+  std::vector<unsigned char> bytes;
+  uint64_t wrong = 0, wrong_in_batches = 0;
+  auto convert_batch = [&] {
+    bytes.assign(values.size(), 0);
+    srgb_bytes(values.data(), values.size(), bytes.data());
+    for (size_t k = 0; k < values.size(); ++k) wrong_in_batches += bytes[k] != exact(values[k]);
+    values.clear();
+  };
   for (uint32_t b = 0; b <= one; b += b < low ? 64 : 1) {
     float v;
     std::memcpy(&v, &b, sizeof v);
     wrong += srgb_byte(v) != exact(v);
+    values.push_back(v);
+    if (values.size() == 4099) convert_batch();  // not a multiple of any vector width
   }
-  EXPECT_EQ(wrong, 0u);
-  for (float v : {-0.0f, -1e-30f, -1.0f, 1.0f, 1.0000001f, 7.5f, INFINITY, -INFINITY, NAN})
+  for (float v : {-0.0f, -1e-30f, -1.0f, 1.0f, 1.0000001f, 7.5f, INFINITY, -INFINITY, NAN}) {
     EXPECT_EQ(srgb_byte(v), exact(v)) << v;
+    values.push_back(v);
+  }
+  convert_batch();
+  EXPECT_EQ(wrong, 0u);
+  EXPECT_EQ(wrong_in_batches, 0u);
 }
 
 // The table of the 256 sRGB bytes' linear values decodes each byte back to

@@ -100,19 +100,32 @@ struct SrgbTable {
     start.resize((kOne >> 16) + 1);
     for (uint32_t k = 0; k < start.size(); ++k) start[k] = srgb_byte_exact(float_of(k << 16));
   }
+
+  unsigned char byte(float v) const {
+    if (!(v > 0.0f)) return 0;  // NaN too
+    if (v >= 1.0f) return 255;
+    uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    unsigned b = start[bits >> 16];
+    while (v >= threshold[b + 1]) ++b;
+    return (unsigned char)b;
+  }
 };
+
+const SrgbTable& srgb_table() {
+  static const SrgbTable table;
+  return table;
+}
 
 }  // namespace
 
 unsigned char srgb_byte(float v) {
-  static const SrgbTable table;
-  if (!(v > 0.0f)) return 0;  // NaN too
-  if (v >= 1.0f) return 255;
-  uint32_t bits;
-  std::memcpy(&bits, &v, sizeof bits);
-  unsigned b = table.start[bits >> 16];
-  while (v >= table.threshold[b + 1]) ++b;
-  return (unsigned char)b;
+  return srgb_table().byte(v);
+}
+
+void srgb_bytes(const float* linear, size_t n, unsigned char* out) {
+  const SrgbTable& table = srgb_table();
+  for (size_t k = 0; k < n; ++k) out[k] = table.byte(linear[k]);
 }
 
 namespace {

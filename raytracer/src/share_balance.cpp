@@ -7,9 +7,9 @@
 #include <string>
 
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "rayscope/render.h"
+#include "rayscope/thread_arena.h"
 #include "rayscope/tiles.h"
 
 namespace rayscope {
@@ -40,9 +40,7 @@ std::vector<uint64_t> estimate_tile_costs(Scene& scene, const RenderSettings& se
       costs[tile] = work;
     });
   };
-  const int threads =
-      settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(threads);
+  tbb::task_arena arena = thread_arena(settings.threads);
   arena.execute([&] { with_scene_features(scene, estimate); });
   return costs;
 }

@@ -28,6 +28,7 @@
 #include <vtkSphereSource.h>
 #include <vtkStringArray.h>
 #include <vtkUnsignedCharArray.h>
+#include <vtkWeakPointer.h>
 
 #include "rayscope/aggregate.h"
 #include "rayscope/image.h"
@@ -606,6 +607,45 @@ TEST(VtkImage, FrameAfterFrameEqualsAFreshRender) {
           << wa->GetName();
     }
   }
+}
+
+// Frame after frame the output's arrays are filled again in place, unless
+// someone kept them (a reference, a downstream shallow copy): those keep the
+// frame they showed, and the next output gets new arrays.
+TEST(VtkImage, OutputArraysAreFilledAgainUnlessKept) {
+  vtkNew<vtkSphereSource> a;
+  configure_sphere(a, 0, 0, 0, 0.5);
+  vtkNew<vtkRayScopeImageAlgorithm> alg;
+  alg->AddInputConnection(a->GetOutputPort());
+  alg->SetSize(40, 30);
+  auto frame_from = [&](double x) {
+    alg->SetPosition(x, 0.5, 3);
+    alg->Update();
+    return alg->GetOutput()->GetPointData();
+  };
+  auto values = [](vtkDataArray* d) {
+    auto* f = vtkFloatArray::SafeDownCast(d);
+    return std::vector<float>(f->GetPointer(0), f->GetPointer(0) + f->GetNumberOfValues());
+  };
+  vtkWeakPointer<vtkDataArray> first = frame_from(0.0)->GetArray("LinearColor");
+  const std::vector<float> first_values = values(first);
+  vtkDataArray* second = frame_from(0.6)->GetArray("LinearColor");
+  ASSERT_NE(first.Get(), nullptr);  // not deleted: filled again
+  EXPECT_EQ(second, first.Get());
+  EXPECT_NE(values(second), first_values);
+
+  vtkSmartPointer<vtkDataArray> kept = second;
+  const std::vector<float> kept_values = values(kept);
+  vtkNew<vtkImageData> downstream;
+  downstream->ShallowCopy(alg->GetOutput());
+  vtkDataArray* third = frame_from(-0.6)->GetArray("LinearColor");
+  EXPECT_NE(third, kept.Get());
+  EXPECT_EQ(values(kept), kept_values);
+  EXPECT_EQ(values(downstream->GetPointData()->GetArray("LinearColor")), kept_values);
+  EXPECT_NE(values(third), kept_values);
+  // Every array of the new output is new, not only the one referenced.
+  EXPECT_NE(alg->GetOutput()->GetPointData()->GetArray("Depth"),
+            downstream->GetPointData()->GetArray("Depth"));
 }
 
 // AutoCamera: the image equals ResetCamera()'s, while the camera settings stay

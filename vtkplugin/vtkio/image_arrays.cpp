@@ -2,8 +2,11 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <iterator>
 #include <limits>
 
+#include "vtkCellData.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
@@ -12,8 +15,12 @@
 #include "vtkTypeInt64Array.h"
 #include "vtkUnsignedCharArray.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "rayscope/image.h"
 #include "rayscope/stats.h"
+#include "rayscope/thread_arena.h"
 #include "rayscope_vtkio/data_arrays.h"
 
 namespace rayscope_vtkio {
@@ -21,13 +28,17 @@ namespace rayscope_vtkio {
 namespace {
 
 constexpr const char* kCostArrays[4] = {"Cost", "CostRays", "CostBoxes", "CostPrimitives"};
+constexpr int kPixelArrays = 5;  // Color, LinearColor, Depth, Normal, ObjectId
 
 // The image's array `name` if it is an A with `components` components and
-// `tuples` tuples.
+// `tuples` tuples that nothing but the image holds: an array someone else
+// holds (a shallow copy of an earlier output, a Python reference) is theirs
+// to keep as it is.
 template <class A>
 A* fitting_array(vtkPointData* pd, const char* name, int components, vtkIdType tuples) {
   A* a = A::FastDownCast(pd->GetAbstractArray(name));
-  return a && a->GetNumberOfComponents() == components && a->GetNumberOfTuples() == tuples
+  return a && a->GetNumberOfComponents() == components && a->GetNumberOfTuples() == tuples &&
+                 a->GetReferenceCount() == 1
              ? a
              : nullptr;
 }
@@ -55,6 +66,10 @@ void prepare_image(vtkImageData* image, int w, int h, bool cost, bool samples) {
                          : pd->GetAbstractArray(name) == nullptr);
   fits = fits && (samples ? fitting_array<vtkIntArray>(pd, "Samples", 1, np) != nullptr
                           : pd->GetAbstractArray("Samples") == nullptr);
+  fits = fits &&
+         pd->GetNumberOfArrays() ==
+             kPixelArrays + (cost ? int(std::size(kCostArrays)) : 0) + (samples ? 1 : 0) &&
+         image->GetCellData()->GetNumberOfArrays() == 0;
   if (fits) return;
   image->Initialize();
   image->SetExtent(0, w - 1, 0, h - 1, 0, 0);
@@ -71,8 +86,13 @@ void prepare_image(vtkImageData* image, int w, int h, bool cost, bool samples) {
   if (samples) pd->AddArray(make_array<vtkIntArray>("Samples", 1, np));
 }
 
+// framebuffer_rect_to_image() copies rows of colors and normals as floats.
+static_assert(sizeof(rayscope::Color) == 3 * sizeof(float) &&
+              sizeof(rayscope::Vec3) == 3 * sizeof(float));
+
 void framebuffer_rect_to_image(const rayscope::Framebuffer& fb, int x0, int y0, int x1, int y1,
                                vtkImageData* image) {
+  if (x0 >= x1 || y0 >= y1) return;
   const int w = fb.width, h = fb.height;
   vtkPointData* pd = image->GetPointData();
   unsigned char* color = values<vtkUnsignedCharArray>(pd, "Color");
@@ -88,27 +108,28 @@ void framebuffer_rect_to_image(const rayscope::Framebuffer& fb, int x0, int y0, 
   const bool has_samples = !fb.samples.empty() && pd->GetAbstractArray("Samples");
   int* samples = has_samples ? values<vtkIntArray>(pd, "Samples") : nullptr;
   const float nan = std::numeric_limits<float>::quiet_NaN();
+  const size_t n = size_t(x1 - x0);
   for (int y = y0; y < y1; ++y) {
-    const size_t j = size_t(h - 1 - y);  // VTK row 0 is the bottom row
-    for (int x = x0; x < x1; ++x) {
-      const size_t c = fb.index(x, y);
-      const size_t v = j * size_t(w) + size_t(x);
-      for (int k = 0; k < 3; ++k) {
-        const float lin = fb.color[c][k];
-        color[3 * v + size_t(k)] = rayscope::srgb_byte(lin);
-        linear[3 * v + size_t(k)] = lin;
-        normal[3 * v + size_t(k)] = fb.normal[c][k];
-      }
-      depth[v] = std::isfinite(fb.depth[c]) ? fb.depth[c] : nan;
-      object[v] = int(fb.object_id[c]);
-      if (cost) {
-        cost_nodes[v] = int(fb.cost[c].nodes);
-        cost_rays[v] = int(fb.cost[c].rays);
-        cost_boxes[v] = int(fb.cost[c].boxes);
-        cost_prims[v] = int(fb.cost[c].prims);
-      }
-      if (has_samples) samples[v] = int(fb.samples[c]);
+    const size_t c = fb.index(x0, y);
+    const size_t v = size_t(h - 1 - y) * size_t(w) + size_t(x0);  // VTK row 0 is the bottom row
+    // Color and Normal are 3 floats a pixel with no padding (static_asserts above).
+    rayscope::srgb_bytes(&fb.color[c][0], 3 * n, color + 3 * v);
+    std::memcpy(linear + 3 * v, &fb.color[c][0], 3 * n * sizeof(float));
+    std::memcpy(normal + 3 * v, &fb.normal[c][0], 3 * n * sizeof(float));
+    for (size_t k = 0; k < n; ++k) {
+      depth[v + k] = std::isfinite(fb.depth[c + k]) ? fb.depth[c + k] : nan;
+      object[v + k] = int(fb.object_id[c + k]);
     }
+    if (cost)
+      for (size_t k = 0; k < n; ++k) {
+        const rayscope::PixelCost& pc = fb.cost[c + k];
+        cost_nodes[v + k] = int(pc.nodes);
+        cost_rays[v + k] = int(pc.rays);
+        cost_boxes[v + k] = int(pc.boxes);
+        cost_prims[v + k] = int(pc.prims);
+      }
+    if (has_samples)
+      for (size_t k = 0; k < n; ++k) samples[v + k] = int(fb.samples[c + k]);
   }
 }
 
@@ -128,10 +149,16 @@ void counters_to_image(const rayscope::RayCounters& counters, vtkImageData* imag
 }
 
 void framebuffer_to_image(const rayscope::Framebuffer& fb, const rayscope::RayCounters& counters,
-                          vtkImageData* image) {
-  image->Initialize();
+                          vtkImageData* image, int threads) {
   prepare_image(image, fb.width, fb.height, !fb.cost.empty(), !fb.samples.empty());
-  framebuffer_rect_to_image(fb, 0, 0, fb.width, fb.height, image);
+  // Bands of rows on the render's threads: at 1280x720 one thread took as
+  // long as a tenth of the frame's tracing.
+  constexpr int kBandRows = 16;
+  rayscope::thread_arena(threads).execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, fb.height, kBandRows), [&](const auto& rows) {
+      framebuffer_rect_to_image(fb, 0, rows.begin(), fb.width, rows.end(), image);
+    });
+  });
   counters_to_image(counters, image);
 }
 

@@ -42,10 +42,10 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "rayscope/render.h"
 #include "rayscope/render_block.h"
+#include "rayscope/thread_arena.h"
 #include "rayscope/tiles.h"
 
 namespace rayscope {
@@ -185,9 +185,7 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
       }
     });
   };
-  const int threads =
-      settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(threads);
+  tbb::task_arena arena = thread_arena(settings.threads);
   arena.execute([&] { with_scene_features(scene, frame); });
   if (counters) {
     RayCounters sum;

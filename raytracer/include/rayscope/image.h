@@ -53,6 +53,10 @@ const std::array<float, 256>& srgb_byte_table();
 /// About ten times faster than the power function it replaces.
 unsigned char srgb_byte(float linear);
 
+/// srgb_byte() of `n` values: out[k] = srgb_byte(linear[k]), with the table
+/// looked up once (a whole image's colors).
+void srgb_bytes(const float* linear, size_t n, unsigned char* out);
+
 /// Writes the framebuffer. The format follows the extension: .png (8-bit sRGB,
 /// color only; written by the core through libpng, without the module), .exr (32-bit float, linear
 /// color plus Z, N.x/N.y/N.z and objectId channels, plus cost.rays/cost.nodes/cost.boxes/cost.prims

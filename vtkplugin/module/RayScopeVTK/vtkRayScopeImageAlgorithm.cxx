@@ -567,9 +567,11 @@ int vtkRayScopeImageAlgorithm::RequestData(vtkInformation*, vtkInformationVector
   in.image_mtime = this->GetMTime();
   if (processes > 1 && rayscope_vtkmodule::process_index(c) != 0) return 1;
   if (progressive)
-    rayscope_vtkio::framebuffer_to_image(in.progressive.image(), in.progressive.counters(), output);
+    rayscope_vtkio::framebuffer_to_image(in.progressive.image(), in.progressive.counters(),
+                                         in.image, settings.threads);
   else
-    rayscope_vtkio::framebuffer_to_image(fb, counters, output);
+    rayscope_vtkio::framebuffer_to_image(fb, counters, in.image, settings.threads);
+  output->ShallowCopy(in.image);
   if (processes > 1) rayscope_vtkmodule::add_process_array(output, settings);
   const double* t = in.seconds;
   rayscope_vtkio::add_field_tuple<vtkDoubleArray>(output->GetFieldData(), "Seconds",

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "vtkCompositeDataDisplayAttributes.h"
+#include "vtkImageData.h"
 #include "vtkLookupTable.h"
 #include "vtkMultiProcessController.h"
 #include "vtkNew.h"
@@ -57,6 +58,10 @@ struct vtkRayScopeImageAlgorithm::Internals {
   // The framebuffer each update renders into, kept so that its memory is
   // not allocated and page-faulted in again for every frame.
   rayscope::Framebuffer frame;
+  // The image the output is a shallow copy of: the next update fills its
+  // arrays again when nothing downstream kept them, so that a frame does not
+  // allocate and page-fault in 32 bytes a pixel of new arrays.
+  vtkNew<vtkImageData> image;
   rayscope::RenderSettings image_settings;
   vtkIdType image_conversions = -1, image_commits = -1;
   vtkMTimeType image_mtime = 0, refine_mtime = 0;

@@ -21,17 +21,21 @@ namespace rayscope_vtkio {
 /// "CostBoxes", "CostPrimitives", and when it has sample counts (adaptive
 /// sampling) "Samples"; field data "RayCounts",
 /// "ShadowRaysOccluded" and, with costs, "NodesVisited", "BoxesTested",
-/// "PrimitivesTested". New arrays every call. The three functions below
-/// make the same image in steps.
+/// "PrimitivesTested". The image's arrays are filled again when
+/// prepare_image() finds them fitting, else replaced. The pixels are written
+/// on `threads` threads (rayscope::thread_arena(): 0 for all). The three
+/// functions below make the same image in steps.
 void framebuffer_to_image(const rayscope::Framebuffer& fb, const rayscope::RayCounters& counters,
-                          vtkImageData* image);
+                          vtkImageData* image, int threads = 0);
 
 /// Gives `image` the geometry and the point-data arrays of a w x h
 /// framebuffer's image (with the cost arrays when `cost`, and "Samples" when
 /// `samples`: the samples each pixel took under adaptive sampling), values
 /// not set.
-/// An image that has them already, for that size, is left as it is: an image
-/// filled frame after frame allocates its arrays once.
+/// An image that has exactly them already, for that size, held by nothing
+/// else (another data object's shallow copy, a Python reference), is left as
+/// it is: an image filled frame after frame allocates its arrays once, and
+/// arrays someone else kept are never overwritten.
 void prepare_image(vtkImageData* image, int w, int h, bool cost, bool samples = false);
 
 /// Writes the framebuffer's pixels [x0, x1) x [y0, y1) (framebuffer rows, 0 at
