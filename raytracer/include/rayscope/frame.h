@@ -104,13 +104,13 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
 
   auto frame = [&]<bool kShadows, bool kSecondary>() {
     // A pixel's results into the framebuffer.
-    auto store = [&](int x, int y, size_t i, const Color& c, const SurfaceHit& hit, bool any,
+    // `depth`: primary_depth() of the hit, when `any`.
+    auto store = [&](size_t i, const Color& c, const SurfaceHit& hit, bool any, float depth,
                      int taken) {
       fb.color[i] = c;
       if (adaptive) fb.samples[i] = float(taken);
       if (any) {
-        const Vec2 s = sample_position(x, y, 0, settings.sample_grid(), settings.seed);
-        fb.depth[i] = hit.t * glm::length(scene.camera.generate_ray(s.x, s.y).dir);
+        fb.depth[i] = depth;
         fb.normal[i] = hit.ns;
         fb.object_id[i] = float(hit.object);
       }
@@ -135,7 +135,9 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
                                                              &any, &taken);
             policy.finish(i, rec, cnt, fb);
           }
-          store(x, y, i, c, hit, any, taken);
+          const float depth =
+              any ? primary_depth(primary_ray(scene, settings, x, y, 0, nullptr), hit) : 0.0f;
+          store(i, c, hit, any, depth, taken);
         }
     };
     // One tile's pixels in blocks (render_block.h), for recorders that
@@ -154,7 +156,7 @@ void render_frame_into(Framebuffer& fb, const Scene& scene, const RenderSettings
             for (int x = bx; x < ex; ++x, ++k) {
               const size_t i = fb.index(x, y);
               policy.finish(i, recs[k], cnt, fb);
-              store(x, y, i, px[k].color, px[k].first_hit, px[k].hit_anything,
+              store(i, px[k].color, px[k].first_hit, px[k].hit_anything, px[k].depth,
                     settings.sample_grid());
             }
         }

@@ -92,6 +92,12 @@ inline Ray primary_ray(const Scene& scene, const RenderSettings& settings, int x
   return scene.camera.generate_ray(s.x, s.y);
 }
 
+/// The framebuffer's depth of a pixel whose sample-0 primary ray `primary`
+/// hit `hit`: the distance along the ray (its direction need not be unit).
+inline float primary_depth(const Ray& primary, const SurfaceHit& hit) {
+  return hit.t * glm::length(primary.dir);
+}
+
 /// One pixel, all its samples: what the frame loop does per pixel, so a pixel
 /// rendered alone (replayed) has exactly the color it has in the frame.
 /// `first_hit` receives the first sample's primary hit (for the AOVs): sample

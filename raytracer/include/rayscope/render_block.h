@@ -63,11 +63,13 @@ inline bool renders_in_blocks(const Scene& scene, const RenderSettings& settings
 }
 
 /// What render_block() gives for each pixel: render_pixel()'s color, its
-/// sample 0's primary hit, and whether that sample hit anything.
+/// sample 0's primary hit, whether that sample hit anything, and if so its
+/// distance along the primary ray (primary_depth()).
 struct BlockPixel {
   Color color;
   SurfaceHit first_hit;
   bool hit_anything = false;
+  float depth = 0.0f;
 };
 
 /// Renders the pixels [x0, x1) x [y0, y1) (at most kBlockSide on a side) into
@@ -152,7 +154,10 @@ void render_block(const Scene& scene, const RenderSettings& settings, int x0, in
         sum[i] += c;
       if (k == 0) {
         out[i].hit_anything = hit;
-        if (hit) out[i].first_hit = hits[i];
+        if (hit) {
+          out[i].first_hit = hits[i];
+          out[i].depth = primary_depth(rays[i], hits[i]);
+        }
       }
     }
   };
